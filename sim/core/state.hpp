@@ -1,0 +1,55 @@
+// The simulation state as arrays of plain numbers (structure of arrays).
+// A particle's index is its identity for the whole run: it never changes,
+// so run-file columns, contact lists and checkpoints all refer to it.
+//
+// Units: SI, 2D per unit depth. Lengths m, velocities m/s, angles rad,
+// masses kg/m (m = rho*pi*d^2/4), moments of inertia kg*m (I = m*d^2/8),
+// forces N/m, torques N*m/m = N.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace dem2d {
+
+struct Particles {
+  // kinematics
+  std::vector<double> x, y;     // centre (m)
+  std::vector<double> vx, vy;   // velocity (m/s)
+  std::vector<double> theta;    // orientation (rad), integrated from omega
+  std::vector<double> omega;    // angular velocity (rad/s), counter-clockwise positive
+  // resultant from the last force evaluation
+  std::vector<double> fx, fy;   // force (N/m)
+  std::vector<double> torque;   // torque (N)
+  // constants
+  std::vector<double> radius;       // (m)
+  std::vector<double> mass;         // (kg/m)
+  std::vector<double> inv_mass;     // (m/kg)
+  std::vector<double> inv_inertia;  // 1/(kg*m)
+  std::vector<std::uint8_t> active;  // 0 once a particle has left the domain
+
+  std::size_t size() const { return x.size(); }
+  void resize(std::size_t n);
+};
+
+// Sphero-lines: a segment from (ax, ay) to (bx, by) with round caps of radius
+// `radius` (cap diameter d_s = 2*radius). Static walls have zero velocity;
+// kinematic bodies translate at their prescribed velocity. Forces and torques
+// are those the grains exert on the body; torque is about the segment middle.
+struct Bodies {
+  std::vector<std::string> name;
+  std::vector<double> ax, ay, bx, by;  // segment end points C1, C2 (m)
+  std::vector<double> radius;          // cap radius (m)
+  std::vector<double> vx, vy;          // prescribed velocity (m/s)
+  std::vector<double> fx, fy;          // force from the grains, last step (N/m)
+  std::vector<double> torque;          // torque from the grains about the middle (N)
+
+  std::size_t size() const { return name.size(); }
+  void resize(std::size_t n);
+  double centre_x(std::size_t b) const { return 0.5 * (ax[b] + bx[b]); }
+  double centre_y(std::size_t b) const { return 0.5 * (ay[b] + by[b]); }
+};
+
+}  // namespace dem2d

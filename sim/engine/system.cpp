@@ -1,0 +1,135 @@
+#include "engine/system.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace dem2d {
+
+System::System(const Scene& scene)
+    : effects(scene.effects),
+      dt(scene.dt),
+      gx(scene.gx),
+      gy(scene.gy),
+      law_pp(scene.particle_particle),
+      law_pw(scene.particle_wall),
+      pp(coefficients(scene.particle_particle, scene.dt)),
+      pw(coefficients(scene.particle_wall, scene.dt)),
+      domain(scene.domain) {
+  omp_set_dynamic(0);
+  threads = scene.threads > 0 ? scene.threads : omp_get_max_threads();
+  thread_v2max.assign(static_cast<std::size_t>(threads), 0.0);
+
+  const std::size_t n = scene.particles.size();
+  p.resize(n);
+  double r_max = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const ParticleInit& q = scene.particles[i];
+    const double r = 0.5 * q.d;
+    const double m = scene.density * M_PI * q.d * q.d / 4.0;  // per unit depth (kg/m)
+    const double inertia = m * q.d * q.d / 8.0;                // disk: I = m d^2 / 8 (kg m)
+    p.x[i] = q.x;
+    p.y[i] = q.y;
+    p.vx[i] = q.vx;
+    p.vy[i] = q.vy;
+    p.omega[i] = q.omega;
+    p.radius[i] = r;
+    p.mass[i] = m;
+    p.inv_mass[i] = 1.0 / m;
+    p.inv_inertia[i] = 1.0 / inertia;
+    r_max = std::max(r_max, r);
+  }
+
+  const std::size_t nb = scene.bodies.size();
+  bodies.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b) {
+    const BodySpec& q = scene.bodies[b];
+    bodies.name[b] = q.name;
+    bodies.ax[b] = q.ax;
+    bodies.ay[b] = q.ay;
+    bodies.bx[b] = q.bx;
+    bodies.by[b] = q.by;
+    bodies.radius[b] = 0.5 * q.thickness;
+    bodies.vx[b] = q.vx;
+    bodies.vy[b] = q.vy;
+  }
+  body_x0 = bodies.ax;
+  body_y0 = bodies.ay;
+  seg.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b)
+    seg[b] = make_segment(bodies.ax[b], bodies.ay[b], bodies.bx[b], bodies.by[b]);
+  body_fx_sum.assign(nb, 0.0);
+  body_fy_sum.assign(nb, 0.0);
+  body_torque_sum.assign(nb, 0.0);
+
+  lists.configure(domain.xmin, domain.ymin, domain.xmax, domain.ymax, std::max(r_max, 1e-300),
+                  scene.skin);
+  advance_ = advance_kernel(effects);
+  initial_forces_ = initial_force_kernel(effects);
+  rebuild();
+  if (!failure.empty()) throw std::runtime_error(failure);
+  evaluate_initial_forces();
+}
+
+void System::advance(std::int64_t steps) {
+  if (!failure.empty()) throw std::runtime_error(failure);
+  advance_(*this, steps);
+  if (!failure.empty()) throw std::runtime_error(failure);
+}
+
+void System::evaluate_initial_forces() { initial_forces_(*this); }
+
+void System::place_bodies() {
+  const double t = time();
+  double moved = 0.0;
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const double vx = bodies.vx[b], vy = bodies.vy[b];
+    if (vx == 0.0 && vy == 0.0) continue;
+    const double ex = bodies.bx[b] - bodies.ax[b], ey = bodies.by[b] - bodies.ay[b];
+    bodies.ax[b] = body_x0[b] + vx * t;
+    bodies.ay[b] = body_y0[b] + vy * t;
+    bodies.bx[b] = bodies.ax[b] + ex;
+    bodies.by[b] = bodies.ay[b] + ey;
+    seg[b].ax = bodies.ax[b];
+    seg[b].ay = bodies.ay[b];
+    moved = std::max(moved, std::hypot(vx, vy) * dt);
+  }
+  moved_bodies += moved;
+}
+
+void System::rebuild() {
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!p.active[i]) continue;
+    const bool finite = std::isfinite(p.x[i]) && std::isfinite(p.y[i]) && std::isfinite(p.vx[i]) &&
+                        std::isfinite(p.vy[i]) && std::isfinite(p.omega[i]);
+    if (!finite) {
+      std::ostringstream msg;
+      msg << "particle " << i << " has a non-finite state at step " << step << " (t = " << time()
+          << " s): the time step is too large for the stiffness, or the scene is unstable";
+      failure = msg.str();
+      return;
+    }
+    if (!domain.contains(p.x[i], p.y[i])) {
+      lost.push_back({static_cast<std::int32_t>(i), step, p.x[i], p.y[i]});
+      p.active[i] = 0;
+      p.vx[i] = p.vy[i] = p.omega[i] = 0.0;
+      p.fx[i] = p.fy[i] = p.torque[i] = 0.0;
+    }
+  }
+  lists.rebuild_pairs(p);
+  if (has(effects, effect::walls)) lists.rebuild_walls(p, seg, bodies.radius);
+  moved_particles = 0.0;
+  moved_bodies = 0.0;
+}
+
+void System::reset_body_sums() {
+  std::fill(body_fx_sum.begin(), body_fx_sum.end(), 0.0);
+  std::fill(body_fy_sum.begin(), body_fy_sum.end(), 0.0);
+  std::fill(body_torque_sum.begin(), body_torque_sum.end(), 0.0);
+  body_sum_steps = 0;
+}
+
+}  // namespace dem2d

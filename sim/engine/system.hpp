@@ -1,0 +1,86 @@
+// Everything that evolves during a run, as plain data, plus the entry points
+// that advance it. The kernels (engine/kernels.hpp) are instantiated once per
+// effect set; `advance` picks the one for the scene's effects when the System
+// is built and never branches on an absent effect afterwards.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "contact/contact_law.hpp"
+#include "contact/spheroline.hpp"
+#include "core/effects.hpp"
+#include "core/state.hpp"
+#include "neighbour/contact_lists.hpp"
+#include "scene/scene.hpp"
+
+namespace dem2d {
+
+struct LostParticle {
+  std::int32_t id;
+  std::int64_t step;
+  double x, y;  // last position (m)
+};
+
+struct System;
+using AdvanceFn = void (*)(System&, std::int64_t steps);
+using ForceFn = void (*)(System&);
+
+struct System {
+  explicit System(const Scene& scene);
+
+  // Advance `steps` time steps with the scene's kernel. Throws std::runtime_error
+  // if the state becomes non-finite.
+  void advance(std::int64_t steps);
+
+  double time() const { return static_cast<double>(step) * dt; }
+  std::size_t size() const { return p.size(); }
+
+  EffectSet effects = 0;
+  double dt = 0.0;
+  std::int64_t step = 0;
+  int threads = 1;
+  double gx = 0.0, gy = 0.0;
+  ContactLaw law_pp, law_pw;
+  LawCoefficients pp{}, pw{};
+  Box domain;
+
+  Particles p;
+  Bodies bodies;
+  std::vector<double> body_x0, body_y0;  // C1 at step 0 (m); moving bodies follow C1 = C1_0 + V t
+  std::vector<Segment> seg;              // cached body geometry
+  NeighbourLists lists;
+
+  // Upper bound of how far particles / bodies moved since the last rebuild (m).
+  double moved_particles = 0.0, moved_bodies = 0.0;
+
+  // Sums of the body force and torque over steps, for interval means.
+  std::vector<double> body_fx_sum, body_fy_sum, body_torque_sum;
+  std::int64_t body_sum_steps = 0;
+
+  std::vector<double> thread_v2max;  // per-thread largest speed^2 of the last drift
+
+  std::vector<LostParticle> lost;
+  std::string failure;  // set by a kernel when the state became non-finite
+
+  // Rebuild the neighbour lists now: removes grains outside the domain
+  // (recorded in `lost`) and resets the displacement bounds.
+  void rebuild();
+  // Recompute body positions for the current step (moving bodies only).
+  void place_bodies();
+  // Evaluate forces for the current positions without advancing the springs
+  // (used once at start-up: velocity Verlet needs F(t=0)).
+  void evaluate_initial_forces();
+  void reset_body_sums();
+
+ private:
+  AdvanceFn advance_ = nullptr;
+  ForceFn initial_forces_ = nullptr;
+};
+
+// The kernel table: one entry per effect set, built in engine/kernels_*.cpp.
+AdvanceFn advance_kernel(EffectSet effects);
+ForceFn initial_force_kernel(EffectSet effects);
+
+}  // namespace dem2d

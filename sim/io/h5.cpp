@@ -1,0 +1,258 @@
+#include "io/h5.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace dem2d::h5 {
+
+namespace {
+
+struct QuietErrors {
+  QuietErrors() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+};
+const QuietErrors quiet_errors;
+
+[[noreturn]] void fail(const File& f, const std::string& what) {
+  throw std::runtime_error(f.path() + ": " + what);
+}
+
+Handle check(hid_t id, herr_t (*close)(hid_t), const File& f, const std::string& what) {
+  if (id < 0) fail(f, what);
+  return Handle(id, close);
+}
+
+void check(herr_t status, const File& f, const std::string& what) {
+  if (status < 0) fail(f, what);
+}
+
+Handle link_create_plist() {
+  Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+  H5Pset_create_intermediate_group(lcpl, 1);
+  return lcpl;
+}
+
+Handle open_object(const File& f, const std::string& object) {
+  return check(H5Oopen(f.id(), object.c_str(), H5P_DEFAULT), H5Oclose, f, "no object " + object);
+}
+
+Handle dataset_create_plist(const std::vector<hsize_t>& dims, std::size_t elem_size) {
+  Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  hsize_t total = 1;
+  for (hsize_t d : dims) total *= d;
+  if (total * elem_size < (1u << 16) || dims.empty()) return dcpl;  // small: contiguous
+  // chunks of ~256 KiB along the first dimension
+  std::vector<hsize_t> chunk = dims;
+  const hsize_t row = std::max<hsize_t>(1, total / std::max<hsize_t>(dims[0], 1)) * elem_size;
+  chunk[0] = std::clamp<hsize_t>((1u << 18) / row, 1, dims[0]);
+  H5Pset_chunk(dcpl, static_cast<int>(chunk.size()), chunk.data());
+  H5Pset_shuffle(dcpl);
+  H5Pset_deflate(dcpl, 1);
+  return dcpl;
+}
+
+}  // namespace
+
+File File::create(const std::string& path) {
+  File f;
+  f.path_ = path;
+  f.h_ = check(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, f,
+               "cannot create the file");
+  return f;
+}
+
+File File::open_read(const std::string& path) {
+  File f;
+  f.path_ = path;
+  f.h_ = check(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, f,
+               "cannot open as HDF5 (missing or corrupt)");
+  return f;
+}
+
+File File::open_write(const std::string& path) {
+  File f;
+  f.path_ = path;
+  f.h_ = check(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose, f,
+               "cannot open as HDF5 for writing");
+  return f;
+}
+
+void File::flush() const { check(H5Fflush(id(), H5F_SCOPE_GLOBAL), *this, "flush failed"); }
+
+template <>
+hid_t native_type<double>() { return H5T_NATIVE_DOUBLE; }
+template <>
+hid_t native_type<std::int32_t>() { return H5T_NATIVE_INT32; }
+template <>
+hid_t native_type<std::int64_t>() { return H5T_NATIVE_INT64; }
+template <>
+hid_t native_type<std::uint8_t>() { return H5T_NATIVE_UINT8; }
+
+template <class T>
+void write(const File& f, const std::string& name, const std::vector<T>& data, std::vector<hsize_t> dims) {
+  if (dims.empty()) dims = {data.size()};
+  hsize_t total = 1;
+  for (hsize_t d : dims) total *= d;
+  if (total != data.size()) fail(f, name + ": data size does not match its dimensions");
+  Handle space = check(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose,
+                       f, name + ": bad dataspace");
+  Handle lcpl = link_create_plist();
+  Handle dcpl = dataset_create_plist(dims, sizeof(T));
+  Handle ds = check(H5Dcreate2(f.id(), name.c_str(), native_type<T>(), space, lcpl, dcpl, H5P_DEFAULT),
+                    H5Dclose, f, "cannot create dataset " + name);
+  if (total > 0)
+    check(H5Dwrite(ds, native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), f,
+          "cannot write dataset " + name);
+}
+
+std::vector<hsize_t> shape(const File& f, const std::string& name) {
+  Handle ds = check(H5Dopen2(f.id(), name.c_str(), H5P_DEFAULT), H5Dclose, f, "no dataset " + name);
+  Handle space(H5Dget_space(ds), H5Sclose);
+  const int rank = H5Sget_simple_extent_ndims(space);
+  std::vector<hsize_t> dims(static_cast<std::size_t>(std::max(rank, 0)));
+  H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+  return dims;
+}
+
+template <class T>
+std::vector<T> read(const File& f, const std::string& name, std::vector<hsize_t>* dims_out) {
+  const std::vector<hsize_t> dims = shape(f, name);
+  hsize_t total = 1;
+  for (hsize_t d : dims) total *= d;
+  std::vector<T> data(total);
+  Handle ds = check(H5Dopen2(f.id(), name.c_str(), H5P_DEFAULT), H5Dclose, f, "no dataset " + name);
+  if (total > 0)
+    check(H5Dread(ds, native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), f,
+          "cannot read dataset " + name);
+  if (dims_out) *dims_out = dims;
+  return data;
+}
+
+void write_strings(const File& f, const std::string& name, const std::vector<std::string>& data) {
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type, H5T_VARIABLE);
+  H5Tset_cset(type, H5T_CSET_UTF8);
+  const hsize_t n = data.size();
+  Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
+  Handle lcpl = link_create_plist();
+  Handle ds = check(H5Dcreate2(f.id(), name.c_str(), type, space, lcpl, H5P_DEFAULT, H5P_DEFAULT),
+                    H5Dclose, f, "cannot create dataset " + name);
+  std::vector<const char*> ptrs;
+  for (const auto& s : data) ptrs.push_back(s.c_str());
+  if (n > 0)
+    check(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()), f, "cannot write " + name);
+}
+
+std::vector<std::string> read_strings(const File& f, const std::string& name) {
+  Handle ds = check(H5Dopen2(f.id(), name.c_str(), H5P_DEFAULT), H5Dclose, f, "no dataset " + name);
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type, H5T_VARIABLE);
+  const std::vector<hsize_t> dims = shape(f, name);
+  const hsize_t n = dims.empty() ? 0 : dims[0];
+  std::vector<char*> ptrs(n, nullptr);
+  if (n > 0)
+    check(H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()), f, "cannot read " + name);
+  std::vector<std::string> out(ptrs.begin(), ptrs.end());
+  if (n > 0) {
+    Handle space(H5Dget_space(ds), H5Sclose);
+    H5Dvlen_reclaim(type, space, H5P_DEFAULT, ptrs.data());
+  }
+  return out;
+}
+
+bool exists(const File& f, const std::string& name) {
+  // check each component so that a missing parent is not an error
+  std::size_t pos = 0;
+  while (true) {
+    pos = name.find('/', pos + 1);
+    const std::string part = name.substr(0, pos);
+    if (!part.empty() && part != "/" && H5Lexists(f.id(), part.c_str(), H5P_DEFAULT) <= 0) return false;
+    if (pos == std::string::npos) return true;
+  }
+}
+
+void write_attr(const File& f, const std::string& object, const std::string& name, const std::string& value) {
+  Handle obj = open_object(f, object);
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type, std::max<std::size_t>(value.size(), 1));
+  H5Tset_cset(type, H5T_CSET_UTF8);
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  if (H5Aexists(obj, name.c_str()) > 0) H5Adelete(obj, name.c_str());
+  Handle attr = check(H5Acreate2(obj, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, f,
+                      "cannot create attribute " + object + "@" + name);
+  const std::string padded = value.empty() ? std::string(1, '\0') : value;
+  check(H5Awrite(attr, type, padded.data()), f, "cannot write attribute " + name);
+}
+
+namespace {
+template <class T>
+void write_scalar_attr(const File& f, const std::string& object, const std::string& name, T value) {
+  Handle obj = open_object(f, object);
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  if (H5Aexists(obj, name.c_str()) > 0) H5Adelete(obj, name.c_str());
+  Handle attr = check(H5Acreate2(obj, name.c_str(), native_type<T>(), space, H5P_DEFAULT, H5P_DEFAULT),
+                      H5Aclose, f, "cannot create attribute " + object + "@" + name);
+  check(H5Awrite(attr, native_type<T>(), &value), f, "cannot write attribute " + name);
+}
+
+template <class T>
+T read_scalar_attr(const File& f, const std::string& object, const std::string& name) {
+  Handle obj = open_object(f, object);
+  Handle attr = check(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose, f,
+                      "no attribute " + object + "@" + name);
+  T value{};
+  check(H5Aread(attr, native_type<T>(), &value), f, "cannot read attribute " + name);
+  return value;
+}
+}  // namespace
+
+void write_attr(const File& f, const std::string& object, const std::string& name, double value) {
+  write_scalar_attr(f, object, name, value);
+}
+void write_attr(const File& f, const std::string& object, const std::string& name, std::int64_t value) {
+  write_scalar_attr(f, object, name, value);
+}
+double read_attr_double(const File& f, const std::string& object, const std::string& name) {
+  return read_scalar_attr<double>(f, object, name);
+}
+std::int64_t read_attr_int(const File& f, const std::string& object, const std::string& name) {
+  return read_scalar_attr<std::int64_t>(f, object, name);
+}
+
+std::string read_attr_string(const File& f, const std::string& object, const std::string& name) {
+  Handle obj = open_object(f, object);
+  Handle attr = check(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose, f,
+                      "no attribute " + object + "@" + name);
+  Handle ftype(H5Aget_type(attr), H5Tclose);
+  if (H5Tis_variable_str(ftype) > 0) {
+    Handle mtype(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(mtype, H5T_VARIABLE);
+    char* buf = nullptr;
+    check(H5Aread(attr, mtype, &buf), f, "cannot read attribute " + name);
+    std::string out = buf ? buf : "";
+    H5free_memory(buf);
+    return out;
+  }
+  const std::size_t size = H5Tget_size(ftype);
+  std::string buf(size, '\0');
+  Handle mtype(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(mtype, size);
+  check(H5Aread(attr, mtype, buf.data()), f, "cannot read attribute " + name);
+  buf.resize(std::min(buf.size(), buf.find('\0')));
+  return buf;
+}
+
+bool has_attr(const File& f, const std::string& object, const std::string& name) {
+  Handle obj = open_object(f, object);
+  return H5Aexists(obj, name.c_str()) > 0;
+}
+
+template void write<double>(const File&, const std::string&, const std::vector<double>&, std::vector<hsize_t>);
+template void write<std::int32_t>(const File&, const std::string&, const std::vector<std::int32_t>&, std::vector<hsize_t>);
+template void write<std::int64_t>(const File&, const std::string&, const std::vector<std::int64_t>&, std::vector<hsize_t>);
+template void write<std::uint8_t>(const File&, const std::string&, const std::vector<std::uint8_t>&, std::vector<hsize_t>);
+template std::vector<double> read<double>(const File&, const std::string&, std::vector<hsize_t>*);
+template std::vector<std::int32_t> read<std::int32_t>(const File&, const std::string&, std::vector<hsize_t>*);
+template std::vector<std::int64_t> read<std::int64_t>(const File&, const std::string&, std::vector<hsize_t>*);
+template std::vector<std::uint8_t> read<std::uint8_t>(const File&, const std::string&, std::vector<hsize_t>*);
+
+}  // namespace dem2d::h5

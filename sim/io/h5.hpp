@@ -1,0 +1,93 @@
+// A thin RAII layer over the HDF5 C API: whole-array datasets and attributes,
+// with errors that name the file and the object. HDF5's own error printing is
+// switched off; every failure becomes a std::runtime_error.
+#pragma once
+
+#include <hdf5.h>
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace dem2d::h5 {
+
+// Owns one HDF5 identifier and closes it with the matching H5?close.
+class Handle {
+ public:
+  Handle() = default;
+  Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  Handle(Handle&& o) noexcept : id_(std::exchange(o.id_, H5I_INVALID_HID)), close_(o.close_) {}
+  Handle& operator=(Handle&& o) noexcept {
+    if (this != &o) {
+      reset();
+      id_ = std::exchange(o.id_, H5I_INVALID_HID);
+      close_ = o.close_;
+    }
+    return *this;
+  }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  ~Handle() { reset(); }
+
+  hid_t id() const { return id_; }
+  operator hid_t() const { return id_; }  // NOLINT: pass straight to H5 calls
+  void reset() {
+    if (id_ >= 0 && close_) close_(id_);
+    id_ = H5I_INVALID_HID;
+  }
+
+ private:
+  hid_t id_ = H5I_INVALID_HID;
+  herr_t (*close_)(hid_t) = nullptr;
+};
+
+class File {
+ public:
+  static File create(const std::string& path);     // truncates
+  static File open_read(const std::string& path);
+  static File open_write(const std::string& path);  // existing file, read-write
+  const std::string& path() const { return path_; }
+  hid_t id() const { return h_.id(); }
+  void flush() const;
+
+ private:
+  Handle h_;
+  std::string path_;
+};
+
+template <class T>
+hid_t native_type();
+
+// Whole datasets. `dims` empty means 1-D of data.size(). Intermediate groups
+// are created as needed. Large datasets are chunked and compressed.
+template <class T>
+void write(const File& f, const std::string& name, const std::vector<T>& data,
+           std::vector<hsize_t> dims = {});
+void write_strings(const File& f, const std::string& name, const std::vector<std::string>& data);
+
+template <class T>
+std::vector<T> read(const File& f, const std::string& name, std::vector<hsize_t>* dims = nullptr);
+std::vector<std::string> read_strings(const File& f, const std::string& name);
+std::vector<hsize_t> shape(const File& f, const std::string& name);
+bool exists(const File& f, const std::string& name);
+
+// Attributes on the object at `object` ("/" for the file).
+void write_attr(const File& f, const std::string& object, const std::string& name, const std::string& value);
+void write_attr(const File& f, const std::string& object, const std::string& name, double value);
+void write_attr(const File& f, const std::string& object, const std::string& name, std::int64_t value);
+std::string read_attr_string(const File& f, const std::string& object, const std::string& name);
+double read_attr_double(const File& f, const std::string& object, const std::string& name);
+std::int64_t read_attr_int(const File& f, const std::string& object, const std::string& name);
+bool has_attr(const File& f, const std::string& object, const std::string& name);
+
+extern template void write<double>(const File&, const std::string&, const std::vector<double>&, std::vector<hsize_t>);
+extern template void write<std::int32_t>(const File&, const std::string&, const std::vector<std::int32_t>&, std::vector<hsize_t>);
+extern template void write<std::int64_t>(const File&, const std::string&, const std::vector<std::int64_t>&, std::vector<hsize_t>);
+extern template void write<std::uint8_t>(const File&, const std::string&, const std::vector<std::uint8_t>&, std::vector<hsize_t>);
+extern template std::vector<double> read<double>(const File&, const std::string&, std::vector<hsize_t>*);
+extern template std::vector<std::int32_t> read<std::int32_t>(const File&, const std::string&, std::vector<hsize_t>*);
+extern template std::vector<std::int64_t> read<std::int64_t>(const File&, const std::string&, std::vector<hsize_t>*);
+extern template std::vector<std::uint8_t> read<std::uint8_t>(const File&, const std::string&, std::vector<hsize_t>*);
+
+}  // namespace dem2d::h5

@@ -1,0 +1,121 @@
+#include "neighbour/contact_lists.hpp"
+
+#include <algorithm>
+#include <utility>
+
+namespace dem2d {
+
+namespace {
+
+// Copies the tangential and rolling history of every contact present in both
+// lists. Rows of both lists are sorted by `key`, so this is one merge per row.
+template <class List>
+void carry_history(List& nl, const List& ol, std::vector<std::int32_t> List::*key) {
+  const auto& nk = nl.*key;
+  const auto& ok = ol.*key;
+  for (std::size_t i = 0; i + 1 < nl.start.size(); ++i) {
+    auto s = static_cast<std::size_t>(nl.start[i]), o = static_cast<std::size_t>(ol.start[i]);
+    const auto s_end = static_cast<std::size_t>(nl.start[i + 1]);
+    const auto o_end = static_cast<std::size_t>(ol.start[i + 1]);
+    while (s < s_end && o < o_end) {
+      if (nk[s] < ok[o]) {
+        ++s;
+      } else if (ok[o] < nk[s]) {
+        ++o;
+      } else {
+        nl.ft[s] = ol.ft[o];
+        nl.mr[s] = ol.mr[o];
+        ++s;
+        ++o;
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void PairList::resize_slots(std::size_t n) {
+  for (auto* v : {&ft, &mr, &fx, &fy, &q, &fn, &overlap}) v->assign(n, 0.0);
+}
+
+void WallList::resize_slots(std::size_t n) {
+  for (auto* v : {&ft, &mr, &fx, &fy, &tq, &cx, &cy, &fn, &overlap}) v->assign(n, 0.0);
+}
+
+void NeighbourLists::configure(double xmin, double ymin, double xmax, double ymax, double r_max,
+                               double skin) {
+  skin_ = skin;
+  grid_.configure(xmin, ymin, xmax, ymax, 2.0 * r_max + skin);
+}
+
+void NeighbourLists::rebuild_pairs(const Particles& p) {
+  const std::size_t n = p.size();
+  std::swap(pairs, old_pairs_);
+  PairList& nl = pairs;
+  const PairList& ol = old_pairs_;
+  const bool have_old = ol.start.size() == n + 1;
+
+  grid_.bin(p.x, p.y, p.active);
+  const auto& order = grid_.order();
+
+  nl.start.assign(n + 1, 0);
+  nl.partner.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    nl.start[i] = static_cast<std::int32_t>(nl.partner.size());
+    if (!p.active[i]) continue;
+    const double xi = p.x[i], yi = p.y[i], ri = p.radius[i] + skin_;
+    const int cx = grid_.cell_x(xi), cy = grid_.cell_y(yi);
+    row_.clear();
+    for (int gy = std::max(cy - 1, 0); gy <= std::min(cy + 1, grid_.ny() - 1); ++gy)
+      for (int gx = std::max(cx - 1, 0); gx <= std::min(cx + 1, grid_.nx() - 1); ++gx)
+        for (std::int32_t k = grid_.begin(gx, gy); k < grid_.end(gx, gy); ++k) {
+          const auto j = static_cast<std::size_t>(order[static_cast<std::size_t>(k)]);
+          if (j <= i) continue;
+          const double dx = xi - p.x[j], dy = yi - p.y[j], reach = ri + p.radius[j];
+          if (dx * dx + dy * dy < reach * reach) row_.push_back(static_cast<std::int32_t>(j));
+        }
+    std::sort(row_.begin(), row_.end());
+    nl.partner.insert(nl.partner.end(), row_.begin(), row_.end());
+  }
+  nl.start[n] = static_cast<std::int32_t>(nl.partner.size());
+  nl.resize_slots(nl.partner.size());
+
+  if (have_old) carry_history(nl, ol, &PairList::partner);
+
+  // reverse index, filled in slot order so each particle's entries ascend in i
+  nl.rev_start.assign(n + 1, 0);
+  for (const std::int32_t j : nl.partner) ++nl.rev_start[static_cast<std::size_t>(j) + 1];
+  for (std::size_t k = 1; k <= n; ++k) nl.rev_start[k] += nl.rev_start[k - 1];
+  nl.rev_slot.resize(nl.partner.size());
+  row_.assign(nl.rev_start.begin(), nl.rev_start.end() - 1);
+  for (std::size_t s = 0; s < nl.partner.size(); ++s)
+    nl.rev_slot[static_cast<std::size_t>(row_[static_cast<std::size_t>(nl.partner[s])]++)] =
+        static_cast<std::int32_t>(s);
+  ++rebuild_count;
+}
+
+void NeighbourLists::rebuild_walls(const Particles& p, const std::vector<Segment>& seg,
+                                   const std::vector<double>& seg_radius) {
+  const std::size_t n = p.size();
+  std::swap(walls, old_walls_);
+  WallList& nl = walls;
+  const WallList& ol = old_walls_;
+  const bool have_old = ol.start.size() == n + 1;
+
+  nl.start.assign(n + 1, 0);
+  nl.body.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    nl.start[i] = static_cast<std::int32_t>(nl.body.size());
+    if (!p.active[i]) continue;
+    for (std::size_t b = 0; b < seg.size(); ++b) {
+      const SegmentProximity c = closest_point(seg[b], p.x[i], p.y[i]);
+      if (c.dist < p.radius[i] + seg_radius[b] + skin_) nl.body.push_back(static_cast<std::int32_t>(b));
+    }
+  }
+  nl.start[n] = static_cast<std::int32_t>(nl.body.size());
+  nl.resize_slots(nl.body.size());
+
+  if (have_old) carry_history(nl, ol, &WallList::body);
+}
+
+}  // namespace dem2d
