@@ -3,7 +3,9 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <initializer_list>
+#include <random>
 #include <string>
 
 #include "engine/system.hpp"
@@ -55,15 +57,31 @@ inline void add_wall(Scene& s, const std::string& name, double ax, double ay, do
 // dt = dt_c / divisor with dt_c = sqrt(m_min / k_n)
 inline void set_dt_fraction(Scene& s, double divisor) { s.dt = s.critical_dt() / divisor; }
 
-inline double kinetic_energy(const System& sys) {
-  double e = 0.0;
-  for (std::size_t i = 0; i < sys.size(); ++i) {
-    if (!sys.p.active[i]) continue;
-    const double m = sys.p.mass[i], inertia = 1.0 / sys.p.inv_inertia[i];
-    e += 0.5 * m * (sys.p.vx[i] * sys.p.vx[i] + sys.p.vy[i] * sys.p.vy[i]) +
-         0.5 * inertia * sys.p.omega[i] * sys.p.omega[i];
+// A box open at the top (inner faces x = 0, x = width, y = 0; walls 2 mm
+// thick) with n disks of diameter uniform in [d_min, d_max] on a square grid
+// of pitch 1.05 d_max above the floor. dt = dt_c / 20.
+inline Scene boxed_bed(EffectSet effects, int n, double width, double kn = 1.92e6, std::uint64_t seed = 1,
+                       double d_min = 2e-3, double d_max = 4e-3) {
+  Scene s = glass_scene(effects | effect::walls, kn);
+  const double pitch = 1.05 * d_max;
+  const int per_row = static_cast<int>(width / pitch);
+  const double height = pitch * (n / per_row + 2);
+  std::mt19937_64 rng(seed);
+  for (int k = 0; k < n; ++k) {
+    const double u = static_cast<double>(rng() >> 11) * 0x1.0p-53;
+    add_disk(s, pitch * (0.5 + k % per_row), pitch * (0.5 + k / per_row), d_min + u * (d_max - d_min));
   }
-  return e;
+  add_wall(s, "floor", -1e-3, -1e-3, width + 1e-3, -1e-3);
+  add_wall(s, "left", -1e-3, -1e-3, -1e-3, height + 0.05);
+  add_wall(s, "right", width + 1e-3, -1e-3, width + 1e-3, height + 0.05);
+  s.domain = {-0.02, -0.02, width + 0.02, height + 0.1};
+  set_dt_fraction(s, 20.0);
+  return s;
+}
+
+// Advances until `seconds` of simulated time have passed.
+inline void run_for(System& sys, double seconds) {
+  sys.advance(std::llround(seconds / sys.dt));
 }
 
 }  // namespace dem2d::test

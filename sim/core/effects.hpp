@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <string_view>
 
 namespace dem2d {
@@ -37,5 +38,16 @@ inline constexpr std::array<EffectName, effect::count> kEffectNames{{
 }};
 
 constexpr bool has(EffectSet set, EffectSet bit) { return (set & bit) != 0; }
+
+// "gravity,friction,walls" (scene keys of the effects in the set, joined by sep).
+inline std::string effect_names(EffectSet set, std::string_view sep = ",") {
+  std::string out;
+  for (const EffectName& e : kEffectNames) {
+    if (!has(set, e.bit)) continue;
+    if (!out.empty()) out.append(sep);
+    out.append(e.key);
+  }
+  return out;
+}
 
 }  // namespace dem2d

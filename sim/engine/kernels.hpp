@@ -25,14 +25,17 @@ namespace dem2d::kernels {
 using std::size_t;
 
 // v += dt/2 (F/m + g); x += dt v. Each thread leaves the largest speed squared
-// it saw (m^2/s^2) in s.thread_v2max; the caller reads them after a barrier.
+// it saw (m^2/s^2) in s.thread_v2max and whether a grain left the domain (or
+// became non-finite) in s.thread_escaped; the caller reads them after a barrier.
 template <EffectSet E>
 inline void kick_drift(System& s) {
   Particles& p = s.p;
   const double h = 0.5 * s.dt, dt = s.dt;
   const double gx = s.gx, gy = s.gy;
+  const Box box = s.domain;
   const auto n = static_cast<std::int64_t>(p.size());
   double v2max = 0.0;
+  bool escaped = false;
 #pragma omp for schedule(static) nowait
   for (std::int64_t k = 0; k < n; ++k) {
     const auto i = static_cast<size_t>(k);
@@ -47,12 +50,16 @@ inline void kick_drift(System& s) {
     p.vx[i] = vx;
     p.vy[i] = vy;
     p.omega[i] = w;
-    p.x[i] += dt * vx;
-    p.y[i] += dt * vy;
+    const double x = p.x[i] + dt * vx, y = p.y[i] + dt * vy;
+    p.x[i] = x;
+    p.y[i] = y;
     p.theta[i] += dt * w;
     v2max = std::max(v2max, vx * vx + vy * vy);
+    escaped |= !box.contains(x, y) || !std::isfinite(w);  // contains() is false for NaN
   }
-  s.thread_v2max[static_cast<size_t>(omp_get_thread_num())] = v2max;
+  const auto t = static_cast<size_t>(omp_get_thread_num());
+  s.thread_v2max[t] = v2max;
+  s.thread_escaped[t] = escaped;
 }
 
 // Particle-particle contacts: one evaluation per pair, results per slot.
@@ -281,13 +288,16 @@ void advance(System& s, std::int64_t steps) {
 #pragma omp single
     {
       const double v2max = *std::max_element(s.thread_v2max.begin(), s.thread_v2max.end());
+      const bool escaped =
+          std::find(s.thread_escaped.begin(), s.thread_escaped.end(), 1) != s.thread_escaped.end();
       std::fill(s.thread_v2max.begin(), s.thread_v2max.end(), 0.0);
+      std::fill(s.thread_escaped.begin(), s.thread_escaped.end(), 0);
       ++s.step;
       s.moved_particles += std::sqrt(v2max) * s.dt;
       if constexpr (has(E, effect::moving_bodies)) s.place_bodies();
+      if (escaped) s.remove_escaped();
       const double half_skin = 0.5 * s.lists.skin();
-      if (s.moved_particles > half_skin || s.moved_particles + s.moved_bodies > s.lists.skin() ||
-          !std::isfinite(v2max))
+      if (escaped || s.moved_particles > half_skin || s.moved_particles + s.moved_bodies > s.lists.skin())
         s.rebuild();
       failed = !s.failure.empty();
     }

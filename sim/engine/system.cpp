@@ -22,6 +22,7 @@ System::System(const Scene& scene)
   omp_set_dynamic(0);
   threads = scene.threads > 0 ? scene.threads : omp_get_max_threads();
   thread_v2max.assign(static_cast<std::size_t>(threads), 0.0);
+  thread_escaped.assign(static_cast<std::size_t>(threads), 0);
 
   const std::size_t n = scene.particles.size();
   p.resize(n);
@@ -44,6 +45,11 @@ System::System(const Scene& scene)
   }
 
   const std::size_t nb = scene.bodies.size();
+  if (nb > 0 && !has(effects, effect::walls))
+    throw std::invalid_argument("the scene has bodies but not the walls effect");
+  for (const BodySpec& q : scene.bodies)
+    if ((q.vx != 0.0 || q.vy != 0.0) && !has(effects, effect::moving_bodies))
+      throw std::invalid_argument("body " + q.name + " has a velocity but the scene lacks the moving_bodies effect");
   bodies.resize(nb);
   for (std::size_t b = 0; b < nb; ++b) {
     const BodySpec& q = scene.bodies[b];
@@ -69,8 +75,9 @@ System::System(const Scene& scene)
                   scene.skin);
   advance_ = advance_kernel(effects);
   initial_forces_ = initial_force_kernel(effects);
-  rebuild();
+  remove_escaped();
   if (!failure.empty()) throw std::runtime_error(failure);
+  rebuild();
   evaluate_initial_forces();
 }
 
@@ -100,7 +107,7 @@ void System::place_bodies() {
   moved_bodies += moved;
 }
 
-void System::rebuild() {
+void System::remove_escaped() {
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (!p.active[i]) continue;
     const bool finite = std::isfinite(p.x[i]) && std::isfinite(p.y[i]) && std::isfinite(p.vx[i]) &&
@@ -119,10 +126,22 @@ void System::rebuild() {
       p.fx[i] = p.fy[i] = p.torque[i] = 0.0;
     }
   }
+}
+
+void System::rebuild() {
   lists.rebuild_pairs(p);
   if (has(effects, effect::walls)) lists.rebuild_walls(p, seg, bodies.radius);
   moved_particles = 0.0;
   moved_bodies = 0.0;
+}
+
+Scene with_state(Scene scene, const System& sys) {
+  scene.particles.clear();
+  for (std::size_t i = 0; i < sys.size(); ++i)
+    if (sys.p.active[i])
+      scene.particles.push_back(
+          {sys.p.x[i], sys.p.y[i], 2.0 * sys.p.radius[i], sys.p.vx[i], sys.p.vy[i], sys.p.omega[i]});
+  return scene;
 }
 
 void System::reset_body_sums() {

@@ -59,14 +59,18 @@ struct System {
   std::vector<double> body_fx_sum, body_fy_sum, body_torque_sum;
   std::int64_t body_sum_steps = 0;
 
-  std::vector<double> thread_v2max;  // per-thread largest speed^2 of the last drift
+  std::vector<double> thread_v2max;         // per-thread largest speed^2 of the last drift
+  std::vector<std::uint8_t> thread_escaped;  // per-thread: a grain left the domain in the last drift
 
   std::vector<LostParticle> lost;
   std::string failure;  // set by a kernel when the state became non-finite
 
-  // Rebuild the neighbour lists now: removes grains outside the domain
-  // (recorded in `lost`) and resets the displacement bounds.
+  // Rebuild the neighbour lists now and reset the displacement bounds.
+  // When it happens never changes the results, only the cost.
   void rebuild();
+  // Removes (deactivates, records in `lost`) grains outside the domain; a
+  // non-finite grain sets `failure` instead. Called whenever a drift flags one.
+  void remove_escaped();
   // Recompute body positions for the current step (moving bodies only).
   void place_bodies();
   // Evaluate forces for the current positions without advancing the springs
@@ -78,6 +82,11 @@ struct System {
   AdvanceFn advance_ = nullptr;
   ForceFn initial_forces_ = nullptr;
 };
+
+// `scene` with its grains replaced by the active grains of `sys` in their
+// current state (position, velocity, spin): to continue from a settled state
+// with other effects or parameters.
+Scene with_state(Scene scene, const System& sys);
 
 // The kernel table: one entry per effect set, built in engine/kernels_*.cpp.
 AdvanceFn advance_kernel(EffectSet effects);

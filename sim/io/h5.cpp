@@ -31,6 +31,15 @@ Handle link_create_plist() {
   return lcpl;
 }
 
+// A C-string memory type for reading `stored`: variable or fixed `size`, with the
+// stored character set (HDF5 does not convert between ASCII and UTF-8).
+Handle string_type(hid_t stored, std::size_t size) {
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type, size);
+  H5Tset_cset(type, H5Tget_cset(stored));
+  return type;
+}
+
 Handle open_object(const File& f, const std::string& object) {
   return check(H5Oopen(f.id(), object.c_str(), H5P_DEFAULT), H5Oclose, f, "no object " + object);
 }
@@ -144,8 +153,8 @@ void write_strings(const File& f, const std::string& name, const std::vector<std
 
 std::vector<std::string> read_strings(const File& f, const std::string& name) {
   Handle ds = check(H5Dopen2(f.id(), name.c_str(), H5P_DEFAULT), H5Dclose, f, "no dataset " + name);
-  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
-  H5Tset_size(type, H5T_VARIABLE);
+  Handle stored(H5Dget_type(ds), H5Tclose);
+  Handle type = string_type(stored, H5T_VARIABLE);
   const std::vector<hsize_t> dims = shape(f, name);
   const hsize_t n = dims.empty() ? 0 : dims[0];
   std::vector<char*> ptrs(n, nullptr);
@@ -170,17 +179,30 @@ bool exists(const File& f, const std::string& name) {
   }
 }
 
+std::string dtype(const File& f, const std::string& name) {
+  Handle ds = check(H5Dopen2(f.id(), name.c_str(), H5P_DEFAULT), H5Dclose, f, "no dataset " + name);
+  Handle type(H5Dget_type(ds), H5Tclose);
+  const std::string size = std::to_string(H5Tget_size(type));
+  switch (H5Tget_class(type)) {
+    case H5T_FLOAT: return "f" + size;
+    case H5T_INTEGER: return (H5Tget_sign(type) == H5T_SGN_NONE ? "u" : "i") + size;
+    case H5T_STRING: return "str";
+    default: return "other";
+  }
+}
+
+// Variable-length UTF-8, which h5py reads as str (fixed-length ones come back as bytes).
 void write_attr(const File& f, const std::string& object, const std::string& name, const std::string& value) {
   Handle obj = open_object(f, object);
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
-  H5Tset_size(type, std::max<std::size_t>(value.size(), 1));
+  H5Tset_size(type, H5T_VARIABLE);
   H5Tset_cset(type, H5T_CSET_UTF8);
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
   if (H5Aexists(obj, name.c_str()) > 0) H5Adelete(obj, name.c_str());
   Handle attr = check(H5Acreate2(obj, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, f,
                       "cannot create attribute " + object + "@" + name);
-  const std::string padded = value.empty() ? std::string(1, '\0') : value;
-  check(H5Awrite(attr, type, padded.data()), f, "cannot write attribute " + name);
+  const char* text = value.c_str();
+  check(H5Awrite(attr, type, &text), f, "cannot write attribute " + name);
 }
 
 namespace {
@@ -224,8 +246,7 @@ std::string read_attr_string(const File& f, const std::string& object, const std
                       "no attribute " + object + "@" + name);
   Handle ftype(H5Aget_type(attr), H5Tclose);
   if (H5Tis_variable_str(ftype) > 0) {
-    Handle mtype(H5Tcopy(H5T_C_S1), H5Tclose);
-    H5Tset_size(mtype, H5T_VARIABLE);
+    Handle mtype = string_type(ftype, H5T_VARIABLE);
     char* buf = nullptr;
     check(H5Aread(attr, mtype, &buf), f, "cannot read attribute " + name);
     std::string out = buf ? buf : "";
@@ -234,8 +255,7 @@ std::string read_attr_string(const File& f, const std::string& object, const std
   }
   const std::size_t size = H5Tget_size(ftype);
   std::string buf(size, '\0');
-  Handle mtype(H5Tcopy(H5T_C_S1), H5Tclose);
-  H5Tset_size(mtype, size);
+  Handle mtype = string_type(ftype, size);
   check(H5Aread(attr, mtype, buf.data()), f, "cannot read attribute " + name);
   buf.resize(std::min(buf.size(), buf.find('\0')));
   return buf;

@@ -71,6 +71,8 @@ std::vector<T> read(const File& f, const std::string& name, std::vector<hsize_t>
 std::vector<std::string> read_strings(const File& f, const std::string& name);
 std::vector<hsize_t> shape(const File& f, const std::string& name);
 bool exists(const File& f, const std::string& name);
+// Element type of a dataset as numpy spells it: "f8", "i4", "i8", "u1", ..., "str" or "other".
+std::string dtype(const File& f, const std::string& name);
 
 // Attributes on the object at `object` ("/" for the file).
 void write_attr(const File& f, const std::string& object, const std::string& name, const std::string& value);

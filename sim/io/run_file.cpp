@@ -1,1 +1,335 @@
-// (being written)
+#include "io/run_file.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <type_traits>
+#include <utility>
+
+#include "engine/diagnostics.hpp"
+#include "io/h5.hpp"
+
+namespace dem2d {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Per-snapshot contact counts: kept in the segments, turned into
+// /snapshots/contact_start in the run file.
+const std::string kContactCount = "snapshots/contact_count";
+
+std::vector<hsize_t> stacked(std::uint64_t rows, const std::vector<std::uint64_t>& record) {
+  std::vector<hsize_t> dims{rows};
+  dims.insert(dims.end(), record.begin(), record.end());
+  return dims;
+}
+
+void append_ends(std::vector<double>& out, const Bodies& B) {
+  for (std::size_t b = 0; b < B.size(); ++b) out.insert(out.end(), {B.ax[b], B.ay[b], B.bx[b], B.by[b]});
+}
+
+void write_header(const h5::File& f, const System& sys, const RunInfo& info, const std::string& stop_reason) {
+  const auto i64 = [](auto v) { return static_cast<std::int64_t>(v); };
+  h5::write_attr(f, "/", "format", kRunFileFormat);
+  h5::write_attr(f, "/", "scene_text", info.scene_text);
+  h5::write_attr(f, "/", "scene_path", info.scene_path);
+  h5::write_attr(f, "/", "code_version", info.code_version);
+  h5::write_attr(f, "/", "threads", i64(info.threads));
+  h5::write_attr(f, "/", "dt", sys.dt);
+  h5::write_attr(f, "/", "steps", i64(sys.step));
+  h5::write_attr(f, "/", "end_time", sys.time());
+  h5::write_attr(f, "/", "stop_reason", stop_reason);
+  h5::write_attr(f, "/", "effects", effect_names(sys.effects));
+  h5::write_attr(f, "/", "n_particles", i64(sys.size()));
+  h5::write_attr(f, "/", "n_bodies", i64(sys.bodies.size()));
+  h5::write_attr(f, "/", "lost_particles", i64(sys.lost.size()));
+
+  const Particles& p = sys.p;
+  std::vector<std::int32_t> ids;
+  std::vector<double> diameter, inertia;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    ids.push_back(static_cast<std::int32_t>(i));
+    diameter.push_back(2.0 * p.radius[i]);
+    inertia.push_back(1.0 / p.inv_inertia[i]);
+  }
+  h5::write(f, "particles/id", ids);
+  h5::write(f, "particles/diameter", diameter);
+  h5::write(f, "particles/mass", p.mass);
+  h5::write(f, "particles/inertia", inertia);
+
+  const Bodies& B = sys.bodies;
+  std::vector<double> thickness, velocity;
+  for (std::size_t b = 0; b < B.size(); ++b) {
+    thickness.push_back(2.0 * B.radius[b]);
+    velocity.insert(velocity.end(), {B.vx[b], B.vy[b]});
+  }
+  h5::write_strings(f, "bodies/name", B.name);
+  h5::write(f, "bodies/thickness", thickness);
+  h5::write(f, "bodies/velocity", velocity, {B.size(), 2});
+
+  std::vector<std::int32_t> id;
+  std::vector<std::int64_t> step;
+  std::vector<double> x, y;
+  for (const LostParticle& l : sys.lost) {
+    id.push_back(l.id);
+    step.push_back(l.step);
+    x.push_back(l.x);
+    y.push_back(l.y);
+  }
+  h5::write(f, "lost/id", id);
+  h5::write(f, "lost/step", step);
+  h5::write(f, "lost/x", x);
+  h5::write(f, "lost/y", y);
+}
+
+// ParaView's view of the snapshots (docs/run_file.md): a temporal collection of
+// point clouds whose arrays are hyperslabs of the run file's datasets. Written
+// for the Xdmf3 readers, ParaView's default for .xdmf: they read a selection
+// given as "file:/dataset|start:stride:count:dataspace" but not HyperSlab
+// DataItems, which crash them. The polyvertex connectivity is /particles/id
+// (inline XML connectivity would be read for the first grid only).
+void write_xdmf(const std::string& path, const std::string& h5_name, const std::vector<double>& times,
+                std::uint64_t n) {
+  const std::string N = std::to_string(n), S = std::to_string(times.size());
+  const std::string f8 = "NumberType=\"Float\" Precision=\"8\"", u1 = "NumberType=\"UChar\" Precision=\"1\"",
+                    i4 = "NumberType=\"Int\" Precision=\"4\"";
+  const auto item = [&](const std::string& dims, const std::string& type, const std::string& content) {
+    return "<DataItem Dimensions=\"" + dims + "\" " + type + " Format=\"HDF\">" + h5_name + ":" + content +
+           "</DataItem>";
+  };
+  // record k of a dataset [S, N] (comps = 0) or [S, N, comps]
+  const auto record = [&](std::size_t k, const std::string& dataset, const std::string& type, int comps) {
+    std::ostringstream dims, sel;  // (streams: GCC 12 warns falsely on some string concatenations)
+    dims << N;
+    if (comps > 0) dims << ' ' << comps;
+    sel << dataset << '|' << k << (comps > 0 ? " 0 0" : " 0") << ':' << (comps > 0 ? "1 1 1" : "1 1") << ":1 "
+        << dims.str() << ':' << S << ' ' << dims.str();
+    return item(dims.str(), type, sel.str());
+  };
+  const auto attribute = [](const std::string& name, const std::string& kind, const std::string& data) {
+    return "      <Attribute Name=\"" + name + "\" AttributeType=\"" + kind + "\" Center=\"Node\">\n        " +
+           data + "\n      </Attribute>\n";
+  };
+
+  std::ofstream out(path);
+  out << "<?xml version=\"1.0\" ?>\n"
+      << "<Xdmf Version=\"3.0\">\n<Domain>\n"
+      << "  <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  char time[32];
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    std::snprintf(time, sizeof time, "%.17g", times[k]);
+    out << "    <Grid Name=\"snapshot_" << k << "\" GridType=\"Uniform\">\n"
+        << "      <Time Value=\"" << time << "\"/>\n"
+        << "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << N << "\" NodesPerElement=\"1\">\n"
+        << "        " << item(N, i4, "/particles/id") << "\n"
+        << "      </Topology>\n"
+        << "      <Geometry GeometryType=\"XY\">\n        " << record(k, "/snapshots/position", f8, 2)
+        << "\n      </Geometry>\n"
+        << attribute("diameter", "Scalar", item(N, f8, "/particles/diameter"))
+        << attribute("velocity", "Vector", record(k, "/snapshots/velocity", f8, 2))
+        << attribute("omega", "Scalar", record(k, "/snapshots/omega", f8, 0))
+        << attribute("theta", "Scalar", record(k, "/snapshots/theta", f8, 0))
+        << attribute("active", "Scalar", record(k, "/snapshots/active", u1, 0)) << "    </Grid>\n";
+  }
+  out << "  </Grid>\n</Domain>\n</Xdmf>\n";
+  out.close();
+  if (!out) throw std::runtime_error(path + ": cannot write the XDMF file");
+}
+
+}  // namespace
+
+RunRecorder::RunRecorder(const System& sys, std::string work_dir)
+    : work_dir_(std::move(work_dir)), n_(sys.size()), nb_(sys.bodies.size()) {}
+
+std::string RunRecorder::segment_path(int k) const {
+  char name[32];
+  std::snprintf(name, sizeof name, "segment_%06d.h5", k);
+  return (fs::path(work_dir_) / name).string();
+}
+
+std::vector<RunRecorder::Column> RunRecorder::columns() {
+  const std::size_t t = series_.time.size(), s = snap_.time.size(), c = contact_.i.size();
+  const std::uint64_t n = n_, b = nb_;
+  return {
+      {"series/time", {}, &series_.time, t},
+      {"series/step", {}, &series_.step, t},
+      {"series/body_force", {b, 2}, &series_.force, t},
+      {"series/body_force_mean", {b, 2}, &series_.force_mean, t},
+      {"series/body_torque", {b}, &series_.torque, t},
+      {"series/body_torque_mean", {b}, &series_.torque_mean, t},
+      {"series/body_ends", {b, 4}, &series_.ends, t},
+      {"series/kinetic_energy", {}, &series_.kinetic_energy, t},
+      {"series/max_overlap", {}, &series_.max_overlap, t},
+      {"series/contacts", {}, &series_.contacts, t},
+      {"snapshots/time", {}, &snap_.time, s},
+      {"snapshots/step", {}, &snap_.step, s},
+      {"snapshots/position", {n, 2}, &snap_.position, s},
+      {"snapshots/velocity", {n, 2}, &snap_.velocity, s},
+      {"snapshots/omega", {n}, &snap_.omega, s},
+      {"snapshots/theta", {n}, &snap_.theta, s},
+      {"snapshots/active", {n}, &snap_.active, s},
+      {"snapshots/body_ends", {b, 4}, &snap_.ends, s},
+      {kContactCount, {}, &snap_.contact_count, s},
+      {"contacts/i", {}, &contact_.i, c},
+      {"contacts/j", {}, &contact_.j, c},
+      {"contacts/fn", {}, &contact_.fn, c},
+      {"contacts/ft", {}, &contact_.ft, c},
+      {"contacts/overlap", {}, &contact_.overlap, c},
+      {"contacts/nx", {}, &contact_.nx, c},
+      {"contacts/ny", {}, &contact_.ny, c},
+      {"contacts/mr", {}, &contact_.mr, c},
+      {"contacts/sliding", {}, &contact_.sliding, c},
+  };
+}
+
+void RunRecorder::record_series(System& sys) {
+  const Bodies& B = sys.bodies;
+  series_.time.push_back(sys.time());
+  series_.step.push_back(sys.step);
+  const auto steps = static_cast<double>(sys.body_sum_steps);
+  for (std::size_t b = 0; b < B.size(); ++b) {
+    series_.force.insert(series_.force.end(), {B.fx[b], B.fy[b]});
+    series_.torque.push_back(B.torque[b]);
+    if (sys.body_sum_steps > 0) {
+      series_.force_mean.insert(series_.force_mean.end(), {sys.body_fx_sum[b] / steps, sys.body_fy_sum[b] / steps});
+      series_.torque_mean.push_back(sys.body_torque_sum[b] / steps);
+    } else {
+      series_.force_mean.insert(series_.force_mean.end(), {B.fx[b], B.fy[b]});
+      series_.torque_mean.push_back(B.torque[b]);
+    }
+  }
+  append_ends(series_.ends, B);
+  series_.kinetic_energy.push_back(kinetic_energy(sys));
+  series_.max_overlap.push_back(max_overlap(sys));
+  series_.contacts.push_back(static_cast<std::int64_t>(contact_count(sys)));
+  ++series_rows_;
+  sys.reset_body_sums();
+}
+
+void RunRecorder::record_snapshot(const System& sys) {
+  const Particles& p = sys.p;
+  snap_.time.push_back(sys.time());
+  snap_.step.push_back(sys.step);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    snap_.position.insert(snap_.position.end(), {p.x[i], p.y[i]});
+    snap_.velocity.insert(snap_.velocity.end(), {p.vx[i], p.vy[i]});
+    snap_.omega.push_back(p.omega[i]);
+    snap_.theta.push_back(p.theta[i]);
+    snap_.active.push_back(p.active[i]);
+  }
+  append_ends(snap_.ends, sys.bodies);
+
+  // touching slots, pairs then walls, in slot order
+  const bool friction = has(sys.effects, effect::friction);
+  const std::size_t before = contact_.i.size();
+  const auto add = [&](std::size_t i, std::int32_t j, double fn, double ft, double overlap, double nx,
+                       double ny, double mr, double mu) {
+    contact_.i.push_back(static_cast<std::int32_t>(i));
+    contact_.j.push_back(j);
+    contact_.fn.push_back(fn);
+    contact_.ft.push_back(ft);
+    contact_.overlap.push_back(overlap);
+    contact_.nx.push_back(nx);
+    contact_.ny.push_back(ny);
+    contact_.mr.push_back(mr);
+    contact_.sliding.push_back(friction && is_sliding(fn, ft, mu) ? 1 : 0);
+  };
+  const PairList& P = sys.lists.pairs;
+  for (std::size_t i = 0; i + 1 < P.start.size(); ++i)
+    for (auto sl = static_cast<std::size_t>(P.start[i]); sl < static_cast<std::size_t>(P.start[i + 1]); ++sl) {
+      if (!(P.overlap[sl] > 0.0)) continue;
+      const auto j = static_cast<std::size_t>(P.partner[sl]);
+      const double dx = p.x[i] - p.x[j], dy = p.y[i] - p.y[j], dist = std::sqrt(dx * dx + dy * dy);
+      add(i, P.partner[sl], P.fn[sl], P.ft[sl], P.overlap[sl], dist > 0.0 ? dx / dist : 1.0,
+          dist > 0.0 ? dy / dist : 0.0, P.mr[sl], sys.law_pp.friction);
+    }
+  const WallList& W = sys.lists.walls;
+  for (std::size_t i = 0; i + 1 < W.start.size(); ++i)
+    for (auto sl = static_cast<std::size_t>(W.start[i]); sl < static_cast<std::size_t>(W.start[i + 1]); ++sl) {
+      if (!(W.overlap[sl] > 0.0)) continue;
+      const SegmentProximity g = closest_point(sys.seg[static_cast<std::size_t>(W.body[sl])], p.x[i], p.y[i]);
+      add(i, -1 - W.body[sl], W.fn[sl], W.ft[sl], W.overlap[sl], g.nx, g.ny, W.mr[sl], sys.law_pw.friction);
+    }
+  snap_.contact_count.push_back(static_cast<std::int64_t>(contact_.i.size() - before));
+  ++snapshots_;
+}
+
+void RunRecorder::flush_segment() {
+  if (series_.time.empty() && snap_.time.empty()) return;
+  const std::string path = segment_path(segments_), tmp = path + ".tmp";
+  {
+    const h5::File f = h5::File::create(tmp);
+    for (const Column& c : columns())
+      std::visit([&](auto* v) { h5::write(f, c.name, *v, stacked(c.rows, c.record)); }, c.data);
+  }
+  fs::rename(tmp, path);
+  ++segments_;
+  for (const Column& c : columns()) std::visit([](auto* v) { v->clear(); }, c.data);
+}
+
+void RunRecorder::restore_counts(int segments, std::int64_t series_rows, std::int64_t snapshots) {
+  for (const Column& c : columns()) std::visit([](auto* v) { v->clear(); }, c.data);
+  segments_ = segments;
+  series_rows_ = series_rows;
+  snapshots_ = snapshots;
+  // segments written after the checkpoint, and unfinished ones
+  for (const fs::directory_entry& e : fs::directory_iterator(work_dir_)) {
+    const std::string name = e.path().filename().string();
+    if (name.starts_with("segment_") && (name.ends_with(".tmp") || std::atoi(name.c_str() + 8) >= segments))
+      fs::remove(e.path());
+  }
+}
+
+void RunRecorder::finish(const System& sys, const RunInfo& info, const std::string& out_path,
+                         const std::string& stop_reason) {
+  flush_segment();
+  const fs::path out(out_path), xdmf = fs::path(out_path).replace_extension(".xdmf");
+  const std::string out_tmp = out.string() + ".tmp", xdmf_tmp = xdmf.string() + ".tmp";
+  {
+    const h5::File f = h5::File::create(out_tmp);
+    write_header(f, sys, info, stop_reason);
+
+    std::vector<h5::File> segs;
+    for (int k = 0; k < segments_; ++k) segs.push_back(h5::File::open_read(segment_path(k)));
+    // one column at a time: the concatenation of its segment parts
+    for (const Column& c : columns()) {
+      if (c.name == kContactCount) continue;
+      std::visit(
+          [&](auto* v) {
+            using T = typename std::remove_pointer_t<decltype(v)>::value_type;
+            hsize_t rows = 0;
+            for (const h5::File& s : segs) {
+              std::vector<hsize_t> dims;
+              const std::vector<T> part = h5::read<T>(s, c.name, &dims);
+              rows += dims.at(0);
+              v->insert(v->end(), part.begin(), part.end());
+            }
+            h5::write(f, c.name, *v, stacked(rows, c.record));
+            std::vector<T>().swap(*v);
+          },
+          c.data);
+    }
+    std::vector<std::int64_t> start{0};
+    for (const h5::File& s : segs)
+      for (const std::int64_t count : h5::read<std::int64_t>(s, kContactCount)) start.push_back(start.back() + count);
+    h5::write(f, "snapshots/contact_start", start);
+
+    const std::vector<double> times = h5::read<double>(f, "snapshots/time");
+    if (static_cast<std::int64_t>(times.size()) != snapshots_ ||
+        static_cast<std::int64_t>(h5::shape(f, "series/time").at(0)) != series_rows_ ||
+        static_cast<hsize_t>(start.back()) != h5::shape(f, "contacts/i").at(0))
+      throw std::runtime_error(work_dir_ + ": the segment files do not hold the recorded rows");
+    write_xdmf(xdmf_tmp, out.filename().string(), times, n_);
+  }
+  // the XDMF first: a run file that exists is complete, its XDMF included
+  fs::rename(xdmf_tmp, xdmf);
+  fs::rename(out_tmp, out);
+  for (int k = 0; k < segments_; ++k) fs::remove(segment_path(k));
+}
+
+}  // namespace dem2d

@@ -1,1 +1,90 @@
-// (being written)
+// The run file: one HDF5 file per run (layout in docs/run_file.md).
+//
+// A half-written file must never look complete, and a killed run must be able
+// to resume. So records are buffered in memory and written as complete, closed
+// segment files (work_dir/segment_NNNNNN.h5, each written under a .tmp name and
+// renamed). At the end, `finish` assembles the header and all segments into
+// out_path + ".tmp" and renames it to out_path, with an XDMF file beside it for
+// ParaView. A file named out_path therefore exists only once it is complete.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "engine/system.hpp"
+
+namespace dem2d {
+
+// Header data, written as root attributes.
+struct RunInfo {
+  std::string scene_text, scene_path, code_version;  // code_version: DEM2D_VERSION
+  int threads = 1;
+};
+
+inline constexpr const char* kRunFileFormat = "dem2d-run-1";
+
+class RunRecorder {
+ public:
+  RunRecorder(const System& sys, std::string work_dir);  // work_dir must exist
+
+  // Appends one time-series row, then resets the body force sums (sys.reset_body_sums()).
+  void record_series(System& sys);
+  // Appends one snapshot: every particle (inactive ones flagged) and every touching contact.
+  void record_snapshot(const System& sys);
+  // Writes the buffered records as the next segment file and clears the buffers;
+  // does nothing if nothing is buffered.
+  void flush_segment();
+
+  int segments() const { return segments_; }
+  std::int64_t series_rows() const { return series_rows_; }
+  std::int64_t snapshot_count() const { return snapshots_; }
+  // On resume (from a checkpoint taken right after a flush): adopt the counts the
+  // checkpoint saw. Buffers are dropped; segment files numbered `segments` and
+  // above (written after the checkpoint) and unfinished (.tmp) ones are deleted.
+  void restore_counts(int segments, std::int64_t series_rows, std::int64_t snapshots);
+
+  // Flushes, then assembles header + segments + final info into out_path, writes
+  // the XDMF file beside it (out_path with extension .xdmf), and deletes the
+  // segment files. Both files are written under a .tmp name and renamed, the
+  // XDMF first, so that out_path appearing means the run file is complete.
+  void finish(const System& sys, const RunInfo& info, const std::string& out_path,
+              const std::string& stop_reason);
+
+ private:
+  // One buffered dataset: records of shape `record` stacked along a new first
+  // dimension whose length is the row count of its table.
+  using Buffer = std::variant<std::vector<double>*, std::vector<std::int64_t>*,
+                              std::vector<std::int32_t>*, std::vector<std::uint8_t>*>;
+  struct Column {
+    std::string name;                   // dataset path in segment and run file
+    std::vector<std::uint64_t> record;  // shape of one record
+    Buffer data;
+    std::size_t rows;                   // buffered rows of its table
+  };
+  std::vector<Column> columns();
+  std::string segment_path(int k) const;
+
+  std::string work_dir_;
+  std::uint64_t n_, nb_;  // particles, bodies
+  int segments_ = 0;
+  std::int64_t series_rows_ = 0, snapshots_ = 0;
+
+  struct {
+    std::vector<double> time, force, force_mean, torque, torque_mean, ends, kinetic_energy, max_overlap;
+    std::vector<std::int64_t> step, contacts;
+  } series_;
+  struct {
+    std::vector<double> time, position, velocity, omega, theta, ends;
+    std::vector<std::int64_t> step, contact_count;  // contacts per snapshot (segments only)
+    std::vector<std::uint8_t> active;
+  } snap_;
+  struct {
+    std::vector<std::int32_t> i, j;
+    std::vector<double> fn, ft, overlap, nx, ny, mr;
+    std::vector<std::uint8_t> sliding;
+  } contact_;
+};
+
+}  // namespace dem2d

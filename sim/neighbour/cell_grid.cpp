@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace dem2d {
 
@@ -12,11 +13,13 @@ void CellGrid::configure(double xmin, double ymin, double xmax, double ymax, dou
   x0_ = xmin - cell_size;
   y0_ = ymin - cell_size;
   inv_cell_ = 1.0 / cell_size;
-  nx_ = static_cast<int>(std::ceil((xmax - xmin) / cell_size)) + 2;
-  ny_ = static_cast<int>(std::ceil((ymax - ymin) / cell_size)) + 2;
-  const double cells = static_cast<double>(nx_) * ny_;
-  if (cells > 2.0e8)
-    throw std::invalid_argument("CellGrid: the domain holds more than 2e8 cells; shrink [domain]");
+  const double nx = std::ceil((xmax - xmin) / cell_size) + 2.0;
+  const double ny = std::ceil((ymax - ymin) / cell_size) + 2.0;
+  if (nx * ny > 2.0e8)
+    throw std::invalid_argument("the domain holds more than 2e8 neighbour-search cells of " +
+                                std::to_string(cell_size) + " m; shrink [domain]");
+  nx_ = static_cast<int>(nx);
+  ny_ = static_cast<int>(ny);
   start_.assign(static_cast<std::size_t>(nx_) * ny_ + 1, 0);
 }
 

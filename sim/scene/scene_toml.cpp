@@ -1,1 +1,686 @@
-// (being written)
+#include "scene/scene_toml.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <optional>
+#include <sstream>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "scene/generators.hpp"
+
+namespace dem2d {
+namespace {
+
+using Vec2 = std::array<double, 2>;
+constexpr double kOverlapTolerance = 1e-12;  // m: exact touching is not an overlap
+
+// ---------------------------------------------------------------- formatting
+
+std::string shortest(double v) {  // shortest text that reads back as v
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+}
+
+std::string sig3(double v) {  // derived quantities: 3 significant digits
+  std::ostringstream os;
+  os.precision(3);
+  os << v;
+  return os.str();
+}
+
+// A value as the user wrote it (near enough), shortened if long.
+std::string show(const toml::node& n) {
+  std::string s;
+  if (const auto* i = n.as_integer())
+    s = std::to_string(i->get());
+  else if (const auto* x = n.as_floating_point())
+    s = shortest(x->get());
+  else if (const auto* b = n.as_boolean())
+    s = b->get() ? "true" : "false";
+  else if (const auto* str = n.as_string())
+    s = '"' + str->get() + '"';
+  else if (const auto* a = n.as_array()) {
+    s = "[";
+    for (std::size_t k = 0; k < a->size() && s.size() < 80; ++k)
+      s += (k ? ", " : "") + show(*a->get(k));
+    s += "]";
+  } else if (const auto* t = n.as_table()) {
+    s = "{ ";
+    for (auto&& [key, v] : *t) {
+      if (s.size() > 80) break;
+      s += std::string(key.str()) + " = " + show(v) + ", ";
+    }
+    s = (s.size() > 2 ? s.substr(0, s.size() - 2) : "{") + " }";
+  } else {
+    std::ostringstream os;  // dates and times
+    n.visit([&](auto&& v) { os << v; });
+    s = os.str();
+  }
+  return s.size() > 80 ? s.substr(0, 77) + "..." : s;
+}
+
+// Integers are accepted where a float is expected.
+std::optional<double> number_of(const toml::node& n) {
+  if (const auto* i = n.as_integer()) return static_cast<double>(i->get());
+  if (const auto* x = n.as_floating_point()) return x->get();
+  return std::nullopt;
+}
+
+std::string join(const std::vector<std::string_view>& keys) {
+  std::string s;
+  for (const auto k : keys) s += (s.empty() ? "" : ", ") + std::string(k);
+  return s;
+}
+
+// ---------------------------------------------------------------- errors
+
+struct File {
+  std::string path;
+
+  std::string at(const toml::source_region* where) const {
+    if (!where || where->begin.line == 0) return path;
+    return path + ":" + std::to_string(where->begin.line) + ":" +
+           std::to_string(where->begin.column);
+  }
+  [[noreturn]] void fail(const toml::source_region* where, const std::string& msg) const {
+    throw SceneError(at(where) + ": " + msg);
+  }
+  [[noreturn]] void fail(const toml::node& n, const std::string& msg) const {
+    fail(&n.source(), msg);
+  }
+};
+
+// ---------------------------------------------------------------- typed keys
+
+enum class Rule { finite, positive, non_negative, unit_open_closed };
+
+struct Num {
+  const char* what;  // "normal stiffness"
+  const char* unit;  // "N/m", "" if dimensionless
+  Rule rule;
+};
+
+const char* rule_text(Rule r) {
+  constexpr const char* kText[] = {"finite", "> 0", ">= 0", "in (0, 1]"};
+  return kText[static_cast<int>(r)];
+}
+
+bool obeys(Rule r, double v) {
+  return std::isfinite(v) && (r == Rule::finite || (r == Rule::positive && v > 0.0) ||
+                              (r == Rule::non_negative && v >= 0.0) ||
+                              (r == Rule::unit_open_closed && v > 0.0 && v <= 1.0));
+}
+
+// "normal stiffness in N/m"
+std::string describe(const Num& n) {
+  return std::string(n.what) + (*n.unit ? std::string(" in ") + n.unit : "");
+}
+// "normal stiffness in N/m, > 0"
+std::string range(const Num& n) { return describe(n) + ", " + rule_text(n.rule); }
+
+// One table of the file: rejects unknown keys on construction, then reads
+// typed keys with range checks. Key paths in messages are dotted from the root
+// (`contact.wall.kn`, `body[2].thickness`). A reader of an absent table sees
+// every key as missing.
+class TableReader {
+ public:
+  TableReader(const File& f, const toml::node* node, std::string name,
+              std::vector<std::string_view> allowed)
+      : f_(&f), name_(std::move(name)) {
+    if (!node) return;
+    table_ = node->as_table();
+    if (!table_) f.fail(*node, name_ + " = " + show(*node) + ": wrong type, expected a table");
+    for (auto&& [key, value] : *table_) {
+      if (std::find(allowed.begin(), allowed.end(), key.str()) != allowed.end()) continue;
+      const std::string where = name_.empty()                          ? "at the top level"
+                                : name_.find('[') != std::string::npos ? "in " + name_
+                                                                       : "in [" + name_ + "]";
+      f.fail(&key.source(), "unknown key '" + std::string(key.str()) + "' " + where +
+                                " (allowed: " + join(allowed) + ")");
+    }
+  }
+
+  const toml::node* node(std::string_view key) const { return table_ ? table_->get(key) : nullptr; }
+  bool has(std::string_view key) const { return node(key) != nullptr; }
+  std::string path(std::string_view key) const {
+    return name_.empty() ? std::string(key) : name_ + "." + std::string(key);
+  }
+  const toml::source_region* where() const { return table_ ? &table_->source() : nullptr; }
+
+  // "<key> = <value>: <msg>" at the key's value.
+  [[noreturn]] void fail(std::string_view key, const std::string& msg) const {
+    fail_after(key, ": " + msg);
+  }
+  [[noreturn]] void fail_after(std::string_view key, const std::string& msg) const {
+    f_->fail(*node(key), path(key) + " = " + show(*node(key)) + msg);
+  }
+  [[noreturn]] void missing(std::string_view key, const std::string& what) const {
+    f_->fail(where(), "missing key " + path(key) + " (" + what + ")");
+  }
+  // A key that only makes sense when `reason` does not hold.
+  void forbid(std::string_view key, const std::string& reason) const {
+    if (has(key))
+      fail(key, "given but " + reason + " (a scene names only what it uses: remove it)");
+  }
+
+  std::optional<double> number(std::string_view key, const Num& spec) const {
+    const toml::node* n = node(key);
+    return n ? std::optional(number_at(*n, path(key), spec)) : std::nullopt;
+  }
+  double number_or(std::string_view key, const Num& spec, double fallback) const {
+    return number(key, spec).value_or(fallback);
+  }
+  double required(std::string_view key, const Num& spec, const std::string& why = "") const {
+    if (!has(key)) missing(key, range(spec) + why);
+    return *number(key, spec);
+  }
+  std::optional<bool> boolean(std::string_view key) const {
+    const toml::node* n = node(key);
+    if (n && !n->is_boolean()) wrong_type(*n, path(key), "a boolean (true or false)");
+    return n ? std::optional(n->as_boolean()->get()) : std::nullopt;
+  }
+  std::optional<std::string> string(std::string_view key) const {
+    const toml::node* n = node(key);
+    if (n && !n->is_string()) wrong_type(*n, path(key), "a string");
+    if (n && n->as_string()->get().empty()) fail(key, "must be a non-empty string");
+    return n ? std::optional(n->as_string()->get()) : std::nullopt;
+  }
+  std::int64_t integer(std::string_view key, std::int64_t min, const char* what) const {
+    const toml::node* n = node(key);
+    if (!n) missing(key, std::string(what) + ", an integer >= " + std::to_string(min));
+    if (!n->is_integer()) wrong_type(*n, path(key), "an integer");
+    const std::int64_t v = n->as_integer()->get();
+    if (v < min) fail(key, "must be an integer >= " + std::to_string(min) + " (" + what + ")");
+    return v;
+  }
+  std::optional<Vec2> vec2(std::string_view key, const Num& spec) const {
+    const toml::node* n = node(key);
+    return n ? std::optional(vec2_at(*n, path(key), spec)) : std::nullopt;
+  }
+  Vec2 required_vec2(std::string_view key, const Num& spec, const std::string& why = "") const {
+    if (!has(key)) missing(key, "[x, y], " + range(spec) + why);
+    return *vec2(key, spec);
+  }
+  // The number at n (p: its dotted path), checked against spec.
+  double number_at(const toml::node& n, const std::string& p, const Num& spec) const {
+    const auto v = number_of(n);
+    if (!v) wrong_type(n, p, "a number");
+    if (!obeys(spec.rule, *v))
+      f_->fail(n, p + " = " + show(n) + ": must be " +
+                      (std::isfinite(*v) || spec.rule == Rule::finite ? "" : "finite and ") +
+                      rule_text(spec.rule) + " (" + describe(spec) + ")");
+    return *v;
+  }
+  // [x, y] at n, both checked against spec.
+  Vec2 vec2_at(const toml::node& n, const std::string& p, const Num& spec) const {
+    const toml::array* a = n.as_array();
+    if (!a || a->size() != 2)
+      f_->fail(n, p + " = " + show(n) + ": must be an array [x, y] (" + range(spec) + ")");
+    return {number_at(*a->get(0), p + "[0]", spec), number_at(*a->get(1), p + "[1]", spec)};
+  }
+  TableReader table(std::string_view key, std::vector<std::string_view> allowed) const {
+    return TableReader(*f_, node(key), path(key), std::move(allowed));
+  }
+  // [[key]] entries (an absent key is an empty list).
+  std::vector<TableReader> entries(std::string_view key,
+                                   std::vector<std::string_view> allowed) const {
+    std::vector<TableReader> out;
+    const toml::node* n = node(key);
+    if (!n) return out;
+    if (!n->is_array())
+      fail(key, "wrong type, expected an array of tables ([[" + std::string(key) + "]])");
+    for (std::size_t k = 0; k < n->as_array()->size(); ++k)
+      out.emplace_back(*f_, n->as_array()->get(k), path(key) + "[" + std::to_string(k) + "]",
+                       allowed);
+    return out;
+  }
+
+ private:
+  [[noreturn]] void wrong_type(const toml::node& n, const std::string& p,
+                               const std::string& expected) const {
+    f_->fail(n, p + " = " + show(n) + ": wrong type, expected " + expected);
+  }
+
+  const File* f_;
+  const toml::table* table_ = nullptr;
+  std::string name_;
+};
+
+// ---------------------------------------------------------------- sections
+
+std::string effect_key(EffectSet bit) {
+  for (const auto& e : kEffectNames)
+    if (e.bit == bit) return "effects." + std::string(e.key);
+  return "effects.?";
+}
+
+struct LawKey {
+  std::string_view key;
+  double ContactLaw::*field;
+  EffectSet needs;  // 0: always used
+  Num spec;
+};
+
+// clang-format off
+const std::array<LawKey, 6> kLawKeys{{
+  {"kn", &ContactLaw::kn, 0, {"normal stiffness", "N/m", Rule::positive}},
+  {"kt", &ContactLaw::kt, effect::friction, {"tangential stiffness", "N/m", Rule::non_negative}},
+  {"restitution", &ContactLaw::restitution, effect::normal_damping,
+   {"normal coefficient of restitution", "", Rule::unit_open_closed}},
+  {"friction", &ContactLaw::friction, effect::friction,
+   {"Coulomb friction coefficient mu", "", Rule::non_negative}},
+  {"rolling_friction", &ContactLaw::rolling_friction, effect::rolling_resistance,
+   {"rolling friction length mu_r", "m", Rule::non_negative}},
+  {"rolling_stiffness", &ContactLaw::rolling_stiffness, effect::rolling_resistance,
+   {"rolling stiffness k_r", "N m/rad", Rule::non_negative}},
+}};
+// clang-format on
+
+std::vector<std::string_view> law_keys(bool with_wall) {
+  std::vector<std::string_view> keys;
+  for (const auto& k : kLawKeys) keys.push_back(k.key);
+  if (with_wall) keys.push_back("wall");
+  return keys;
+}
+
+// base == nullptr: the particle-particle law (keys of enabled effects required);
+// otherwise overrides of base (all optional).
+ContactLaw read_law(const TableReader& r, EffectSet effects, const ContactLaw* base) {
+  ContactLaw law = base ? *base : ContactLaw{};
+  for (const LawKey& k : kLawKeys) {
+    if (k.needs && !has(effects, k.needs)) {
+      r.forbid(k.key, effect_key(k.needs) + " is false");
+      continue;
+    }
+    const std::string why = k.needs ? "; required because " + effect_key(k.needs) + " is true" : "";
+    if (!base)
+      law.*k.field = r.required(k.key, k.spec, why);
+    else if (const auto v = r.number(k.key, k.spec))
+      law.*k.field = *v;
+  }
+  return law;
+}
+
+// Where each particle came from, for messages.
+struct Origin {
+  std::size_t first;  // index of its first particle
+  std::string label;  // "particle[3]" or "generator[0]"
+  bool generated;
+  const toml::source_region* where;
+};
+
+class SceneParser {
+ public:
+  SceneParser(const File& f, const toml::table& root, Scene& s)
+      : f_(f),
+        s_(s),
+        top_(f, &root, "",
+             {"name", "description", "allow_initial_overlap", "effects", "gravity", "material",
+              "contact", "time", "stop", "domain", "neighbour", "particle", "generator", "body",
+              "output"}) {}
+
+  void run() {
+    const auto stem = std::filesystem::path(s_.path).stem().string();
+    s_.name = top_.string("name").value_or(stem.empty() ? "scene" : stem);
+    top_.string("description");  // documentation only, kept in Scene::text
+    const bool allow_overlap = top_.boolean("allow_initial_overlap").value_or(false);
+    read_effects_and_physics();
+    const TableReader time = read_time();
+    read_stop_domain_output();
+    read_particles();
+    read_generators();
+    read_bodies();
+    if (s_.particles.empty())
+      f_.fail(nullptr, "the scene has no particles: add [[particle]] entries or a [[generator]]");
+    check_domain();
+    if (!allow_overlap) check_overlaps();
+    set_time_step(time);
+  }
+
+ private:
+  void read_effects_and_physics() {
+    std::vector<std::string_view> keys;
+    for (const auto& e : kEffectNames) keys.push_back(e.key);
+    effects_ = top_.table("effects", keys);
+    for (const auto& e : kEffectNames)
+      if (effects_.boolean(e.key).value_or(false)) s_.effects |= e.bit;
+
+    if (has(s_.effects, effect::gravity)) {
+      const Vec2 g = top_.table("gravity", {"g"})
+                         .required_vec2("g", {"gravity vector", "m/s^2", Rule::finite},
+                                        "; required because effects.gravity is true");
+      s_.gx = g[0];
+      s_.gy = g[1];
+    } else {
+      top_.forbid("gravity", "effects.gravity is false");
+    }
+    s_.density = top_.table("material", {"density"})
+                     .required("density", {"grain density", "kg/m^3", Rule::positive});
+
+    const TableReader contact = top_.table("contact", law_keys(true));
+    s_.particle_particle = read_law(contact, s_.effects, nullptr);
+    s_.particle_wall = s_.particle_particle;
+    if (has(s_.effects, effect::walls))
+      s_.particle_wall =
+          read_law(contact.table("wall", law_keys(false)), s_.effects, &s_.particle_particle);
+    else
+      contact.forbid("wall", "effects.walls is false");
+  }
+
+  TableReader read_time() {
+    TableReader t = top_.table("time", {"duration", "dt", "dt_over_critical", "force_dt"});
+    s_.stop.duration = t.required("duration", {"simulated time", "s", Rule::positive});
+    t.number("dt", {"time step", "s", Rule::positive});
+    t.number("dt_over_critical",
+             {"time step as a fraction of dt_c = sqrt(m_min/k_n)", "", Rule::positive});
+    if (t.has("dt") && t.has("dt_over_critical"))
+      t.fail("dt_over_critical",
+             "time.dt is also given: give exactly one of time.dt and time.dt_over_critical");
+    if (!t.has("dt") && !t.has("dt_over_critical"))
+      t.missing("dt",
+                "time step in s, > 0; or give time.dt_over_critical, a fraction of dt_c, > 0");
+    s_.dt_forced = t.boolean("force_dt").value_or(false);
+    return t;
+  }
+
+  void read_stop_domain_output() {
+    const TableReader st =
+        top_.table("stop", {"kinetic_energy_below", "check_interval", "min_time"});
+    if (const auto ke = st.number("kinetic_energy_below",
+                                  {"kinetic energy threshold", "J/m", Rule::positive})) {
+      s_.stop.kinetic_energy_below = *ke;
+      s_.stop.check_interval =
+          st.required("check_interval", {"interval between energy checks", "s", Rule::positive},
+                      "; required because stop.kinetic_energy_below is given");
+      s_.stop.min_time =
+          st.number_or("min_time", {"time before the first check", "s", Rule::non_negative}, 0.0);
+    } else {
+      st.forbid("check_interval", "stop.kinetic_energy_below is not");
+      st.forbid("min_time", "stop.kinetic_energy_below is not");
+    }
+
+    const TableReader d = top_.table("domain", {"xmin", "xmax", "ymin", "ymax"});
+    const Num coord{"domain bound", "m", Rule::finite};
+    s_.domain = {d.required("xmin", coord), d.required("ymin", coord), d.required("xmax", coord),
+                 d.required("ymax", coord)};
+    if (!(s_.domain.xmax > s_.domain.xmin))
+      d.fail("xmax", "must be > domain.xmin = " + shortest(s_.domain.xmin) + " (m)");
+    if (!(s_.domain.ymax > s_.domain.ymin))
+      d.fail("ymax", "must be > domain.ymin = " + shortest(s_.domain.ymin) + " (m)");
+
+    skin_ = top_.table("neighbour", {"skin"})
+                .number_or("skin", {"Verlet-list skin", "m", Rule::positive}, -1.0);
+
+    const TableReader o =
+        top_.table("output", {"series_interval", "snapshot_interval", "checkpoint_interval"});
+    const Num every{"interval, 0 = off", "s", Rule::non_negative};
+    s_.output = {o.number_or("series_interval", every, 0.0),
+                 o.number_or("snapshot_interval", every, 0.0),
+                 o.number_or("checkpoint_interval",
+                             {"wall-clock interval, 0 = off", "s", Rule::non_negative}, 0.0)};
+  }
+
+  void read_particles() {
+    const Num coord{"centre coordinate", "m", Rule::finite}, vel{"velocity", "m/s", Rule::finite};
+    for (const TableReader& p : top_.entries("particle", {"x", "y", "d", "vx", "vy", "omega"})) {
+      origins_.push_back({s_.particles.size(),
+                          "particle[" + std::to_string(s_.particles.size()) + "]", false,
+                          p.where()});
+      s_.particles.push_back(
+          {p.required("x", coord), p.required("y", coord),
+           p.required("d", {"diameter", "m", Rule::positive}), p.number_or("vx", vel, 0.0),
+           p.number_or("vy", vel, 0.0),
+           p.number_or("omega", {"angular velocity", "rad/s", Rule::finite}, 0.0)});
+    }
+  }
+
+  void read_generators() {
+    const auto gens = top_.entries(
+        "generator", {"kind", "count", "seed", "diameter", "region", "spacing", "velocity"});
+    for (std::size_t k = 0; k < gens.size(); ++k) {
+      const TableReader& g = gens[k];
+      const auto kind = g.string("kind");
+      if (!kind) g.missing("kind", "generator kind, one of: triangular_lattice");
+      if (*kind != "triangular_lattice")
+        g.fail("kind", "unknown generator kind (allowed: triangular_lattice)");
+      LatticeSpec spec;
+      spec.count = g.integer("count", 1, "number of grains");
+      spec.seed = static_cast<std::uint64_t>(g.integer("seed", 0, "random seed of the diameters"));
+      if (!g.has("diameter"))
+        g.missing("diameter", "{ min = ..., max = ... }, diameters in m, 0 < min <= max");
+      const TableReader dm = g.table("diameter", {"min", "max"});
+      spec.d_min = dm.required("min", {"smallest diameter", "m", Rule::positive});
+      spec.d_max = dm.required("max", {"largest diameter", "m", Rule::positive});
+      if (spec.d_max < spec.d_min)
+        dm.fail("max", "must be >= " + dm.path("min") + " = " + shortest(spec.d_min) + " (m)");
+      spec.region = read_polygon(g);
+      if (const auto sp = g.number("spacing", {"lattice spacing", "m", Rule::positive})) {
+        if (*sp < spec.d_max)
+          g.fail("spacing", "must be >= " + dm.path("max") + " = " + shortest(spec.d_max) + " (m)");
+        spec.spacing = *sp;
+      }
+      const Vec2 v =
+          g.vec2("velocity", {"initial velocity", "m/s", Rule::finite}).value_or(Vec2{0.0, 0.0});
+      spec.vx = v[0];
+      spec.vy = v[1];
+      std::vector<ParticleInit> grains;
+      try {
+        grains = triangular_lattice(spec);
+      } catch (const std::invalid_argument& e) {
+        f_.fail(g.where(), "generator[" + std::to_string(k) + "]: " + e.what());
+      }
+      origins_.push_back(
+          {s_.particles.size(), "generator[" + std::to_string(k) + "]", true, g.where()});
+      s_.particles.insert(s_.particles.end(), grains.begin(), grains.end());
+    }
+  }
+
+  std::vector<Vec2> read_polygon(const TableReader& g) const {
+    const std::string what = "polygon [[x0, y0], [x1, y1], ...] in m, >= 3 vertices";
+    const toml::node* n = g.node("region");
+    if (!n) g.missing("region", what);
+    const toml::array* a = n->as_array();
+    if (!a || a->size() < 3) g.fail("region", "must be a " + what);
+    std::vector<Vec2> poly;
+    for (std::size_t k = 0; k < a->size(); ++k)
+      poly.push_back(g.vec2_at(*a->get(k), g.path("region") + "[" + std::to_string(k) + "]",
+                               {"polygon vertex", "m", Rule::finite}));
+    return poly;
+  }
+
+  void read_bodies() {
+    const auto bodies = top_.entries("body", {"name", "a", "b", "thickness", "velocity"});
+    if (!bodies.empty() && !has(s_.effects, effect::walls))
+      f_.fail(bodies.front().where(),
+              "[[body]] given but effects.walls is false (bodies need effects.walls = true)");
+    if (bodies.empty() && has(s_.effects, effect::walls))
+      effects_.fail("walls", "the scene has no [[body]] (walls need at least one body)");
+    const Num pt{"end point", "m", Rule::finite};
+    bool any_moving = false;
+    for (std::size_t k = 0; k < bodies.size(); ++k) {
+      const TableReader& b = bodies[k];
+      BodySpec body;
+      const auto name = b.string("name");
+      if (!name) b.missing("name", "a unique, non-empty string");
+      for (std::size_t j = 0; j < k; ++j)
+        if (s_.bodies[j].name == *name)
+          b.fail("name", "duplicate name: body[" + std::to_string(j) + "] has it already");
+      body.name = *name;
+      const Vec2 a = b.required_vec2("a", pt), e = b.required_vec2("b", pt);
+      body.ax = a[0], body.ay = a[1], body.bx = e[0], body.by = e[1];
+      body.thickness = b.required("thickness", {"cap diameter d_s", "m", Rule::non_negative});
+      const Vec2 v =
+          b.vec2("velocity", {"prescribed velocity", "m/s", Rule::finite}).value_or(Vec2{0.0, 0.0});
+      body.vx = v[0], body.vy = v[1];
+      if ((v[0] != 0.0 || v[1] != 0.0) && !has(s_.effects, effect::moving_bodies))
+        b.fail("velocity", "a non-zero velocity needs effects.moving_bodies = true");
+      any_moving = any_moving || v[0] != 0.0 || v[1] != 0.0;
+      s_.bodies.push_back(body);
+    }
+    if (has(s_.effects, effect::moving_bodies) && !any_moving)
+      effects_.fail(
+          "moving_bodies",
+          "no [[body]] has a non-zero velocity (remove the effect or give one a velocity)");
+  }
+
+  // ------------------------------------------------------------ whole-scene checks
+
+  const Origin& origin(std::size_t i) const {
+    return *(std::upper_bound(origins_.begin(), origins_.end(), i,
+                              [](std::size_t v, const Origin& o) { return v < o.first; }) -
+             1);
+  }
+  std::string who(std::size_t i) const {  // "particle 57 (grain 3 of generator[0], line 20)"
+    const Origin& o = origin(i);
+    std::string s = "particle " + std::to_string(i) + " (";
+    if (o.generated) s += "grain " + std::to_string(i - o.first) + " of ";
+    s += o.label;
+    if (o.where && o.where->begin.line > 0) s += ", line " + std::to_string(o.where->begin.line);
+    return s + ")";
+  }
+
+  void check_domain() const {
+    const Box& d = s_.domain;
+    for (std::size_t i = 0; i < s_.particles.size(); ++i) {
+      const ParticleInit& p = s_.particles[i];
+      if (d.contains(p.x, p.y)) continue;
+      f_.fail(origin(i).where, who(i) + " at (x, y) = (" + shortest(p.x) + ", " + shortest(p.y) +
+                                   ") m lies outside the domain [xmin, xmax] x [ymin, ymax] = [" +
+                                   shortest(d.xmin) + ", " + shortest(d.xmax) + "] x [" +
+                                   shortest(d.ymin) + ", " + shortest(d.ymax) + "] m");
+    }
+  }
+
+  void check_overlaps() const {
+    const auto& ps = s_.particles;
+    const std::size_t n = ps.size();
+    double d_max = 0.0, x0 = ps[0].x, x1 = x0, y0 = ps[0].y, y1 = y0;
+    for (const auto& p : ps) {
+      d_max = std::max(d_max, p.d);
+      x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y),
+      y1 = std::max(y1, p.y);
+    }
+    // Hashed cells of width >= d_max: every overlapping partner lies in the 3x3
+    // block around a grain's cell, and empty cells cost nothing however sparse
+    // the scene. Each cell lists its grains in ascending order (head / next).
+    const double cell = std::max({d_max, (x1 - x0) * 0x1.0p-30, (y1 - y0) * 0x1.0p-30});
+    const auto coord = [&](double v, double v0) {
+      return static_cast<std::int64_t>((v - v0) / cell);
+    };
+    const auto key = [](std::int64_t cx, std::int64_t cy) {
+      return static_cast<std::uint64_t>(cx << 32 | cy);
+    };
+    std::unordered_map<std::uint64_t, std::size_t> head;
+    head.reserve(n);
+    std::vector<std::size_t> next(n, n);
+    for (std::size_t i = n; i-- > 0;) {
+      auto [it, fresh] = head.try_emplace(key(coord(ps[i].x, x0), coord(ps[i].y, y0)), i);
+      if (!fresh) next[i] = std::exchange(it->second, i);
+    }
+    const auto depth = [&](std::size_t i, std::size_t j) {
+      return 0.5 * (ps[i].d + ps[j].d) - std::hypot(ps[i].x - ps[j].x, ps[i].y - ps[j].y);
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+      std::size_t first = n;  // lowest j > i overlapping i
+      const std::int64_t cx = coord(ps[i].x, x0), cy = coord(ps[i].y, y0);
+      for (std::int64_t gy = cy - 1; gy <= cy + 1; ++gy)
+        for (std::int64_t gx = cx - 1; gx <= cx + 1; ++gx) {
+          if (gx < 0 || gy < 0) continue;
+          const auto it = head.find(key(gx, gy));
+          for (std::size_t j = it == head.end() ? n : it->second; j < first; j = next[j])
+            if (j > i && depth(i, j) > kOverlapTolerance) first = j;
+        }
+      if (first == n) continue;
+      f_.fail(origin(first).where,
+              who(i) + " and " + who(first) + " overlap by " + sig3(depth(i, first)) + " m (" +
+                  sig3(100.0 * depth(i, first) / std::min(ps[i].d, ps[first].d)) +
+                  "% of the smaller diameter); set allow_initial_overlap = true to accept");
+    }
+    for (std::size_t i = 0; i < n; ++i)
+      for (const BodySpec& b : s_.bodies) {
+        const double reach = 0.5 * (ps[i].d + b.thickness);
+        const double overlap =
+            reach - distance_to_segment(ps[i].x, ps[i].y, b.ax, b.ay, b.bx, b.by);
+        if (overlap > kOverlapTolerance)
+          f_.fail(origin(i).where,
+                  who(i) + " overlaps body '" + b.name + "' by " + sig3(overlap) + " m (" +
+                      sig3(100.0 * overlap / ps[i].d) +
+                      "% of its diameter); set allow_initial_overlap = true to accept");
+      }
+  }
+
+  void set_time_step(const TableReader& t) {
+    double d_min = s_.particles[0].d;
+    for (const auto& p : s_.particles) d_min = std::min(d_min, p.d);
+    s_.skin = skin_ > 0.0 ? skin_ : 0.25 * d_min;
+
+    const double dt_c = s_.critical_dt();
+    const bool fraction = t.has("dt_over_critical");
+    const double given = *t.number(fraction ? "dt_over_critical" : "dt", {"", "", Rule::positive});
+    s_.dt = fraction ? given * dt_c : given;
+    if (s_.dt <= dt_c || s_.dt_forced) return;
+    double kn = s_.particle_particle.kn;
+    if (has(s_.effects, effect::walls)) kn = std::max(kn, s_.particle_wall.kn);
+    const std::string bound = "the stability bound dt_c = sqrt(m_min/k_n) = " + sig3(dt_c) +
+                              " s (m_min = " + sig3(s_.min_mass()) + " kg/m, k_n = " + sig3(kn) +
+                              " N/m)";
+    if (fraction)
+      t.fail("dt_over_critical", "must be <= 1: it gives dt = " + sig3(s_.dt) + " s, above " +
+                                     bound +
+                                     "; use a smaller fraction, or set time.force_dt = true");
+    t.fail_after("dt",
+                 " s exceeds " + bound +
+                     "; use a smaller dt, time.dt_over_critical, or set time.force_dt = true");
+  }
+
+  const File& f_;
+  Scene& s_;
+  TableReader top_;
+  TableReader effects_{f_, nullptr, "effects", {}};
+  std::vector<Origin> origins_;
+  double skin_ = -1.0;
+};
+
+}  // namespace
+
+Scene parse_scene(std::string_view text, const std::string& path_for_messages) {
+  const File f{path_for_messages.empty() ? "<scene>" : path_for_messages};
+  toml::table root;
+  try {
+    root = toml::parse(text, std::string_view(path_for_messages));
+  } catch (const toml::parse_error& e) {
+    f.fail(&e.source(), "TOML syntax error: " + std::string(e.description()));
+  }
+  Scene s;
+  s.path = path_for_messages;
+  s.text = std::string(text);
+  SceneParser(f, root, s).run();
+  return s;
+}
+
+Scene load_scene(const std::string& path) {
+  std::string text;
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  int err = file ? 0 : errno;
+  if (file) {
+    char buf[65536];
+    std::size_t got;
+    while ((got = std::fread(buf, 1, sizeof buf, file)) > 0) text.append(buf, got);
+    if (std::ferror(file)) err = errno ? errno : EIO;
+    std::fclose(file);
+  }
+  if (err) throw SceneError(path + ": cannot read the scene file: " + std::strerror(err));
+  return parse_scene(text, path);
+}
+
+}  // namespace dem2d

@@ -1,0 +1,21 @@
+// `dem2d bench`: settles the standard bed (a scene file under data/bench/)
+// and measures ns per particle-step for several effect sets and thread counts
+// on that same packing, so the cost of each effect is visible.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace dem2d {
+
+struct BenchOptions {
+  std::string scene = std::string(DEM2D_DATA_DIR) + "/bench/settled_bed.toml";
+  int steps = 4000;   // timed steps per measurement
+  int repeat = 3;     // measurements per case; the fastest is reported
+  std::vector<int> threads{1, 2};
+  std::string json;   // optional output file
+};
+
+int run_bench(const BenchOptions& options);
+
+}  // namespace dem2d

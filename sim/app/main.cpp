@@ -1,0 +1,99 @@
+// dem2d: the command line.
+//   dem2d run SCENE.toml --out DIR [--threads N] [--fresh]
+//   dem2d check SCENE.toml
+//   dem2d bench [--scene FILE] [--steps N] [--threads 1,2]
+// Exit codes: 0 done, 1 run failed, 2 bad input, 3 interrupted (checkpoint written).
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <csignal>
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "app/bench.hpp"
+#include "run/run.hpp"
+#include "scene/scene_toml.hpp"
+
+namespace {
+
+constexpr int kExitFailed = 1, kExitBadInput = 2, kExitInterrupted = 3;
+
+extern "C" void on_signal(int sig) {
+  dem2d::request_interrupt();
+  std::signal(sig, SIG_DFL);  // a second signal stops at once
+}
+
+int cmd_check(const std::string& path) {
+  const dem2d::Scene s = dem2d::load_scene(path);
+  std::printf("%s: valid\n  particles %zu, bodies %zu\n  effects: %s\n", path.c_str(), s.particles.size(),
+              s.bodies.size(), s.effects ? dem2d::effect_names(s.effects, ", ").c_str() : "none");
+  std::printf("  dt = %.6g s = dt_c/%.4g (dt_c = %.6g s), %lld steps for %.6g s\n", s.dt,
+              s.critical_dt() / s.dt, s.critical_dt(), static_cast<long long>(s.stop.duration / s.dt + 0.5),
+              s.stop.duration);
+  return 0;
+}
+
+int cmd_run(const std::string& path, dem2d::RunOptions opt, int threads) {
+  dem2d::Scene scene = dem2d::load_scene(path);
+  scene.threads = threads;
+  opt.progress = isatty(STDERR_FILENO) != 0;
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  const dem2d::RunReport r = dem2d::run_scene(scene, opt);
+  if (!r.complete) {
+    std::fprintf(stderr, "dem2d: interrupted at step %lld; checkpoint in %s/.run.work, rerun the same command to resume\n",
+                 static_cast<long long>(r.final_step), opt.out_dir.c_str());
+    return kExitInterrupted;
+  }
+  std::fprintf(stderr, "dem2d: %s%s: %lld steps in %.1f s (%.3g ns per particle-step), %s%s\n",
+               r.run_file.c_str(), r.resumed ? " (resumed)" : "", static_cast<long long>(r.steps),
+               r.wall_seconds, r.ns_per_particle_step, r.stop_reason.c_str(),
+               r.lost ? (", " + std::to_string(r.lost) + " particles left the domain").c_str() : "");
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"dem2d: 2D discrete element simulation of frictional disks and sphero-lines"};
+  app.set_version_flag("--version", std::string(DEM2D_VERSION));
+  app.require_subcommand(1);
+
+  std::string scene_path;
+  dem2d::RunOptions run_opt;
+  int threads = 0;
+  auto* run = app.add_subcommand("run", "Run a scene; writes DIR/run.h5 and DIR/run.xdmf");
+  run->add_option("scene", scene_path, "Scene file (TOML)")->required();
+  run->add_option("--out", run_opt.out_dir, "Output directory")->required();
+  run->add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  run->add_flag("--fresh", run_opt.fresh, "Discard a checkpoint in DIR instead of resuming from it");
+  run->add_option("--interrupt-at-step", run_opt.interrupt_at_step,
+                  "Testing: checkpoint and stop as if interrupted at this step");
+
+  auto* check = app.add_subcommand("check", "Validate a scene file and print its summary");
+  check->add_option("scene", scene_path, "Scene file (TOML)")->required();
+
+  dem2d::BenchOptions bench_opt;
+  auto* bench = app.add_subcommand("bench", "ns per particle-step on a settled bed, per effect set and thread count");
+  bench->add_option("--scene", bench_opt.scene, "Bed to settle and measure")->capture_default_str();
+  bench->add_option("--steps", bench_opt.steps, "Timed steps per measurement")->capture_default_str();
+  bench->add_option("--repeat", bench_opt.repeat, "Measurements per case (best is kept)")->capture_default_str();
+  bench->add_option("--threads", bench_opt.threads, "Thread counts")->capture_default_str();
+  bench->add_option("--json", bench_opt.json, "Also write the results as JSON to this file");
+
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (*run) return cmd_run(scene_path, run_opt, threads);
+    if (*check) return cmd_check(scene_path);
+    if (*bench) return dem2d::run_bench(bench_opt);
+  } catch (const dem2d::SceneError& e) {
+    std::fprintf(stderr, "dem2d: %s\n", e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dem2d: %s\n", e.what());
+    return kExitFailed;
+  }
+  return 0;
+}

@@ -1,0 +1,68 @@
+#include "engine/diagnostics.hpp"
+
+#include <algorithm>
+
+namespace dem2d {
+
+namespace {
+
+// Calls f(slot) for every touching slot of a list.
+template <class List, class F>
+void for_touching(const List& L, F&& f) {
+  for (std::size_t s = 0; s < L.overlap.size(); ++s)
+    if (L.overlap[s] > 0.0) f(s);
+}
+
+template <class List>
+double list_elastic_energy(const List& L, const ContactLaw& law, EffectSet effects) {
+  double e = 0.0;
+  for_touching(L, [&](std::size_t s) {
+    e += 0.5 * law.kn * L.overlap[s] * L.overlap[s];
+    if (has(effects, effect::friction) && law.kt > 0.0) e += 0.5 * L.ft[s] * L.ft[s] / law.kt;
+    if (has(effects, effect::rolling_resistance) && law.rolling_stiffness > 0.0)
+      e += 0.5 * L.mr[s] * L.mr[s] / law.rolling_stiffness;
+  });
+  return e;
+}
+
+}  // namespace
+
+double kinetic_energy(const System& sys) {
+  const Particles& p = sys.p;
+  double e = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.active[i])
+      e += 0.5 * p.mass[i] * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i]) +
+           0.5 * p.omega[i] * p.omega[i] / p.inv_inertia[i];
+  return e;
+}
+
+double elastic_energy(const System& sys) {
+  double e = list_elastic_energy(sys.lists.pairs, sys.law_pp, sys.effects);
+  if (has(sys.effects, effect::walls)) e += list_elastic_energy(sys.lists.walls, sys.law_pw, sys.effects);
+  return e;
+}
+
+double gravity_energy(const System& sys) {
+  const Particles& p = sys.p;
+  double e = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.active[i]) e -= p.mass[i] * (sys.gx * p.x[i] + sys.gy * p.y[i]);
+  return e;
+}
+
+double max_overlap(const System& sys) {
+  double m = 0.0;
+  for (const double o : sys.lists.pairs.overlap) m = std::max(m, o);
+  for (const double o : sys.lists.walls.overlap) m = std::max(m, o);
+  return m;
+}
+
+std::size_t contact_count(const System& sys) {
+  std::size_t c = 0;
+  for_touching(sys.lists.pairs, [&](std::size_t) { ++c; });
+  for_touching(sys.lists.walls, [&](std::size_t) { ++c; });
+  return c;
+}
+
+}  // namespace dem2d

@@ -1,0 +1,25 @@
+// Whole-system quantities, computed serially in index order so that they are
+// identical whatever the thread count (the stop criterion depends on them).
+#pragma once
+
+#include <cstddef>
+
+#include "engine/system.hpp"
+
+namespace dem2d {
+
+// Translational + rotational kinetic energy of the active grains (J/m).
+double kinetic_energy(const System& sys);
+
+// Elastic energy stored in the contacts (J/m): normal springs, and the
+// tangential and rolling springs when those effects are on.
+double elastic_energy(const System& sys);
+
+// Gravitational potential energy -m g.r of the active grains (J/m).
+double gravity_energy(const System& sys);
+
+// Largest overlap over all touching contacts (m), and their number.
+double max_overlap(const System& sys);
+std::size_t contact_count(const System& sys);
+
+}  // namespace dem2d

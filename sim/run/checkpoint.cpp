@@ -1,0 +1,155 @@
+#include "run/checkpoint.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <vector>
+
+#include "io/h5.hpp"
+
+namespace dem2d {
+
+namespace {
+
+constexpr const char* kFormat = "dem2d-checkpoint-1";
+
+// The particle arrays a checkpoint stores, by name.
+template <class P>
+auto particle_arrays(P& p) {
+  return std::array{std::pair{"x", &p.x},         std::pair{"y", &p.y},     std::pair{"vx", &p.vx},
+                    std::pair{"vy", &p.vy},       std::pair{"theta", &p.theta},
+                    std::pair{"omega", &p.omega}, std::pair{"fx", &p.fx},   std::pair{"fy", &p.fy},
+                    std::pair{"torque", &p.torque}};
+}
+
+// Touching contacts of a list as (row, key, ft, mr) columns.
+template <class List>
+void write_history(const h5::File& f, const std::string& group, const List& L,
+                   const std::vector<std::int32_t>& key) {
+  std::vector<std::int32_t> row, col;
+  std::vector<double> ft, mr;
+  for (std::size_t i = 0; i + 1 < L.start.size(); ++i)
+    for (auto s = static_cast<std::size_t>(L.start[i]); s < static_cast<std::size_t>(L.start[i + 1]); ++s)
+      if (L.overlap[s] > 0.0) {
+        row.push_back(static_cast<std::int32_t>(i));
+        col.push_back(key[s]);
+        ft.push_back(L.ft[s]);
+        mr.push_back(L.mr[s]);
+      }
+  h5::write(f, group + "/row", row);
+  h5::write(f, group + "/key", col);
+  h5::write(f, group + "/ft", ft);
+  h5::write(f, group + "/mr", mr);
+}
+
+// Puts the stored history back into the (freshly rebuilt) list; both are
+// sorted by (row, key).
+template <class List>
+void read_history(const h5::File& f, const std::string& group, List& L,
+                  const std::vector<std::int32_t>& key) {
+  const auto row = h5::read<std::int32_t>(f, group + "/row");
+  const auto col = h5::read<std::int32_t>(f, group + "/key");
+  const auto ft = h5::read<double>(f, group + "/ft");
+  const auto mr = h5::read<double>(f, group + "/mr");
+  for (std::size_t c = 0; c < row.size(); ++c) {
+    const auto i = static_cast<std::size_t>(row[c]);
+    bool found = false;
+    for (auto s = static_cast<std::size_t>(L.start[i]); s < static_cast<std::size_t>(L.start[i + 1]); ++s)
+      if (key[s] == col[c]) {
+        L.ft[s] = ft[c];
+        L.mr[s] = mr[c];
+        found = true;
+        break;
+      }
+    if (!found)
+      throw std::runtime_error(f.path() + ": contact " + std::to_string(row[c]) + "-" +
+                               std::to_string(col[c]) + " of the checkpoint is not a neighbour-list candidate");
+  }
+}
+
+}  // namespace
+
+void write_checkpoint(const std::string& path, const System& sys, const RunProgress& pr,
+                      const std::string& scene_text) {
+  const std::string tmp = path + ".tmp";
+  {
+    const h5::File f = h5::File::create(tmp);
+    h5::write_attr(f, "/", "format", std::string(kFormat));
+    h5::write_attr(f, "/", "scene_text", scene_text);
+    h5::write_attr(f, "/", "code_version", std::string(DEM2D_VERSION));
+    h5::write_attr(f, "/", "step", sys.step);
+    h5::write_attr(f, "/", "next_series", pr.next_series);
+    h5::write_attr(f, "/", "next_snapshot", pr.next_snapshot);
+    h5::write_attr(f, "/", "next_check", pr.next_check);
+    h5::write_attr(f, "/", "segments", static_cast<std::int64_t>(pr.segments));
+    h5::write_attr(f, "/", "series_rows", pr.series_rows);
+    h5::write_attr(f, "/", "snapshots", pr.snapshots);
+    for (const auto& [name, v] : particle_arrays(sys.p)) h5::write(f, std::string("particles/") + name, *v);
+    h5::write(f, "particles/active", sys.p.active);
+    write_history(f, "pairs", sys.lists.pairs, sys.lists.pairs.partner);
+    write_history(f, "walls", sys.lists.walls, sys.lists.walls.body);
+    h5::write(f, "bodies/fx_sum", sys.body_fx_sum);
+    h5::write(f, "bodies/fy_sum", sys.body_fy_sum);
+    h5::write(f, "bodies/torque_sum", sys.body_torque_sum);
+    h5::write_attr(f, "/", "body_sum_steps", sys.body_sum_steps);
+    std::vector<std::int32_t> id;
+    std::vector<std::int64_t> step;
+    std::vector<double> x, y;
+    for (const auto& l : sys.lost) {
+      id.push_back(l.id);
+      step.push_back(l.step);
+      x.push_back(l.x);
+      y.push_back(l.y);
+    }
+    h5::write(f, "lost/id", id);
+    h5::write(f, "lost/step", step);
+    h5::write(f, "lost/x", x);
+    h5::write(f, "lost/y", y);
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+std::string checkpoint_scene_text(const std::string& path) {
+  if (!std::filesystem::exists(path)) return "";
+  const h5::File f = h5::File::open_read(path);
+  if (!h5::has_attr(f, "/", "format") || h5::read_attr_string(f, "/", "format") != kFormat) return "";
+  return h5::read_attr_string(f, "/", "scene_text");
+}
+
+RunProgress read_checkpoint(const std::string& path, System& sys) {
+  const h5::File f = h5::File::open_read(path);
+  if (h5::read_attr_string(f, "/", "format") != kFormat)
+    throw std::runtime_error(path + ": not a dem2d checkpoint");
+  const std::size_t n = sys.size();
+  for (const auto& [name, v] : particle_arrays(sys.p)) {
+    *v = h5::read<double>(f, std::string("particles/") + name);
+    if (v->size() != n) throw std::runtime_error(path + ": particle count differs from the scene's");
+  }
+  sys.p.active = h5::read<std::uint8_t>(f, "particles/active");
+  sys.step = h5::read_attr_int(f, "/", "step");
+  sys.lost.clear();
+  const auto id = h5::read<std::int32_t>(f, "lost/id");
+  const auto step = h5::read<std::int64_t>(f, "lost/step");
+  const auto x = h5::read<double>(f, "lost/x"), y = h5::read<double>(f, "lost/y");
+  for (std::size_t k = 0; k < id.size(); ++k) sys.lost.push_back({id[k], step[k], x[k], y[k]});
+
+  sys.place_bodies();
+  sys.rebuild();
+  read_history(f, "pairs", sys.lists.pairs, sys.lists.pairs.partner);
+  if (has(sys.effects, effect::walls)) read_history(f, "walls", sys.lists.walls, sys.lists.walls.body);
+  sys.body_fx_sum = h5::read<double>(f, "bodies/fx_sum");
+  sys.body_fy_sum = h5::read<double>(f, "bodies/fy_sum");
+  sys.body_torque_sum = h5::read<double>(f, "bodies/torque_sum");
+  sys.body_sum_steps = h5::read_attr_int(f, "/", "body_sum_steps");
+
+  RunProgress pr;
+  pr.next_series = h5::read_attr_int(f, "/", "next_series");
+  pr.next_snapshot = h5::read_attr_int(f, "/", "next_snapshot");
+  pr.next_check = h5::read_attr_int(f, "/", "next_check");
+  pr.segments = static_cast<int>(h5::read_attr_int(f, "/", "segments"));
+  pr.series_rows = h5::read_attr_int(f, "/", "series_rows");
+  pr.snapshots = h5::read_attr_int(f, "/", "snapshots");
+  return pr;
+}
+
+}  // namespace dem2d

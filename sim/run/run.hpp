@@ -1,0 +1,41 @@
+// Runs a scene to its end: steps the System, records the time series and
+// snapshots on the scene's schedule, tests the stop criterion, checkpoints,
+// and assembles the run file. Layout of the output directory:
+//   DIR/run.h5, DIR/run.xdmf   written only when the run is complete
+//   DIR/.run.work/             segments and checkpoint while it runs
+// Rerunning the same scene into the same DIR resumes from the checkpoint.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "scene/scene.hpp"
+
+namespace dem2d {
+
+struct RunOptions {
+  std::string out_dir;
+  bool fresh = false;     // discard an existing checkpoint instead of resuming
+  bool progress = false;  // live progress line on stderr
+  // For tests: act as if interrupted once this step is reached (-1: never).
+  std::int64_t interrupt_at_step = -1;
+};
+
+struct RunReport {
+  bool complete = false;  // false: interrupted, checkpoint written
+  bool resumed = false;
+  std::string stop_reason;
+  std::int64_t steps = 0;        // steps advanced by this invocation
+  std::int64_t final_step = 0;
+  double wall_seconds = 0.0;     // of this invocation
+  double ns_per_particle_step = 0.0;
+  std::size_t lost = 0;
+  std::string run_file;
+};
+
+RunReport run_scene(const Scene& scene, const RunOptions& options);
+
+// Async-signal-safe: asks a running run_scene to checkpoint and return.
+void request_interrupt();
+
+}  // namespace dem2d

@@ -1,0 +1,180 @@
+#!/usr/bin/python3
+"""Checks a dem2d run file against docs/run_file.md, and its XDMF companion.
+
+Usage: /usr/bin/python3 tests/check_run_file.py RUN.h5 [RUN.xdmf]
+(the XDMF defaults to RUN.h5 with the extension .xdmf). Needs h5py and numpy.
+Prints every problem found and exits 1 if there is any, 0 otherwise.
+"""
+import os
+import sys
+import xml.etree.ElementTree as ET
+
+import h5py
+import numpy as np
+
+ATTRS = {"scene_text": str, "scene_path": str, "code_version": str, "threads": np.int64, "dt": np.float64,
+         "steps": np.int64, "end_time": np.float64, "stop_reason": str, "effects": str,
+         "n_particles": np.int64, "n_bodies": np.int64, "lost_particles": np.int64, "format": str}
+EFFECTS = {"gravity", "normal_damping", "friction", "rolling_resistance", "walls", "moving_bodies"}
+
+
+def layout(T, S, C, L, N, B):
+    """dataset -> (numpy dtype kind+size, shape)"""
+    f8, i8, i4, u1 = "f8", "i8", "i4", "u1"
+    return {
+        "particles/id": (i4, (N,)), "particles/diameter": (f8, (N,)), "particles/mass": (f8, (N,)),
+        "particles/inertia": (f8, (N,)),
+        "bodies/name": ("str", (B,)), "bodies/thickness": (f8, (B,)), "bodies/velocity": (f8, (B, 2)),
+        "series/time": (f8, (T,)), "series/step": (i8, (T,)), "series/body_force": (f8, (T, B, 2)),
+        "series/body_force_mean": (f8, (T, B, 2)), "series/body_torque": (f8, (T, B)),
+        "series/body_torque_mean": (f8, (T, B)), "series/body_ends": (f8, (T, B, 4)),
+        "series/kinetic_energy": (f8, (T,)), "series/max_overlap": (f8, (T,)), "series/contacts": (i8, (T,)),
+        "snapshots/time": (f8, (S,)), "snapshots/step": (i8, (S,)), "snapshots/position": (f8, (S, N, 2)),
+        "snapshots/velocity": (f8, (S, N, 2)), "snapshots/omega": (f8, (S, N)), "snapshots/theta": (f8, (S, N)),
+        "snapshots/active": (u1, (S, N)), "snapshots/body_ends": (f8, (S, B, 4)),
+        "snapshots/contact_start": (i8, (S + 1,)),
+        "contacts/i": (i4, (C,)), "contacts/j": (i4, (C,)), "contacts/fn": (f8, (C,)), "contacts/ft": (f8, (C,)),
+        "contacts/overlap": (f8, (C,)), "contacts/nx": (f8, (C,)), "contacts/ny": (f8, (C,)),
+        "contacts/mr": (f8, (C,)), "contacts/sliding": (u1, (C,)),
+        "lost/id": (i4, (L,)), "lost/step": (i8, (L,)), "lost/x": (f8, (L,)), "lost/y": (f8, (L,)),
+    }
+
+
+def dtype_code(ds):
+    if h5py.check_string_dtype(ds.dtype) is not None:
+        return "str"
+    return ds.dtype.kind + str(ds.dtype.itemsize)
+
+
+def check_run_file(f, errors):
+    for name, kind in ATTRS.items():
+        if name not in f.attrs:
+            errors.append(f"missing root attribute {name}")
+        elif kind is str and not isinstance(f.attrs[name], (str, bytes)):
+            errors.append(f"attribute {name} is not a string")
+        elif kind is not str and np.asarray(f.attrs[name]).dtype != kind:
+            errors.append(f"attribute {name} is {np.asarray(f.attrs[name]).dtype}, not {np.dtype(kind)}")
+    if errors:
+        return
+    if f.attrs["format"] != "dem2d-run-1":
+        errors.append(f"format is {f.attrs['format']!r}")
+    effects = [e for e in f.attrs["effects"].split(",") if e]
+    if not set(effects) <= EFFECTS:
+        errors.append(f"unknown effects {set(effects) - EFFECTS}")
+
+    dim = lambda name: f[name].shape[0] if name in f else -1  # noqa: E731
+    N, B = int(f.attrs["n_particles"]), int(f.attrs["n_bodies"])
+    expected = layout(dim("series/time"), dim("snapshots/time"), dim("contacts/i"), dim("lost/id"), N, B)
+    for name, (code, shape) in expected.items():
+        if name not in f:
+            errors.append(f"missing dataset /{name}")
+        elif f[name].shape != shape:
+            errors.append(f"/{name} has shape {f[name].shape}, expected {shape}")
+        elif dtype_code(f[name]) != code:
+            errors.append(f"/{name} is {dtype_code(f[name])}, expected {code}")
+    if errors:
+        return
+    if dim("lost/id") != f.attrs["lost_particles"]:
+        errors.append("lost_particles does not match /lost/id")
+    if not np.array_equal(f["particles/id"][...], np.arange(N)):
+        errors.append("/particles/id is not 0..N-1")
+    for table in ("series", "snapshots"):
+        step = f[table + "/step"][...]
+        if np.any(np.diff(step) < 0) or (len(step) and step[-1] > f.attrs["steps"]):
+            errors.append(f"/{table}/step is not ascending up to the final step")
+        if not np.allclose(f[table + "/time"][...], step * f.attrs["dt"], rtol=1e-12, atol=0):
+            errors.append(f"/{table}/time is not step * dt")
+
+    start = f["snapshots/contact_start"][...]
+    C = dim("contacts/i")
+    if start[0] != 0 or start[-1] != C or np.any(np.diff(start) < 0):
+        errors.append("/snapshots/contact_start is not 0 .. C, ascending")
+    i, j = f["contacts/i"][...], f["contacts/j"][...]
+    if np.any((i < 0) | (i >= N)) or np.any((j >= N) | (j < -B)):
+        errors.append("/contacts/i or /contacts/j out of range")
+    if np.any((j >= 0) & (j <= i)):
+        errors.append("/contacts/j: grain partners must be > i")
+    if np.any(f["contacts/overlap"][...] <= 0) or np.any(f["contacts/fn"][...] < 0):
+        errors.append("/contacts: overlap must be > 0 and fn >= 0")
+    if not np.allclose(np.hypot(f["contacts/nx"][...], f["contacts/ny"][...]), 1.0, atol=1e-12):
+        errors.append("/contacts: normals are not unit vectors")
+    if np.any(f["contacts/sliding"][...] > 1):
+        errors.append("/contacts/sliding is not 0/1")
+    for k in range(len(start) - 1):  # contacts of a snapshot come in slot order: pairs by (i, j), then walls
+        ik, jk = i[start[k]:start[k + 1]], j[start[k]:start[k + 1]]
+        pairs = jk >= 0
+        if np.any(np.diff(pairs.astype(int)) > 0) or np.any(np.diff(ik[pairs]) < 0) or np.any(np.diff(ik[~pairs]) < 0):
+            errors.append(f"contacts of snapshot {k} are not in slot order")
+            break
+
+
+def check_xdmf(f, h5_path, xdmf_path, errors):
+    try:
+        root = ET.parse(xdmf_path).getroot()
+    except ET.ParseError as e:
+        errors.append(f"{xdmf_path}: not well-formed XML: {e}")
+        return
+    h5_name = os.path.basename(h5_path)
+    grids = root.findall("./Domain/Grid[@CollectionType='Temporal']/Grid")
+    times = f["snapshots/time"][...]
+    N = int(f.attrs["n_particles"])
+    if len(grids) != len(times):
+        errors.append(f"{xdmf_path}: {len(grids)} grids for {len(times)} snapshots")
+    for k, grid in enumerate(grids):
+        if float(grid.find("Time").get("Value")) != times[k]:
+            errors.append(f"grid {k}: time differs from /snapshots/time")
+        if grid.find("Topology").get("TopologyType") != "Polyvertex":
+            errors.append(f"grid {k}: topology is not Polyvertex")
+        if grid.find("Geometry").get("GeometryType") != "XY":
+            errors.append(f"grid {k}: geometry is not XY")
+        names = [a.get("Name") for a in grid.findall("Attribute")]
+        if not {"diameter", "velocity", "omega", "active"} <= set(names):
+            errors.append(f"grid {k}: attributes {names}")
+        for item in grid.iter("DataItem"):
+            dims = tuple(int(d) for d in item.get("Dimensions").split())
+            path, _, selection = item.text.strip().partition("|")
+            file, _, dataset = path.partition(":")
+            if file != h5_name or dataset.lstrip("/") not in f:
+                errors.append(f"grid {k}: {item.text.strip()} does not name a dataset of {h5_name}")
+                continue
+            shape = f[dataset].shape
+            if not selection:
+                if shape != dims:
+                    errors.append(f"grid {k}: {dataset} has shape {shape}, declared {dims}")
+                continue
+            start, stride, count, space = ([int(v) for v in part.split()] for part in selection.split(":"))
+            if tuple(space) != shape or np.prod(count) != np.prod(dims):
+                errors.append(f"grid {k}: selection {selection} does not fit {dataset} {shape} / {dims}")
+            elif any(c > 0 and s + (c - 1) * t >= n for s, t, c, n in zip(start, stride, count, shape)):
+                errors.append(f"grid {k}: selection {selection} out of bounds of {dataset} {shape}")
+            elif dataset.startswith("/snapshots/") and start[0] != k:
+                errors.append(f"grid {k}: {dataset} selects snapshot {start[0]}")
+        if grid.find("Topology/DataItem") is not None and N and \
+                grid.find("Topology/DataItem").text.strip() != f"{h5_name}:/particles/id":
+            errors.append(f"grid {k}: connectivity is not /particles/id")
+
+
+def main():
+    if len(sys.argv) not in (2, 3):
+        sys.exit(__doc__)
+    h5_path = sys.argv[1]
+    xdmf_path = sys.argv[2] if len(sys.argv) == 3 else os.path.splitext(h5_path)[0] + ".xdmf"
+    errors = []
+    try:
+        f = h5py.File(h5_path, "r")
+    except OSError as e:
+        sys.exit(f"{h5_path}: cannot open as HDF5: {e}")
+    with f:
+        check_run_file(f, errors)
+        if not errors:
+            check_xdmf(f, h5_path, xdmf_path, errors)
+        summary = {t: f[t + "/time"].shape[0] for t in ("series", "snapshots") if t + "/time" in f}
+    for e in errors:
+        print(f"{h5_path}: {e}", file=sys.stderr)
+    if errors:
+        sys.exit(1)
+    print(f"{h5_path}: ok ({summary}, XDMF {xdmf_path})")
+
+
+if __name__ == "__main__":
+    main()

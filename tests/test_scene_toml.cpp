@@ -1,0 +1,517 @@
+// Scene files: a full valid scene parses to the right values, the lattice
+// generator is deterministic and sound, and every kind of bad input is
+// rejected with a message naming the file, line, key, value and allowed range.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <iterator>
+#include <string>
+#include <string_view>
+
+#include "scene/generators.hpp"
+#include "scene/scene_toml.hpp"
+
+namespace dem2d::test {
+namespace {
+
+constexpr const char* kPath = "scenes/t.toml";
+
+// Every effect on; explicit particles, a generator and a moving body.
+constexpr std::string_view kValid = R"(name = "drop"
+description = "two disks above a lattice on a floor"
+[effects]
+gravity = true
+normal_damping = true
+friction = true
+rolling_resistance = true
+walls = true
+moving_bodies = true
+[gravity]
+g = [0, -9.81]
+[material]
+density = 2500
+[contact]
+kn = 1.92e6
+kt = 9.6e5
+restitution = 0.9
+friction = 0.5
+rolling_friction = 1.5e-5
+rolling_stiffness = 1.728e-6
+[contact.wall]
+kn = 3.84e6
+friction = 0.3
+[time]
+duration = 0.05
+dt_over_critical = 0.02
+[stop]
+kinetic_energy_below = 1e-9
+check_interval = 0.01
+min_time = 0.02
+[domain]
+xmin = -0.05
+xmax = 0.05
+ymin = -0.01
+ymax = 0.2
+[neighbour]
+skin = 5e-4
+[output]
+series_interval = 1e-3
+snapshot_interval = 0.01
+checkpoint_interval = 600
+[[particle]]
+x = 0.0
+y = 0.1
+d = 3e-3
+vx = 0.1
+omega = 2
+[[particle]]
+x = 0.01
+y = 0.1
+d = 4e-3
+[[generator]]
+kind = "triangular_lattice"
+count = 50
+seed = 7
+diameter = { min = 2e-3, max = 4e-3 }
+region = [[-0.04, 0.0], [0.04, 0.0], [0.04, 0.05], [-0.04, 0.05]]
+velocity = [0, -0.1]
+[[body]]
+name = "floor"
+a = [-0.05, -1e-3]
+b = [0.05, -1e-3]
+thickness = 2e-3
+[[body]]
+name = "intruder"
+a = [-5e-3, 0.15]
+b = [5e-3, 0.15]
+thickness = 2e-3
+velocity = [0, 1.2e-3]
+)";
+
+// No optional table, no effect: two elastic disks.
+constexpr std::string_view kBare = R"([material]
+density = 2500
+[contact]
+kn = 1e6
+[time]
+duration = 1
+dt = 1e-6
+[domain]
+xmin = 0
+xmax = 1
+ymin = 0
+ymax = 1
+[[particle]]
+x = 0.5
+y = 0.5
+d = 2e-3
+[[particle]]
+x = 0.6
+y = 0.5
+d = 4e-3
+)";
+
+// `text` with the first occurrence of `from` replaced by `to`.
+std::string edit(std::string_view text, std::string_view from, std::string_view to) {
+  std::string s(text);
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << "test bug: '" << from << "' not in the scene";
+  if (at != std::string::npos) s.replace(at, from.size(), to);
+  return s;
+}
+
+std::string error_of(std::string_view text) {
+  try {
+    parse_scene(text, kPath);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "the scene was accepted";
+  return "";
+}
+
+// The message starts with the file (and line, when given) and contains every part.
+void expect_error(std::string_view text, std::initializer_list<std::string_view> parts,
+                  int line = 0) {
+  const std::string msg = error_of(text);
+  const std::string head = std::string(kPath) + (line > 0 ? ":" + std::to_string(line) + ":" : ":");
+  EXPECT_EQ(msg.rfind(head, 0), 0u) << "expected prefix '" << head << "' in: " << msg;
+  for (const auto part : parts)
+    EXPECT_NE(msg.find(part), std::string::npos) << "'" << part << "' missing in: " << msg;
+}
+
+TEST(SceneToml, ValidFullScene) {
+  const Scene s = parse_scene(kValid, kPath);
+  EXPECT_EQ(s.path, kPath);
+  EXPECT_EQ(s.text, kValid);
+  EXPECT_EQ(s.name, "drop");
+  EXPECT_EQ(s.effects, effect::all);
+  EXPECT_EQ(s.gx, 0.0);
+  EXPECT_EQ(s.gy, -9.81);
+  EXPECT_EQ(s.density, 2500.0);
+  EXPECT_EQ(s.particle_particle.kn, 1.92e6);
+  EXPECT_EQ(s.particle_particle.kt, 9.6e5);
+  EXPECT_EQ(s.particle_particle.restitution, 0.9);
+  EXPECT_EQ(s.particle_particle.friction, 0.5);
+  EXPECT_EQ(s.particle_particle.rolling_friction, 1.5e-5);
+  EXPECT_EQ(s.particle_particle.rolling_stiffness, 1.728e-6);
+  // [contact.wall] overrides kn and friction, inherits the rest.
+  EXPECT_EQ(s.particle_wall.kn, 3.84e6);
+  EXPECT_EQ(s.particle_wall.friction, 0.3);
+  EXPECT_EQ(s.particle_wall.kt, 9.6e5);
+  EXPECT_EQ(s.particle_wall.restitution, 0.9);
+  EXPECT_EQ(s.particle_wall.rolling_friction, 1.5e-5);
+  EXPECT_EQ(s.particle_wall.rolling_stiffness, 1.728e-6);
+  ASSERT_EQ(s.particles.size(), 52u);
+  // dt_c with the stiffer (wall) law and the smallest grain.
+  double d_min = 1.0;
+  for (const auto& p : s.particles) d_min = std::min(d_min, p.d);
+  const double dt_c = std::sqrt(2500.0 * M_PI * d_min * d_min / 4.0 / 3.84e6);
+  EXPECT_DOUBLE_EQ(s.critical_dt(), dt_c);
+  EXPECT_DOUBLE_EQ(s.dt, 0.02 * dt_c);
+  EXPECT_FALSE(s.dt_forced);
+  EXPECT_EQ(s.stop.duration, 0.05);
+  EXPECT_EQ(s.stop.kinetic_energy_below, 1e-9);
+  EXPECT_EQ(s.stop.check_interval, 0.01);
+  EXPECT_EQ(s.stop.min_time, 0.02);
+  EXPECT_EQ(s.domain.xmin, -0.05);
+  EXPECT_EQ(s.domain.xmax, 0.05);
+  EXPECT_EQ(s.domain.ymin, -0.01);
+  EXPECT_EQ(s.domain.ymax, 0.2);
+  EXPECT_EQ(s.skin, 5e-4);
+  EXPECT_EQ(s.threads, 0);
+  EXPECT_EQ(s.output.series_interval, 1e-3);
+  EXPECT_EQ(s.output.snapshot_interval, 0.01);
+  EXPECT_EQ(s.output.checkpoint_interval, 600.0);
+  // Explicit particles first, in file order, then the generator's.
+  EXPECT_EQ(s.particles[0].x, 0.0);
+  EXPECT_EQ(s.particles[0].y, 0.1);
+  EXPECT_EQ(s.particles[0].d, 3e-3);
+  EXPECT_EQ(s.particles[0].vx, 0.1);
+  EXPECT_EQ(s.particles[0].vy, 0.0);
+  EXPECT_EQ(s.particles[0].omega, 2.0);
+  EXPECT_EQ(s.particles[1].d, 4e-3);
+  EXPECT_EQ(s.particles[1].vx, 0.0);
+  // The generator's first site: bounding-box corner + d_max/2.
+  EXPECT_DOUBLE_EQ(s.particles[2].x, -0.04 + 2e-3);
+  EXPECT_DOUBLE_EQ(s.particles[2].y, 0.0 + 2e-3);
+  EXPECT_EQ(s.particles[2].vy, -0.1);
+  ASSERT_EQ(s.bodies.size(), 2u);
+  EXPECT_EQ(s.bodies[0].name, "floor");
+  EXPECT_EQ(s.bodies[0].ax, -0.05);
+  EXPECT_EQ(s.bodies[0].by, -1e-3);
+  EXPECT_EQ(s.bodies[0].thickness, 2e-3);
+  EXPECT_EQ(s.bodies[0].vy, 0.0);
+  EXPECT_EQ(s.bodies[1].name, "intruder");
+  EXPECT_EQ(s.bodies[1].vy, 1.2e-3);
+}
+
+TEST(SceneToml, GeneratedGrainsDependOnlyOnTheSeed) {
+  const Scene a = parse_scene(kValid, kPath), b = parse_scene(kValid, "other/path.toml");
+  const Scene c = parse_scene(edit(kValid, "seed = 7", "seed = 8"), kPath);
+  ASSERT_EQ(c.particles.size(), a.particles.size());
+  int differ = 0;
+  for (std::size_t i = 2; i < a.particles.size(); ++i) {
+    EXPECT_EQ(a.particles[i].x, b.particles[i].x);
+    EXPECT_EQ(a.particles[i].y, b.particles[i].y);
+    EXPECT_EQ(a.particles[i].d, b.particles[i].d);
+    EXPECT_EQ(a.particles[i].y, c.particles[i].y);
+    differ += a.particles[i].d != c.particles[i].d;
+  }
+  EXPECT_EQ(differ, 50);
+}
+
+TEST(SceneToml, DefaultsOfABareScene) {
+  const Scene s = parse_scene(kBare, "runs/bare_scene.toml");
+  EXPECT_EQ(s.name, "bare_scene");  // the file stem
+  EXPECT_EQ(s.effects, 0u);
+  EXPECT_EQ(s.dt, 1e-6);
+  EXPECT_EQ(s.skin, 0.25 * 2e-3);
+  EXPECT_EQ(s.stop.kinetic_energy_below, -1.0);  // off
+  EXPECT_EQ(s.output.series_interval, 0.0);
+  EXPECT_EQ(s.particle_wall.kn, s.particle_particle.kn);
+  EXPECT_EQ(s.particles[1].vy, 0.0);
+}
+
+TEST(SceneToml, ShippedMinimalSceneIsValid) {
+  const std::string path = std::string(DEM2D_DATA_DIR) + "/../tests/scenes/valid_minimal.toml";
+  const Scene s = load_scene(path);
+  EXPECT_EQ(s.name, "valid_minimal");
+  EXPECT_EQ(s.stop.duration, 0.05);
+  EXPECT_TRUE(has(s.effects, effect::walls));
+  EXPECT_EQ(s.bodies.size(), 1u);
+  EXPECT_GT(s.particles.size(), 1u);
+}
+
+TEST(SceneToml, DocumentedExampleIsValid) {
+  std::ifstream in(std::string(DEM2D_DATA_DIR) + "/../docs/scene_format.md");
+  const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto begin = doc.rfind("```toml\n");
+  ASSERT_NE(begin, std::string::npos);
+  const auto end = doc.find("```", begin + 8);
+  const Scene s = parse_scene(std::string_view(doc).substr(begin + 8, end - begin - 8), "example");
+  EXPECT_EQ(s.name, "pull_demo");
+  EXPECT_EQ(s.particles.size(), 1601u);
+  EXPECT_EQ(s.bodies.size(), 4u);
+  EXPECT_NEAR(s.dt, 0.0167 * s.critical_dt(), 1e-20);
+}
+
+TEST(SceneToml, LoadSceneReadsAFile) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("dem2d_scene_" + std::to_string(::getpid()) + ".toml");
+  { std::ofstream(path) << kBare; }
+  const Scene s = load_scene(path.string());
+  std::filesystem::remove(path);
+  EXPECT_EQ(s.path, path.string());
+  EXPECT_EQ(s.text, kBare);
+  EXPECT_EQ(s.particles.size(), 2u);
+}
+
+// ------------------------------------------------------------------ generator
+
+LatticeSpec box_spec(std::uint64_t seed) {
+  LatticeSpec spec;
+  spec.count = 200;
+  spec.seed = seed;
+  spec.d_min = 2e-3;
+  spec.d_max = 4e-3;
+  // An L-shaped (non-convex) region, clockwise.
+  spec.region = {{0.0, 0.0}, {0.0, 0.06}, {0.03, 0.06}, {0.03, 0.03}, {0.08, 0.03}, {0.08, 0.0}};
+  return spec;
+}
+
+TEST(SceneGenerator, SameSeedSameGrainsOtherSeedOtherDiameters) {
+  const auto a = triangular_lattice(box_spec(1)), b = triangular_lattice(box_spec(1));
+  const auto c = triangular_lattice(box_spec(2));
+  ASSERT_EQ(a.size(), 200u);
+  ASSERT_EQ(c.size(), 200u);
+  int differ = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].x, b[i].x);
+    EXPECT_EQ(a[i].y, b[i].y);
+    EXPECT_EQ(a[i].d, b[i].d);
+    EXPECT_EQ(a[i].x, c[i].x);  // sites do not depend on the seed
+    differ += a[i].d != c[i].d;
+  }
+  EXPECT_GT(differ, 190);
+}
+
+TEST(SceneGenerator, PortableDiameterDraws) {
+  LatticeSpec spec = box_spec(42);
+  spec.count = 3;
+  const auto g = triangular_lattice(spec);
+  std::mt19937_64 rng(42);
+  for (const auto& p : g)
+    EXPECT_EQ(p.d, 2e-3 + static_cast<double>(rng() >> 11) * 0x1.0p-53 * 2e-3);
+}
+
+TEST(SceneGenerator, GrainsInsideTheRegionAndApart) {
+  const LatticeSpec spec = box_spec(3);
+  const auto g = triangular_lattice(spec);
+  const double spacing = 1.05 * spec.d_max;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    EXPECT_GE(g[i].d, spec.d_min);
+    EXPECT_LT(g[i].d, spec.d_max);
+    EXPECT_TRUE(point_in_polygon(spec.region, g[i].x, g[i].y)) << i;
+    for (std::size_t k = 0, j = spec.region.size() - 1; k < spec.region.size(); j = k++)
+      EXPECT_GE(distance_to_segment(g[i].x, g[i].y, spec.region[j][0], spec.region[j][1],
+                                    spec.region[k][0], spec.region[k][1]),
+                0.5 * g[i].d)
+          << i;
+    for (std::size_t j = 0; j < i; ++j)
+      EXPECT_GE(std::hypot(g[i].x - g[j].x, g[i].y - g[j].y), spacing * (1 - 1e-12))
+          << i << " " << j;
+  }
+  // Rows from the bottom, left to right; row 1 shifted by half a spacing.
+  EXPECT_DOUBLE_EQ(g[0].x, 2e-3);
+  EXPECT_DOUBLE_EQ(g[1].x, 2e-3 + spacing);
+  EXPECT_LT(g[0].y, g.back().y);
+  const auto row1 =
+      std::find_if(g.begin(), g.end(), [&](const ParticleInit& p) { return p.y > g[0].y; });
+  ASSERT_NE(row1, g.end());
+  EXPECT_DOUBLE_EQ(row1->y, 2e-3 + spacing * std::sqrt(3.0) / 2.0);
+  EXPECT_DOUBLE_EQ(row1->x, 2e-3 + spacing / 2.0);
+}
+
+TEST(SceneGenerator, TooSmallRegionThrows) {
+  LatticeSpec spec = box_spec(1);
+  spec.count = 100000;
+  EXPECT_THROW(triangular_lattice(spec), std::invalid_argument);
+}
+
+// ------------------------------------------------------------------ bad input
+
+TEST(SceneTomlErrors, MissingRequiredKey) {
+  expect_error(edit(kValid, "duration = 0.05\n", ""),
+               {"missing key time.duration", "simulated time in s, > 0"});
+  expect_error(edit(kBare, "kn = 1e6\n", ""), {"missing key contact.kn", "N/m, > 0"}, 3);
+  expect_error(edit(kValid, "kt = 9.6e5\n", ""),
+               {"missing key contact.kt", ">= 0", "required because effects.friction is true"});
+}
+
+TEST(SceneTomlErrors, WrongType) {
+  expect_error(edit(kValid, "friction = 0.5", "friction = \"high\""),
+               {"contact.friction = \"high\"", "wrong type, expected a number"}, 18);
+  expect_error(edit(kValid, "count = 50", "count = 50.0"),
+               {"generator[0].count = 50", "expected an integer"});
+  expect_error(edit(kValid, "walls = true", "walls = 1"),
+               {"effects.walls = 1", "expected a boolean"}, 8);
+  expect_error(edit(kValid, "g = [0, -9.81]", "g = [0, \"down\"]"),
+               {"gravity.g[1] = \"down\"", "wrong type, expected a number"}, 11);
+}
+
+TEST(SceneTomlErrors, NegativeStiffness) {
+  expect_error(edit(kValid, "kn = 1.92e6", "kn = -5"), {"contact.kn = -5", "must be > 0", "N/m"},
+               15);
+  expect_error(edit(kValid, "kt = 9.6e5", "kt = -1.5e5"),
+               {"contact.kt = -150000", "must be >= 0", "N/m"}, 16);
+  expect_error(edit(kValid, "kn = 3.84e6", "kn = 0"), {"contact.wall.kn = 0", "must be > 0", "N/m"},
+               22);
+}
+
+TEST(SceneTomlErrors, NegativeFriction) {
+  expect_error(edit(kValid, "friction = 0.5", "friction = -0.1"),
+               {"contact.friction = -0.1", "must be >= 0"}, 18);
+  expect_error(edit(kValid, "friction = 0.3", "friction = -0.3"),
+               {"contact.wall.friction = -0.3", ">= 0"}, 23);
+}
+
+TEST(SceneTomlErrors, RestitutionOutOfRange) {
+  expect_error(edit(kValid, "restitution = 0.9", "restitution = 0"),
+               {"contact.restitution = 0", "in (0, 1]"}, 17);
+  expect_error(edit(kValid, "restitution = 0.9", "restitution = 1.2"),
+               {"contact.restitution = 1.2", "in (0, 1]"}, 17);
+  expect_error(edit(kValid, "restitution = 0.9", "restitution = nan"),
+               {"contact.restitution = nan", "in (0, 1]"});
+}
+
+TEST(SceneTomlErrors, UnknownKeys) {
+  expect_error(edit(kValid, "name = \"drop\"", "nmae = \"drop\""),
+               {"unknown key 'nmae' at the top level", "allowed: name, description"}, 1);
+  expect_error(
+      edit(kValid, "friction = 0.5", "frictoin = 0.5"),
+      {"unknown key 'frictoin' in [contact]",
+       "(allowed: kn, kt, restitution, friction, rolling_friction, rolling_stiffness, wall)"},
+      18);
+  expect_error(edit(kValid, "name = \"intruder\"", "name = \"intruder\"\ncolour = \"red\""),
+               {"unknown key 'colour' in body[1]", "allowed: name, a, b, thickness, velocity"}, 66);
+  expect_error(
+      edit(kValid, "{ min = 2e-3, max = 4e-3 }", "{ min = 2e-3, max = 4e-3, mean = 3e-3 }"),
+      {"unknown key 'mean' in generator[0].diameter", "allowed: min, max"}, 56);
+}
+
+TEST(SceneTomlErrors, KeyOfADisabledEffect) {
+  expect_error(edit(kBare, "kn = 1e6", "kn = 1e6\nkt = 5e5"),
+               {"contact.kt = 5e+05", "given but effects.friction is false"}, 5);
+  expect_error(edit(kBare, "[material]", "[gravity]\ng = [0, -9.81]\n[material]"),
+               {"gravity = { g = [0, -9.81] }", "given but effects.gravity is false"}, 1);
+}
+
+TEST(SceneTomlErrors, OverlappingParticles) {
+  const std::string overlapping = edit(kValid, "x = 0.01\ny = 0.1", "x = 0.0015\ny = 0.1");
+  expect_error(
+      overlapping,
+      {"particle 0 (particle[0], line 42)", "particle 1 (particle[1], line 48)",
+       "overlap by 0.002 m (66.7% of the smaller diameter)", "allow_initial_overlap = true"},
+      48);
+  EXPECT_NO_THROW(parse_scene("allow_initial_overlap = true\n" + overlapping, kPath));
+  // A generated grain on top of an explicit one.
+  expect_error(edit(kValid, "y = 0.1\nd = 4e-3", "y = 0.002\nd = 4e-3"),
+               {"particle 1 (particle[1], line 48) and particle 13 (grain 11 of generator[0], line "
+                "52) overlap by"},
+               52);
+}
+
+TEST(SceneTomlErrors, ParticleOverlappingABody) {
+  const std::string low = edit(kValid, "x = 0.0\ny = 0.1", "x = 0.045\ny = 1e-3");
+  expect_error(low,
+               {"particle 0 (particle[0], line 42) overlaps body 'floor' by 0.0005 m (16.7% of its "
+                "diameter)",
+                "allow_initial_overlap"},
+               42);
+  EXPECT_NO_THROW(parse_scene("allow_initial_overlap = true\n" + low, kPath));
+}
+
+TEST(SceneTomlErrors, ParticleOutsideTheDomain) {
+  expect_error(
+      edit(kValid, "x = 0.01\n", "x = 0.07\n"),
+      {"particle 1 (particle[1], line 48) at (x, y) = (0.07, 0.1) m lies outside the domain",
+       "[-0.05, 0.05] x [-0.01, 0.2] m"},
+      48);
+}
+
+TEST(SceneTomlErrors, TimeStepAboveTheStabilityBound) {
+  const std::string big = edit(kBare, "dt = 1e-6", "dt = 1e-3");
+  expect_error(big,
+               {"time.dt = 0.001 s exceeds the stability bound dt_c = sqrt(m_min/k_n) = 8.86e-05 s",
+                "m_min = 0.00785 kg/m", "k_n = 1e+06 N/m", "time.force_dt = true"},
+               7);
+  const Scene forced = parse_scene(edit(big, "[domain]", "force_dt = true\n[domain]"), kPath);
+  EXPECT_EQ(forced.dt, 1e-3);
+  EXPECT_TRUE(forced.dt_forced);
+  expect_error(
+      edit(kValid, "dt_over_critical = 0.02", "dt_over_critical = 1.5"),
+      {"time.dt_over_critical = 1.5", "must be <= 1", "stability bound", "time.force_dt = true"},
+      26);
+  expect_error(edit(kValid, "dt_over_critical = 0.02", "dt_over_critical = 0.02\ndt = 1e-7"),
+               {"time.dt_over_critical = 0.02", "give exactly one"}, 26);
+}
+
+TEST(SceneTomlErrors, BodiesNeedWalls) {
+  const std::string body = "[[body]]\nname = \"w\"\na = [0, 0]\nb = [1, 0]\nthickness = 1e-3\n";
+  expect_error(std::string(kBare) + body, {"[[body]] given but effects.walls is false"}, 21);
+  expect_error(
+      edit(kValid, "walls = true\n", ""),
+      {"contact.wall = { friction = 0.3, kn = 3840000 }", "given but effects.walls is false"}, 20);
+  expect_error(edit(kBare, "[material]", "[effects]\nwalls = true\n[material]"),
+               {"effects.walls = true", "no [[body]]"}, 2);
+}
+
+TEST(SceneTomlErrors, MovingBodyNeedsMovingBodies) {
+  expect_error(edit(kValid, "moving_bodies = true\n", ""),
+               {"body[1].velocity = [0, 0.0012]", "needs effects.moving_bodies = true"}, 68);
+  expect_error(edit(kValid, "velocity = [0, 1.2e-3]", ""),
+               {"effects.moving_bodies = true", "no [[body]] has"}, 9);
+}
+
+TEST(SceneTomlErrors, DuplicateBodyNames) {
+  expect_error(edit(kValid, "name = \"intruder\"", "name = \"floor\""),
+               {"body[1].name = \"floor\"", "duplicate name", "body[0]"}, 65);
+}
+
+TEST(SceneTomlErrors, GeneratorRegionTooSmall) {
+  expect_error(edit(kValid, "count = 50", "count = 5000"),
+               {"generator[0]: the region holds only", "fewer than count = 5000"}, 52);
+  expect_error(edit(kValid, "seed = 7", "seed = 7\nspacing = 3e-3"),
+               {"generator[0].spacing = 0.003", "must be >= generator[0].diameter.max = 0.004"});
+  expect_error(edit(kValid, "kind = \"triangular_lattice\"", "kind = \"random\""),
+               {"generator[0].kind = \"random\"", "allowed: triangular_lattice"}, 53);
+  expect_error(
+      edit(kValid, "[-0.04, 0.05]]", "[-0.04]]"),
+      {"generator[0].region[3] = [-0.04]", "must be an array [x, y] (polygon vertex in m, finite)"},
+      57);
+}
+
+TEST(SceneTomlErrors, UnreadableFile) {
+  try {
+    load_scene("scenes/does_not_exist.toml");
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_STREQ(
+        e.what(),
+        "scenes/does_not_exist.toml: cannot read the scene file: No such file or directory");
+  }
+}
+
+TEST(SceneTomlErrors, TomlSyntaxError) {
+  expect_error(edit(kValid, "density = 2500", "density = = 2500"), {"TOML syntax error"}, 13);
+  expect_error(edit(kValid, "[time]", "[time"), {"TOML syntax error"}, 24);
+}
+
+}  // namespace
+}  // namespace dem2d::test
