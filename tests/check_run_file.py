@@ -1,10 +1,13 @@
 #!/usr/bin/python3
 """Checks a dem2d run file against docs/run_file.md, and its XDMF companion.
 
-Usage: /usr/bin/python3 tests/check_run_file.py RUN.h5 [RUN.xdmf]
-(the XDMF defaults to RUN.h5 with the extension .xdmf). Needs h5py and numpy.
+Usage: /usr/bin/python3 tests/check_run_file.py RUN.h5 [RUN.xdmf] [--same-as OTHER.h5]
+(the XDMF defaults to RUN.h5 with the extension .xdmf). With --same-as, every
+dataset must also equal OTHER.h5's bit for bit (a resumed run against an
+uninterrupted one). Needs h5py and numpy.
 Prints every problem found and exits 1 if there is any, 0 otherwise.
 """
+import argparse
 import os
 import sys
 import xml.etree.ElementTree as ET
@@ -154,11 +157,29 @@ def check_xdmf(f, h5_path, xdmf_path, errors):
             errors.append(f"grid {k}: connectivity is not /particles/id")
 
 
+def compare_datasets(f, other_path, errors):
+    """Every dataset of f equal, bit for bit, to the same dataset of other_path."""
+    with h5py.File(other_path, "r") as g:
+        names = []
+        f.visititems(lambda name, obj: names.append(name) if isinstance(obj, h5py.Dataset) else None)
+        for name in names:
+            if name not in g:
+                errors.append(f"{name} missing from {other_path}")
+                continue
+            a, b = f[name][()], g[name][()]
+            same = a.tolist() == b.tolist() if a.dtype == object else a.tobytes() == b.tobytes()
+            if a.dtype != b.dtype or a.shape != b.shape or not same:
+                errors.append(f"{name} differs from {other_path}")
+
+
 def main():
-    if len(sys.argv) not in (2, 3):
-        sys.exit(__doc__)
-    h5_path = sys.argv[1]
-    xdmf_path = sys.argv[2] if len(sys.argv) == 3 else os.path.splitext(h5_path)[0] + ".xdmf"
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("run")
+    parser.add_argument("xdmf", nargs="?")
+    parser.add_argument("--same-as", dest="same_as")
+    args = parser.parse_args()
+    h5_path = args.run
+    xdmf_path = args.xdmf or os.path.splitext(h5_path)[0] + ".xdmf"
     errors = []
     try:
         f = h5py.File(h5_path, "r")
@@ -168,6 +189,8 @@ def main():
         check_run_file(f, errors)
         if not errors:
             check_xdmf(f, h5_path, xdmf_path, errors)
+        if not errors and args.same_as:
+            compare_datasets(f, args.same_as, errors)
         summary = {t: f[t + "/time"].shape[0] for t in ("series", "snapshots") if t + "/time" in f}
     for e in errors:
         print(f"{h5_path}: {e}", file=sys.stderr)
