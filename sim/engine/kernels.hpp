@@ -3,11 +3,13 @@
 //
 // One time step (velocity Verlet, as in LAMMPS: velocity-dependent forces use
 // the half-step velocity):
-//   v += dt/2 a(t);  x += dt v                      kick_drift   (parallel over grains)
-//   move bodies; rebuild lists if the skin is used   serial
-//   per-contact forces at x(t+dt)                   pair_forces, wall_forces (parallel over rows)
-//   per-grain sums in a fixed order; v += dt/2 a    gather_kick  (parallel over grains)
-//   body force sums                                  serial, fixed order
+//   v += dt/2 a(t);  x += dt v                    kick + drift (parallel over grains)
+//   move bodies; rebuild lists if the skin is used serial
+//   per-contact forces at x(t+dt)                 pair_forces (parallel over slots, vectorised),
+//                                                 wall_forces
+//   per-grain sums in a fixed order; v += dt/2 a  gather (parallel over grains), fused with
+//                                                 the next step's kick + drift within a call
+//   body force sums                                serial, fixed order
 // All loops run inside one OpenMP parallel region per call; none allocates.
 #pragma once
 
@@ -24,194 +26,213 @@ namespace dem2d::kernels {
 
 using std::size_t;
 
-// v += dt/2 (F/m + g); x += dt v. Each thread leaves the largest speed squared
-// it saw (m^2/s^2) in s.thread_v2max and whether a grain left the domain (or
-// became non-finite) in s.thread_escaped; the caller reads them after a barrier.
+// The two halves of velocity Verlet for one grain.
+// kick:  v += h (F/m + g), omega += h T/I      (h = dt/2)
+// drift: x += dt v, theta += dt omega; records the largest speed^2 and whether
+//        the grain left the domain or became non-finite (contains() is false for NaN).
+struct DriftStats {
+  double v2max = 0.0;  // m^2/s^2
+  bool escaped = false;
+};
+
+template <EffectSet E>
+inline void kick(Particles& p, size_t i, double h, double gx, double gy) {
+  double ax = p.fx[i] * p.inv_mass[i], ay = p.fy[i] * p.inv_mass[i];
+  if constexpr (has(E, effect::gravity)) {
+    ax += gx;
+    ay += gy;
+  }
+  p.vx[i] += h * ax;
+  p.vy[i] += h * ay;
+  p.omega[i] += h * p.torque[i] * p.inv_inertia[i];
+}
+
+inline void drift(Particles& p, size_t i, double dt, const Box& box, DriftStats& st) {
+  const double vx = p.vx[i], vy = p.vy[i], w = p.omega[i];
+  const double x = p.x[i] + dt * vx, y = p.y[i] + dt * vy;
+  p.x[i] = x;
+  p.y[i] = y;
+  p.theta[i] += dt * w;
+  st.v2max = std::max(st.v2max, vx * vx + vy * vy);
+  st.escaped |= !box.contains(x, y) || !std::isfinite(w);
+}
+
+// Each thread leaves its drift statistics in the System; the caller reads
+// them after a barrier.
+inline void publish(System& s, const DriftStats& st) {
+  const auto t = static_cast<size_t>(omp_get_thread_num());
+  s.thread_v2max[t] = st.v2max;
+  s.thread_escaped[t] = st.escaped;
+}
+
+// The opening kick and drift of a step, for the first step of a call.
 template <EffectSet E>
 inline void kick_drift(System& s) {
   Particles& p = s.p;
-  const double h = 0.5 * s.dt, dt = s.dt;
-  const double gx = s.gx, gy = s.gy;
-  const Box box = s.domain;
+  const double h = 0.5 * s.dt;
   const auto n = static_cast<std::int64_t>(p.size());
-  double v2max = 0.0;
-  bool escaped = false;
+  DriftStats st;
 #pragma omp for schedule(static) nowait
   for (std::int64_t k = 0; k < n; ++k) {
     const auto i = static_cast<size_t>(k);
     if (!p.active[i]) continue;
-    double ax = p.fx[i] * p.inv_mass[i], ay = p.fy[i] * p.inv_mass[i];
-    if constexpr (has(E, effect::gravity)) {
-      ax += gx;
-      ay += gy;
-    }
-    const double vx = p.vx[i] + h * ax, vy = p.vy[i] + h * ay;
-    const double w = p.omega[i] + h * p.torque[i] * p.inv_inertia[i];
-    p.vx[i] = vx;
-    p.vy[i] = vy;
-    p.omega[i] = w;
-    const double x = p.x[i] + dt * vx, y = p.y[i] + dt * vy;
-    p.x[i] = x;
-    p.y[i] = y;
-    p.theta[i] += dt * w;
-    v2max = std::max(v2max, vx * vx + vy * vy);
-    escaped |= !box.contains(x, y) || !std::isfinite(w);  // contains() is false for NaN
+    kick<E>(p, i, h, s.gx, s.gy);
+    drift(p, i, s.dt, s.domain, st);
   }
-  const auto t = static_cast<size_t>(omp_get_thread_num());
-  s.thread_v2max[t] = v2max;
-  s.thread_escaped[t] = escaped;
+  publish(s, st);
 }
 
 // Particle-particle contacts: one evaluation per pair, results per slot.
+// A flat loop over slots without branches (open contacts are masked to zero
+// by selects), so that the compiler vectorises it; a touching slot goes
+// through exactly the arithmetic of the scalar law in contact_law.hpp.
 template <EffectSet E>
-inline void pair_forces(System& s, const LawCoefficients& c) {
+inline void pair_forces(System& s, const LawCoefficients c) {  // by value: cannot alias the outputs
   const Particles& p = s.p;
   PairList& L = s.lists.pairs;
-  const auto n = static_cast<std::int64_t>(p.size());
-#pragma omp for schedule(static) nowait
-  for (std::int64_t k = 0; k < n; ++k) {
-    const auto i = static_cast<size_t>(k);
-    const double xi = p.x[i], yi = p.y[i], ri = p.radius[i];
-    const auto end = static_cast<size_t>(L.start[i + 1]);
-    for (auto sl = static_cast<size_t>(L.start[i]); sl < end; ++sl) {
-      const auto j = static_cast<size_t>(L.partner[sl]);
-      const double dx = xi - p.x[j], dy = yi - p.y[j], rsum = ri + p.radius[j];
-      const double d2 = dx * dx + dy * dy;
-      if (d2 >= rsum * rsum) {  // open: forget the history
-        L.fx[sl] = L.fy[sl] = L.fn[sl] = L.overlap[sl] = 0.0;
-        if constexpr (has(E, effect::friction)) L.ft[sl] = L.q[sl] = 0.0;
-        if constexpr (has(E, effect::rolling_resistance)) L.mr[sl] = 0.0;
-        continue;
-      }
-      const double dist = std::sqrt(d2);
-      double nx = 1.0, ny = 0.0;  // coincident centres: separate them along x
-      if (dist > 0.0) {
-        const double inv = 1.0 / dist;
-        nx = dx * inv;
-        ny = dy * inv;
-      }
-      const double delta = dist - rsum;
-      const double rvx = p.vx[i] - p.vx[j], rvy = p.vy[i] - p.vy[j];
-      double sqrt_meff = 0.0;
-      if constexpr (has(E, effect::normal_damping))
-        sqrt_meff = 1.0 / std::sqrt(p.inv_mass[i] + p.inv_mass[j]);
-      const double fn = normal_force<E>(c, delta, rvx * nx + rvy * ny, sqrt_meff);
-      double fx = fn * nx, fy = fn * ny;
-      if constexpr (has(E, effect::friction)) {
-        // branch vectors end at the middle of the overlap: a = r + delta/2
-        const double tx = -ny, ty = nx;
-        const double vt = rvx * tx + rvy * ty -
-                          ((ri + 0.5 * delta) * p.omega[i] + (p.radius[j] + 0.5 * delta) * p.omega[j]);
-        const double ft = capped_increment(L.ft[sl], -c.kt_dt * vt, c.mu * fn);
-        L.ft[sl] = ft;
-        L.q[sl] = -0.5 * delta * ft;
-        fx += ft * tx;
-        fy += ft * ty;
-      }
-      if constexpr (has(E, effect::rolling_resistance))
-        L.mr[sl] = capped_increment(L.mr[sl], -c.kr_dt * (p.omega[i] - p.omega[j]), c.mu_r * fn);
-      L.fx[sl] = fx;
-      L.fy[sl] = fy;
-      L.fn[sl] = fn;
-      L.overlap[sl] = -delta;
+  const std::int32_t *own = L.owner.data(), *par = L.partner.data();
+  const double *x = p.x.data(), *y = p.y.data(), *vx = p.vx.data(), *vy = p.vy.data(), *w = p.omega.data();
+  const double *rad_i = L.ri.data(), *rad_j = L.rj.data(), *sqm = L.sqrt_meff.data();
+  double *ft = L.ft.data(), *mr = L.mr.data(), *ti = L.ti.data(), *tj = L.tj.data();
+  double *fx = L.fx.data(), *fy = L.fy.data(), *fn = L.fn.data(), *ov = L.overlap.data();
+  const auto slots = static_cast<std::int64_t>(L.slots());
+  // simd: slots are independent (each reads grain data, writes only its own slot)
+#pragma omp for simd schedule(static) nowait
+  for (std::int64_t sl = 0; sl < slots; ++sl) {
+    const std::int32_t i = own[sl], j = par[sl];
+    const double dx = x[i] - x[j], dy = y[i] - y[j], ri = rad_i[sl], rj = rad_j[sl], rsum = ri + rj;
+    const double d2 = dx * dx + dy * dy;
+    const bool touch = d2 < rsum * rsum;
+    const double dist = std::sqrt(d2);
+    const bool apart = dist > 0.0;  // coincident centres: separate them along x
+    const double inv = 1.0 / (apart ? dist : 1.0);
+    const double nx = apart ? dx * inv : 1.0, ny = apart ? dy * inv : 0.0;
+    const double delta = dist - rsum;
+    const double rvx = vx[i] - vx[j], rvy = vy[i] - vy[j];
+    const double f_n = touch ? normal_force<E>(c, delta, rvx * nx + rvy * ny, sqm[sl]) : 0.0;
+    double fxs = f_n * nx, fys = f_n * ny, tqi = 0.0, tqj = 0.0;
+    if constexpr (has(E, effect::friction)) {
+      // branch vectors end at the middle of the overlap: a = r + delta/2
+      const double ai = ri + 0.5 * delta, aj = rj + 0.5 * delta;
+      const double tx = -ny, ty = nx;
+      const double vt = rvx * tx + rvy * ty - (ai * w[i] + aj * w[j]);
+      const double f_t = touch ? capped_increment(ft[sl], -c.kt_dt * vt, c.mu * f_n) : 0.0;
+      ft[sl] = f_t;
+      fxs += f_t * tx;
+      fys += f_t * ty;
+      tqi = -ai * f_t;
+      tqj = -aj * f_t;
     }
+    if constexpr (has(E, effect::rolling_resistance)) {
+      const double m = touch ? capped_increment(mr[sl], -c.kr_dt * (w[i] - w[j]), c.mu_r * f_n) : 0.0;
+      mr[sl] = m;
+      tqi += m;
+      tqj -= m;
+    }
+    fx[sl] = touch ? fxs : 0.0;
+    fy[sl] = touch ? fys : 0.0;
+    if constexpr (has(E, effect::friction) || has(E, effect::rolling_resistance)) {
+      ti[sl] = touch ? tqi : 0.0;
+      tj[sl] = touch ? tqj : 0.0;
+    }
+    fn[sl] = f_n;
+    ov[sl] = touch ? -delta : 0.0;
   }
 }
 
-// Grain-sphero-line contacts, one row per grain.
+// Grain-sphero-line contacts: a flat loop over the (few) wall slots.
 template <EffectSet E>
 inline void wall_forces(System& s, const LawCoefficients& c) {
   const Particles& p = s.p;
   WallList& L = s.lists.walls;
   const Bodies& B = s.bodies;
-  const auto n = static_cast<std::int64_t>(p.size());
+  const auto slots = static_cast<std::int64_t>(L.slots());
 #pragma omp for schedule(static) nowait
-  for (std::int64_t k = 0; k < n; ++k) {
-    const auto i = static_cast<size_t>(k);
-    const auto end = static_cast<size_t>(L.start[i + 1]);
-    for (auto sl = static_cast<size_t>(L.start[i]); sl < end; ++sl) {
-      const auto b = static_cast<size_t>(L.body[sl]);
-      const SegmentProximity g = closest_point(s.seg[b], p.x[i], p.y[i]);
-      const double ri = p.radius[i];
-      const double delta = g.dist - (ri + B.radius[b]);
-      if (delta >= 0.0) {
-        L.fx[sl] = L.fy[sl] = L.tq[sl] = L.fn[sl] = L.overlap[sl] = 0.0;
-        if constexpr (has(E, effect::friction)) L.ft[sl] = 0.0;
-        if constexpr (has(E, effect::rolling_resistance)) L.mr[sl] = 0.0;
-        continue;
-      }
-      double rvx = p.vx[i], rvy = p.vy[i];
-      if constexpr (has(E, effect::moving_bodies)) {
-        rvx -= B.vx[b];
-        rvy -= B.vy[b];
-      }
-      double sqrt_m = 0.0;
-      if constexpr (has(E, effect::normal_damping)) sqrt_m = std::sqrt(p.mass[i]);
-      const double fn = normal_force<E>(c, delta, rvx * g.nx + rvy * g.ny, sqrt_m);
-      const double a = ri + 0.5 * delta;  // centre to contact point (m)
-      double fx = fn * g.nx, fy = fn * g.ny, tq = 0.0;
-      if constexpr (has(E, effect::friction)) {
-        const double tx = -g.ny, ty = g.nx;
-        const double vt = rvx * tx + rvy * ty - a * p.omega[i];
-        const double ft = capped_increment(L.ft[sl], -c.kt_dt * vt, c.mu * fn);
-        L.ft[sl] = ft;
-        fx += ft * tx;
-        fy += ft * ty;
-        tq = -a * ft;
-      }
-      if constexpr (has(E, effect::rolling_resistance)) {
-        const double mr = capped_increment(L.mr[sl], -c.kr_dt * p.omega[i], c.mu_r * fn);
-        L.mr[sl] = mr;
-        tq += mr;
-      }
-      L.fx[sl] = fx;
-      L.fy[sl] = fy;
-      L.tq[sl] = tq;
-      L.cx[sl] = p.x[i] - a * g.nx;
-      L.cy[sl] = p.y[i] - a * g.ny;
-      L.fn[sl] = fn;
-      L.overlap[sl] = -delta;
+  for (std::int64_t k = 0; k < slots; ++k) {
+    const auto sl = static_cast<size_t>(k);
+    const auto i = static_cast<size_t>(L.owner[sl]);
+    const auto b = static_cast<size_t>(L.body[sl]);
+    const SegmentProximity g = closest_point(s.seg[b], p.x[i], p.y[i]);
+    const double ri = p.radius[i];
+    const double delta = g.dist - (ri + B.radius[b]);
+    if (delta >= 0.0) {
+      L.fx[sl] = L.fy[sl] = L.tq[sl] = L.fn[sl] = L.overlap[sl] = 0.0;
+      if constexpr (has(E, effect::friction)) L.ft[sl] = 0.0;
+      if constexpr (has(E, effect::rolling_resistance)) L.mr[sl] = 0.0;
+      continue;
     }
+    double rvx = p.vx[i], rvy = p.vy[i];
+    if constexpr (has(E, effect::moving_bodies)) {
+      rvx -= B.vx[b];
+      rvy -= B.vy[b];
+    }
+    double sqrt_m = 0.0;
+    if constexpr (has(E, effect::normal_damping)) sqrt_m = std::sqrt(p.mass[i]);
+    const double fn = normal_force<E>(c, delta, rvx * g.nx + rvy * g.ny, sqrt_m);
+    const double a = ri + 0.5 * delta;  // centre to contact point (m)
+    double fx = fn * g.nx, fy = fn * g.ny, tq = 0.0;
+    if constexpr (has(E, effect::friction)) {
+      const double tx = -g.ny, ty = g.nx;
+      const double vt = rvx * tx + rvy * ty - a * p.omega[i];
+      const double ft = capped_increment(L.ft[sl], -c.kt_dt * vt, c.mu * fn);
+      L.ft[sl] = ft;
+      fx += ft * tx;
+      fy += ft * ty;
+      tq = -a * ft;
+    }
+    if constexpr (has(E, effect::rolling_resistance)) {
+      const double mr = capped_increment(L.mr[sl], -c.kr_dt * p.omega[i], c.mu_r * fn);
+      L.mr[sl] = mr;
+      tq += mr;
+    }
+    L.fx[sl] = fx;
+    L.fy[sl] = fy;
+    L.tq[sl] = tq;
+    L.cx[sl] = p.x[i] - a * g.nx;
+    L.cy[sl] = p.y[i] - a * g.ny;
+    L.fn[sl] = fn;
+    L.overlap[sl] = -delta;
   }
 }
 
+// What follows the force sum of a grain in gather():
+enum class Then {
+  nothing,     // forces only (start-up)
+  kick,        // closing half-kick: v(t+dt) (the last step of a call)
+  kick_drift,  // closing half-kick, then the next step's kick and drift
+};
+
 // Per-grain resultant, summed in a fixed order (own row by ascending partner,
-// then the reverse index by ascending i, then walls), then the closing
-// half-kick v += dt/2 a(t+dt) if Kick.
-template <EffectSet E, bool Kick>
-inline void gather_kick(System& s) {
+// then the reverse index by ascending i, then walls), then `next`. Fusing the
+// next step's kick and drift into this pass saves a sweep over the grains and
+// does the same operations in the same order as separate passes would.
+template <EffectSet E, Then next>
+inline void gather(System& s) {
   Particles& p = s.p;
   const PairList& L = s.lists.pairs;
   const WallList& W = s.lists.walls;
-  const double h = 0.5 * s.dt, gx = s.gx, gy = s.gy;
+  const double h = 0.5 * s.dt;
   const auto n = static_cast<std::int64_t>(p.size());
-#pragma omp for schedule(static)
+  DriftStats st;
+#pragma omp for schedule(static) nowait
   for (std::int64_t k = 0; k < n; ++k) {
     const auto i = static_cast<size_t>(k);
     if (!p.active[i]) continue;
-    double fx = 0.0, fy = 0.0, ft_sum = 0.0, tq = 0.0;
+    constexpr bool kTorque = has(E, effect::friction) || has(E, effect::rolling_resistance);
+    double fx = 0.0, fy = 0.0, tq = 0.0;
     const auto end = static_cast<size_t>(L.start[i + 1]);
     for (auto sl = static_cast<size_t>(L.start[i]); sl < end; ++sl) {
       fx += L.fx[sl];
       fy += L.fy[sl];
-      if constexpr (has(E, effect::friction)) {
-        ft_sum += L.ft[sl];
-        tq += L.q[sl];
-      }
-      if constexpr (has(E, effect::rolling_resistance)) tq += L.mr[sl];
+      if constexpr (kTorque) tq += L.ti[sl];
     }
     const auto rend = static_cast<size_t>(L.rev_start[i + 1]);
     for (auto r = static_cast<size_t>(L.rev_start[i]); r < rend; ++r) {
       const auto sl = static_cast<size_t>(L.rev_slot[r]);
       fx -= L.fx[sl];
       fy -= L.fy[sl];
-      if constexpr (has(E, effect::friction)) {
-        ft_sum += L.ft[sl];
-        tq += L.q[sl];
-      }
-      if constexpr (has(E, effect::rolling_resistance)) tq -= L.mr[sl];
+      if constexpr (kTorque) tq += L.tj[sl];
     }
-    if constexpr (has(E, effect::friction)) tq -= p.radius[i] * ft_sum;
     if constexpr (has(E, effect::walls)) {
       const auto wend = static_cast<size_t>(W.start[i + 1]);
       for (auto sl = static_cast<size_t>(W.start[i]); sl < wend; ++sl) {
@@ -223,17 +244,13 @@ inline void gather_kick(System& s) {
     p.fx[i] = fx;
     p.fy[i] = fy;
     p.torque[i] = tq;
-    if constexpr (Kick) {
-      double ax = fx * p.inv_mass[i], ay = fy * p.inv_mass[i];
-      if constexpr (has(E, effect::gravity)) {
-        ax += gx;
-        ay += gy;
-      }
-      p.vx[i] += h * ax;
-      p.vy[i] += h * ay;
-      p.omega[i] += h * tq * p.inv_inertia[i];
+    if constexpr (next != Then::nothing) kick<E>(p, i, h, s.gx, s.gy);
+    if constexpr (next == Then::kick_drift) {
+      kick<E>(p, i, h, s.gx, s.gy);
+      drift(p, i, s.dt, s.domain, st);
     }
   }
+  if constexpr (next == Then::kick_drift) publish(s, st);
 }
 
 // Force and torque the grains exert on each body, summed in slot order.
@@ -270,7 +287,7 @@ void initial_forces(System& s) {
     pair_forces<E>(s, pp);
     if constexpr (has(E, effect::walls)) wall_forces<E>(s, pw);
 #pragma omp barrier
-    gather_kick<E, false>(s);
+    gather<E, Then::nothing>(s);
   }
   if constexpr (has(E, effect::walls)) {
     body_sums(s);
@@ -280,35 +297,41 @@ void initial_forces(System& s) {
 
 template <EffectSet E>
 void advance(System& s, std::int64_t steps) {
+  if (steps <= 0) return;
   bool failed = false;
 #pragma omp parallel num_threads(s.threads)
-  for (std::int64_t k = 0; k < steps; ++k) {
+  {
     kick_drift<E>(s);
+    for (std::int64_t k = 0; k < steps; ++k) {
 #pragma omp barrier
 #pragma omp single
-    {
-      const double v2max = *std::max_element(s.thread_v2max.begin(), s.thread_v2max.end());
-      const bool escaped =
-          std::find(s.thread_escaped.begin(), s.thread_escaped.end(), 1) != s.thread_escaped.end();
-      std::fill(s.thread_v2max.begin(), s.thread_v2max.end(), 0.0);
-      std::fill(s.thread_escaped.begin(), s.thread_escaped.end(), 0);
-      ++s.step;
-      s.moved_particles += std::sqrt(v2max) * s.dt;
-      if constexpr (has(E, effect::moving_bodies)) s.place_bodies();
-      if (escaped) s.remove_escaped();
-      const double half_skin = 0.5 * s.lists.skin();
-      if (escaped || s.moved_particles > half_skin || s.moved_particles + s.moved_bodies > s.lists.skin())
-        s.rebuild();
-      failed = !s.failure.empty();
-    }
-    if (failed) break;
-    pair_forces<E>(s, s.pp);
-    if constexpr (has(E, effect::walls)) wall_forces<E>(s, s.pw);
+      {
+        const double v2max = *std::max_element(s.thread_v2max.begin(), s.thread_v2max.end());
+        const bool escaped =
+            std::find(s.thread_escaped.begin(), s.thread_escaped.end(), 1) != s.thread_escaped.end();
+        std::fill(s.thread_v2max.begin(), s.thread_v2max.end(), 0.0);
+        std::fill(s.thread_escaped.begin(), s.thread_escaped.end(), 0);
+        ++s.step;
+        s.moved_particles += std::sqrt(v2max) * s.dt;
+        if constexpr (has(E, effect::moving_bodies)) s.place_bodies();
+        if (escaped) s.remove_escaped();
+        const double half_skin = 0.5 * s.lists.skin();
+        if (escaped || s.moved_particles > half_skin || s.moved_particles + s.moved_bodies > s.lists.skin())
+          s.rebuild();
+        failed = !s.failure.empty();
+      }
+      if (failed) break;
+      pair_forces<E>(s, s.pp);
+      if constexpr (has(E, effect::walls)) wall_forces<E>(s, s.pw);
 #pragma omp barrier
-    gather_kick<E, true>(s);
-    if constexpr (has(E, effect::walls)) {
+      if (k + 1 < steps)
+        gather<E, Then::kick_drift>(s);
+      else
+        gather<E, Then::kick>(s);
+      if constexpr (has(E, effect::walls)) {
 #pragma omp single
-      body_sums(s);
+        body_sums(s);
+      }
     }
   }
 }

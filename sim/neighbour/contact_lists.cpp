@@ -1,6 +1,7 @@
 #include "neighbour/contact_lists.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace dem2d {
@@ -35,7 +36,7 @@ void carry_history(List& nl, const List& ol, std::vector<std::int32_t> List::*ke
 }  // namespace
 
 void PairList::resize_slots(std::size_t n) {
-  for (auto* v : {&ft, &mr, &fx, &fy, &q, &fn, &overlap}) v->assign(n, 0.0);
+  for (auto* v : {&ri, &rj, &sqrt_meff, &ft, &mr, &fx, &fy, &ti, &tj, &fn, &overlap}) v->assign(n, 0.0);
 }
 
 void WallList::resize_slots(std::size_t n) {
@@ -79,6 +80,15 @@ void NeighbourLists::rebuild_pairs(const Particles& p) {
   }
   nl.start[n] = static_cast<std::int32_t>(nl.partner.size());
   nl.resize_slots(nl.partner.size());
+  nl.owner.resize(nl.partner.size());
+  for (std::size_t i = 0; i < n; ++i)
+    for (auto s = static_cast<std::size_t>(nl.start[i]); s < static_cast<std::size_t>(nl.start[i + 1]); ++s) {
+      const auto j = static_cast<std::size_t>(nl.partner[s]);
+      nl.owner[s] = static_cast<std::int32_t>(i);
+      nl.ri[s] = p.radius[i];
+      nl.rj[s] = p.radius[j];
+      nl.sqrt_meff[s] = 1.0 / std::sqrt(p.inv_mass[i] + p.inv_mass[j]);
+    }
 
   if (have_old) carry_history(nl, ol, &PairList::partner);
 
@@ -114,6 +124,9 @@ void NeighbourLists::rebuild_walls(const Particles& p, const std::vector<Segment
   }
   nl.start[n] = static_cast<std::int32_t>(nl.body.size());
   nl.resize_slots(nl.body.size());
+  nl.owner.resize(nl.body.size());
+  for (std::size_t i = 0; i < n; ++i)
+    std::fill(nl.owner.begin() + nl.start[i], nl.owner.begin() + nl.start[i + 1], static_cast<std::int32_t>(i));
 
   if (have_old) carry_history(nl, ol, &WallList::body);
 }

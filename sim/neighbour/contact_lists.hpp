@@ -23,13 +23,17 @@ namespace dem2d {
 
 struct PairList {
   std::vector<std::int32_t> start;    // N + 1
+  std::vector<std::int32_t> owner;    // i of each slot (the row it belongs to)
   std::vector<std::int32_t> partner;  // j > i, ascending within a row
+  // constants of the pair, set at rebuild (contiguous loads in the kernel)
+  std::vector<double> ri, rj;       // radii (m)
+  std::vector<double> sqrt_meff;    // sqrt(m_i m_j / (m_i + m_j)) (sqrt(kg/m))
   // history
   std::vector<double> ft;  // tangential spring (N/m) along t = z x n
-  std::vector<double> mr;  // rolling moment (N)
+  std::vector<double> mr;  // rolling moment on i (N)
   // last evaluation (zero for candidates that do not touch)
   std::vector<double> fx, fy;  // force on i (N/m); j receives the opposite
-  std::vector<double> q;       // torque part shared by i and j: -(delta/2) F_t (N)
+  std::vector<double> ti, tj;  // torque on i and on j (N)
   std::vector<double> fn;      // normal force (N/m)
   std::vector<double> overlap; // -delta (m), positive when touching
   // reverse index: for particle k, the slots whose partner is k (ascending i)
@@ -41,6 +45,7 @@ struct PairList {
 
 struct WallList {
   std::vector<std::int32_t> start;  // N + 1
+  std::vector<std::int32_t> owner;  // the grain of each slot
   std::vector<std::int32_t> body;   // ascending within a row
   // history
   std::vector<double> ft, mr;
