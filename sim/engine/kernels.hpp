@@ -3,12 +3,13 @@
 //
 // One time step (velocity Verlet, as in LAMMPS: velocity-dependent forces use
 // the half-step velocity):
-//   v += dt/2 a(t);  x += dt v                    kick + drift (parallel over grains)
+//   v += dt/2 a(t);  x += dt v                    integrate (parallel over grains, vectorised)
 //   move bodies; rebuild lists if the skin is used serial
 //   per-contact forces at x(t+dt)                 pair_forces (parallel over slots, vectorised),
 //                                                 wall_forces
-//   per-grain sums in a fixed order; v += dt/2 a  gather (parallel over grains), fused with
-//                                                 the next step's kick + drift within a call
+//   per-grain sums in a fixed order               gather (parallel over grains)
+//   v += dt/2 a(t+dt)                             integrate, in one pass with the next step's
+//                                                 opening kick + drift within a call
 //   body force sums                                serial, fixed order
 // All loops run inside one OpenMP parallel region per call; none allocates.
 #pragma once
@@ -26,60 +27,69 @@ namespace dem2d::kernels {
 
 using std::size_t;
 
-// The two halves of velocity Verlet for one grain.
-// kick:  v += h (F/m + g), omega += h T/I      (h = dt/2)
-// drift: x += dt v, theta += dt omega; records the largest speed^2 and whether
-//        the grain left the domain or became non-finite (contains() is false for NaN).
-struct DriftStats {
-  double v2max = 0.0;  // m^2/s^2
-  bool escaped = false;
-};
-
-template <EffectSet E>
-inline void kick(Particles& p, size_t i, double h, double gx, double gy) {
-  double ax = p.fx[i] * p.inv_mass[i], ay = p.fy[i] * p.inv_mass[i];
-  if constexpr (has(E, effect::gravity)) {
-    ax += gx;
-    ay += gy;
-  }
-  p.vx[i] += h * ax;
-  p.vy[i] += h * ay;
-  p.omega[i] += h * p.torque[i] * p.inv_inertia[i];
+// This thread's share [begin, end) of n grains: the same split as a static schedule.
+inline std::pair<size_t, size_t> my_range(size_t n) {
+  const auto t = static_cast<size_t>(omp_get_thread_num()), nt = static_cast<size_t>(omp_get_num_threads());
+  return {n * t / nt, n * (t + 1) / nt};
 }
 
-inline void drift(Particles& p, size_t i, double dt, const Box& box, DriftStats& st) {
-  const double vx = p.vx[i], vy = p.vy[i], w = p.omega[i];
-  const double x = p.x[i] + dt * vx, y = p.y[i] + dt * vy;
-  p.x[i] = x;
-  p.y[i] = y;
-  p.theta[i] += dt * w;
-  st.v2max = std::max(st.v2max, vx * vx + vy * vy);
-  st.escaped |= !box.contains(x, y) || !std::isfinite(w);
-}
-
-// Each thread leaves its drift statistics in the System; the caller reads
-// them after a barrier.
-inline void publish(System& s, const DriftStats& st) {
-  const auto t = static_cast<size_t>(omp_get_thread_num());
-  s.thread_v2max[t] = st.v2max;
-  s.thread_escaped[t] = st.escaped;
-}
-
-// The opening kick and drift of a step, for the first step of a call.
-template <EffectSet E>
-inline void kick_drift(System& s) {
+// Velocity Verlet's per-grain updates, h = dt/2, a = F/m + g, as one vectorised pass:
+//   Close: v += h a, omega += h T/I            (end of a step)
+//   Open:  the same kick, then x += dt v,      (start of the next step)
+//          theta += dt omega
+// Lost grains (active = 0) stay frozen: their kick is scaled by 0 (and by
+// exactly 1 for the others). With Open, each thread leaves the largest speed^2
+// and whether a grain left the domain or became non-finite in the System
+// (contains() is false for NaN); the caller reads them after a barrier.
+template <EffectSet E, bool Close, bool Open>
+inline void integrate(System& s) {
   Particles& p = s.p;
-  const double h = 0.5 * s.dt;
-  const auto n = static_cast<std::int64_t>(p.size());
-  DriftStats st;
-#pragma omp for schedule(static) nowait
-  for (std::int64_t k = 0; k < n; ++k) {
-    const auto i = static_cast<size_t>(k);
-    if (!p.active[i]) continue;
-    kick<E>(p, i, h, s.gx, s.gy);
-    drift(p, i, s.dt, s.domain, st);
+  const auto [begin, end] = my_range(p.size());
+  const double h = 0.5 * s.dt, dt = s.dt, gx = s.gx, gy = s.gy;
+  const Box box = s.domain;
+  double *x = p.x.data(), *y = p.y.data(), *vx = p.vx.data(), *vy = p.vy.data();
+  double *w = p.omega.data(), *th = p.theta.data();
+  const double *fx = p.fx.data(), *fy = p.fy.data(), *tq = p.torque.data();
+  const double *im = p.inv_mass.data(), *ii = p.inv_inertia.data();
+  const std::uint8_t* act = p.active.data();
+  double v2max = 0.0;
+  int escaped = 0;
+#pragma omp simd reduction(max : v2max) reduction(| : escaped)
+  for (size_t i = begin; i < end; ++i) {
+    const double k = h * static_cast<double>(act[i]);
+    double ax = fx[i] * im[i], ay = fy[i] * im[i];
+    if constexpr (has(E, effect::gravity)) {
+      ax += gx;
+      ay += gy;
+    }
+    const double aw = tq[i] * ii[i];
+    double u = vx[i], v = vy[i], o = w[i];
+    if constexpr (Close) {
+      u += k * ax;
+      v += k * ay;
+      o += k * aw;
+    }
+    if constexpr (Open) {
+      u += k * ax;
+      v += k * ay;
+      o += k * aw;
+      const double xn = x[i] + dt * u, yn = y[i] + dt * v;
+      x[i] = xn;
+      y[i] = yn;
+      th[i] += dt * o;
+      v2max = std::max(v2max, u * u + v * v);
+      const bool inside = (xn >= box.xmin) & (xn <= box.xmax) & (yn >= box.ymin) & (yn <= box.ymax);
+      escaped |= static_cast<int>(act[i] != 0) & static_cast<int>(!inside || !std::isfinite(o));
+    }
+    vx[i] = u;
+    vy[i] = v;
+    w[i] = o;
   }
-  publish(s, st);
+  if constexpr (Open) {
+    const auto t = static_cast<size_t>(omp_get_thread_num());
+    s.thread_v2max[t] = v2max;
+    s.thread_escaped[t] = static_cast<std::uint8_t>(escaped);
+  }
 }
 
 // Particle-particle contacts: one evaluation per pair, results per slot.
@@ -195,28 +205,17 @@ inline void wall_forces(System& s, const LawCoefficients& c) {
   }
 }
 
-// What follows the force sum of a grain in gather():
-enum class Then {
-  nothing,     // forces only (start-up)
-  kick,        // closing half-kick: v(t+dt) (the last step of a call)
-  kick_drift,  // closing half-kick, then the next step's kick and drift
-};
-
-// Per-grain resultant, summed in a fixed order (own row by ascending partner,
-// then the reverse index by ascending i, then walls), then `next`. Fusing the
-// next step's kick and drift into this pass saves a sweep over the grains and
-// does the same operations in the same order as separate passes would.
-template <EffectSet E, Then next>
+// Per-grain resultant force and torque, summed in a fixed order (own row by
+// ascending partner, then the reverse index by ascending i, then walls).
+// Each thread takes its my_range() share, the grains it then integrates, so
+// no barrier is needed in between.
+template <EffectSet E>
 inline void gather(System& s) {
   Particles& p = s.p;
   const PairList& L = s.lists.pairs;
   const WallList& W = s.lists.walls;
-  const double h = 0.5 * s.dt;
-  const auto n = static_cast<std::int64_t>(p.size());
-  DriftStats st;
-#pragma omp for schedule(static) nowait
-  for (std::int64_t k = 0; k < n; ++k) {
-    const auto i = static_cast<size_t>(k);
+  const auto [begin, end_i] = my_range(p.size());
+  for (size_t i = begin; i < end_i; ++i) {
     if (!p.active[i]) continue;
     constexpr bool kTorque = has(E, effect::friction) || has(E, effect::rolling_resistance);
     double fx = 0.0, fy = 0.0, tq = 0.0;
@@ -244,13 +243,7 @@ inline void gather(System& s) {
     p.fx[i] = fx;
     p.fy[i] = fy;
     p.torque[i] = tq;
-    if constexpr (next != Then::nothing) kick<E>(p, i, h, s.gx, s.gy);
-    if constexpr (next == Then::kick_drift) {
-      kick<E>(p, i, h, s.gx, s.gy);
-      drift(p, i, s.dt, s.domain, st);
-    }
   }
-  if constexpr (next == Then::kick_drift) publish(s, st);
 }
 
 // Force and torque the grains exert on each body, summed in slot order.
@@ -287,8 +280,8 @@ void initial_forces(System& s) {
     pair_forces<E>(s, pp);
     if constexpr (has(E, effect::walls)) wall_forces<E>(s, pw);
 #pragma omp barrier
-    gather<E, Then::nothing>(s);
-  }
+    gather<E>(s);
+  }  // (the region's end is a barrier)
   if constexpr (has(E, effect::walls)) {
     body_sums(s);
     s.reset_body_sums();
@@ -301,7 +294,7 @@ void advance(System& s, std::int64_t steps) {
   bool failed = false;
 #pragma omp parallel num_threads(s.threads)
   {
-    kick_drift<E>(s);
+    integrate<E, false, true>(s);
     for (std::int64_t k = 0; k < steps; ++k) {
 #pragma omp barrier
 #pragma omp single
@@ -324,12 +317,13 @@ void advance(System& s, std::int64_t steps) {
       pair_forces<E>(s, s.pp);
       if constexpr (has(E, effect::walls)) wall_forces<E>(s, s.pw);
 #pragma omp barrier
+      gather<E>(s);
       if (k + 1 < steps)
-        gather<E, Then::kick_drift>(s);
+        integrate<E, true, true>(s);  // close this step, open the next
       else
-        gather<E, Then::kick>(s);
+        integrate<E, true, false>(s);
       if constexpr (has(E, effect::walls)) {
-#pragma omp single
+#pragma omp single nowait  // the barrier at the top of the loop orders it before bodies move
         body_sums(s);
       }
     }
