@@ -61,28 +61,23 @@ Handle dataset_create_plist(const std::vector<hsize_t>& dims, std::size_t elem_s
 
 }  // namespace
 
-File File::create(const std::string& path) {
+File File::adopt(const std::string& path, hid_t id, const char* failure) {
   File f;
   f.path_ = path;
-  f.h_ = check(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, f,
-               "cannot create the file");
+  f.h_ = check(id, H5Fclose, f, failure);
   return f;
+}
+
+File File::create(const std::string& path) {
+  return adopt(path, H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), "cannot create the file");
 }
 
 File File::open_read(const std::string& path) {
-  File f;
-  f.path_ = path;
-  f.h_ = check(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, f,
-               "cannot open as HDF5 (missing or corrupt)");
-  return f;
+  return adopt(path, H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "cannot open as HDF5 (missing or corrupt)");
 }
 
 File File::open_write(const std::string& path) {
-  File f;
-  f.path_ = path;
-  f.h_ = check(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose, f,
-               "cannot open as HDF5 for writing");
-  return f;
+  return adopt(path, H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), "cannot open as HDF5 for writing");
 }
 
 void File::flush() const { check(H5Fflush(id(), H5F_SCOPE_GLOBAL), *this, "flush failed"); }

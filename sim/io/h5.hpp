@@ -52,6 +52,7 @@ class File {
   void flush() const;
 
  private:
+  static File adopt(const std::string& path, hid_t id, const char* failure);  // throws if id < 0
   Handle h_;
   std::string path_;
 };

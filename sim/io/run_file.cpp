@@ -72,19 +72,7 @@ void write_header(const h5::File& f, const System& sys, const RunInfo& info, con
   h5::write(f, "bodies/thickness", thickness);
   h5::write(f, "bodies/velocity", velocity, {B.size(), 2});
 
-  std::vector<std::int32_t> id;
-  std::vector<std::int64_t> step;
-  std::vector<double> x, y;
-  for (const LostParticle& l : sys.lost) {
-    id.push_back(l.id);
-    step.push_back(l.step);
-    x.push_back(l.x);
-    y.push_back(l.y);
-  }
-  h5::write(f, "lost/id", id);
-  h5::write(f, "lost/step", step);
-  h5::write(f, "lost/x", x);
-  h5::write(f, "lost/y", y);
+  write_lost(f, sys.lost);
 }
 
 // ParaView's view of the snapshots (docs/run_file.md): a temporal collection of
@@ -330,6 +318,22 @@ void RunRecorder::finish(const System& sys, const RunInfo& info, const std::stri
   fs::rename(xdmf_tmp, xdmf);
   fs::rename(out_tmp, out);
   for (int k = 0; k < segments_; ++k) fs::remove(segment_path(k));
+}
+
+void write_lost(const h5::File& f, const std::vector<LostParticle>& lost) {
+  std::vector<std::int32_t> id;
+  std::vector<std::int64_t> step;
+  std::vector<double> x, y;
+  for (const LostParticle& l : lost) {
+    id.push_back(l.id);
+    step.push_back(l.step);
+    x.push_back(l.x);
+    y.push_back(l.y);
+  }
+  h5::write(f, "lost/id", id);
+  h5::write(f, "lost/step", step);
+  h5::write(f, "lost/x", x);
+  h5::write(f, "lost/y", y);
 }
 
 }  // namespace dem2d

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "engine/system.hpp"
+#include "io/h5.hpp"
 
 namespace dem2d {
 
@@ -24,6 +25,10 @@ struct RunInfo {
 };
 
 inline constexpr const char* kRunFileFormat = "dem2d-run-1";
+
+// The grains that left the domain, as /lost/{id, step, x, y} in f (also used
+// by checkpoints).
+void write_lost(const h5::File& f, const std::vector<LostParticle>& lost);
 
 class RunRecorder {
  public:

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "io/h5.hpp"
+#include "io/run_file.hpp"
 
 namespace dem2d {
 
@@ -92,19 +93,7 @@ void write_checkpoint(const std::string& path, const System& sys, const RunProgr
     h5::write(f, "bodies/fy_sum", sys.body_fy_sum);
     h5::write(f, "bodies/torque_sum", sys.body_torque_sum);
     h5::write_attr(f, "/", "body_sum_steps", sys.body_sum_steps);
-    std::vector<std::int32_t> id;
-    std::vector<std::int64_t> step;
-    std::vector<double> x, y;
-    for (const auto& l : sys.lost) {
-      id.push_back(l.id);
-      step.push_back(l.step);
-      x.push_back(l.x);
-      y.push_back(l.y);
-    }
-    h5::write(f, "lost/id", id);
-    h5::write(f, "lost/step", step);
-    h5::write(f, "lost/x", x);
-    h5::write(f, "lost/y", y);
+    write_lost(f, sys.lost);
   }
   std::filesystem::rename(tmp, path);
 }

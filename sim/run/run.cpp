@@ -1,7 +1,5 @@
 #include "run/run.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -41,13 +39,17 @@ std::string format_duration(double seconds) {
 
 class Progress {
  public:
-  Progress(bool on, std::int64_t total_steps, std::size_t particles)
-      : on_(on), total_(total_steps), particles_(particles) {}
-  void update(std::int64_t step, double t, double steps_per_s) {
+  Progress(bool on, std::int64_t total_steps, std::size_t particles, std::int64_t step)
+      : on_(on), total_(total_steps), particles_(particles), last_step_(step) {}
+  // The rate shown is averaged over the time since the previous line.
+  void update(std::int64_t step, double t) {
     if (!on_) return;
     const auto now = Clock::now();
-    if (now - last_ < std::chrono::milliseconds(500)) return;
+    const double secs = std::chrono::duration<double>(now - last_).count();
+    if (secs < 0.5) return;
+    const double steps_per_s = static_cast<double>(step - last_step_) / secs;
     last_ = now;
+    last_step_ = step;
     const double eta = steps_per_s > 0 ? static_cast<double>(total_ - step) / steps_per_s : 0.0;
     std::fprintf(stderr, "\r[dem2d] t = %.6g s  step %lld/%lld  %.3g steps/s  %.3g particle-steps/s  ETA %s   ",
                  t, static_cast<long long>(step), static_cast<long long>(total_), steps_per_s,
@@ -62,7 +64,8 @@ class Progress {
   bool on_;
   std::int64_t total_;
   std::size_t particles_;
-  Clock::time_point last_{};
+  std::int64_t last_step_;
+  Clock::time_point last_ = Clock::now();
 };
 
 }  // namespace
@@ -110,8 +113,19 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     write_checkpoint(ckpt, sys, pr, scene.text);
   };
 
-  Progress progress(opt.progress, total, sys.size());
   const std::int64_t first_step = sys.step;
+  Progress progress(opt.progress, total, sys.size(), first_step);
+  auto finish_report = [&](bool complete) {
+    report.complete = complete;
+    report.final_step = sys.step;
+    report.steps = sys.step - first_step;
+    report.wall_seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
+    const auto active = static_cast<double>(std::count(sys.p.active.begin(), sys.p.active.end(), 1));
+    if (report.steps > 0 && active > 0)
+      report.ns_per_particle_step = report.wall_seconds * 1e9 / (static_cast<double>(report.steps) * active);
+    report.lost = sys.lost.size();
+    return report;
+  };
   auto last_checkpoint = Clock::now();
   std::int64_t chunk = 64;
   std::int64_t last_series = -1, last_snapshot = -1;
@@ -143,11 +157,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     if (g_interrupt.load() || sys.step == opt.interrupt_at_step) {
       checkpoint();
       progress.done();
-      report.final_step = sys.step;
-      report.steps = sys.step - first_step;
-      report.wall_seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
-      report.lost = sys.lost.size();
-      return report;
+      return finish_report(false);
     }
     if (scene.output.checkpoint_interval > 0.0 &&
         std::chrono::duration<double>(Clock::now() - last_checkpoint).count() >= scene.output.checkpoint_interval) {
@@ -167,7 +177,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     const double rate = secs > 0 ? static_cast<double>(n) / secs : 0.0;
     // aim at ~0.1 s per call: responsive to signals and checkpoints, negligible overhead
     if (n == chunk) chunk = std::clamp<std::int64_t>(static_cast<std::int64_t>(rate * 0.1), 1, 1 << 24);
-    progress.update(sys.step, sys.time(), rate);
+    progress.update(sys.step, sys.time());
   }
   progress.done();
 
@@ -180,16 +190,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   recorder.finish(sys, info, report.run_file, report.stop_reason);
   fs::remove_all(work);
 
-  report.complete = true;
-  report.final_step = sys.step;
-  report.steps = sys.step - first_step;
-  report.wall_seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
-  const double active = static_cast<double>(
-      std::count(sys.p.active.begin(), sys.p.active.end(), std::uint8_t{1}));
-  if (report.steps > 0 && active > 0)
-    report.ns_per_particle_step = report.wall_seconds * 1e9 / (static_cast<double>(report.steps) * active);
-  report.lost = sys.lost.size();
-  return report;
+  return finish_report(true);
 }
 
 }  // namespace dem2d
