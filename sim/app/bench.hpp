@@ -11,7 +11,7 @@ namespace dem2d {
 struct BenchOptions {
   std::string scene = std::string(DEM2D_DATA_DIR) + "/bench/settled_bed.toml";
   int steps = 4000;   // timed steps per measurement
-  int repeat = 3;     // measurements per case; the fastest is reported
+  int repeat = 5;     // measurements per case; the fastest is reported
   std::vector<int> threads{1, 2};
   std::string json;   // optional output file
 };
