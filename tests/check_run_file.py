@@ -17,11 +17,12 @@ import numpy as np
 
 ATTRS = {"scene_text": str, "scene_path": str, "code_version": str, "threads": np.int64, "dt": np.float64,
          "steps": np.int64, "end_time": np.float64, "stop_reason": str, "effects": str,
-         "n_particles": np.int64, "n_bodies": np.int64, "lost_particles": np.int64, "format": str}
+         "n_particles": np.int64, "n_bodies": np.int64, "lost_particles": np.int64, "format": str,
+         "initial_run": str, "jams": np.int64}
 EFFECTS = {"gravity", "normal_damping", "friction", "rolling_resistance", "walls", "moving_bodies"}
 
 
-def layout(T, S, C, L, N, B):
+def layout(T, S, C, L, N, B, J):
     """dataset -> (numpy dtype kind+size, shape)"""
     f8, i8, i4, u1 = "f8", "i8", "i4", "u1"
     return {
@@ -40,6 +41,7 @@ def layout(T, S, C, L, N, B):
         "contacts/overlap": (f8, (C,)), "contacts/nx": (f8, (C,)), "contacts/ny": (f8, (C,)),
         "contacts/mr": (f8, (C,)), "contacts/sliding": (u1, (C,)),
         "lost/id": (i4, (L,)), "lost/step": (i8, (L,)), "lost/x": (f8, (L,)), "lost/y": (f8, (L,)),
+        "events/jam_time": (f8, (J,)),
     }
 
 
@@ -67,7 +69,8 @@ def check_run_file(f, errors):
 
     dim = lambda name: f[name].shape[0] if name in f else -1  # noqa: E731
     N, B = int(f.attrs["n_particles"]), int(f.attrs["n_bodies"])
-    expected = layout(dim("series/time"), dim("snapshots/time"), dim("contacts/i"), dim("lost/id"), N, B)
+    expected = layout(dim("series/time"), dim("snapshots/time"), dim("contacts/i"), dim("lost/id"), N, B,
+                      dim("events/jam_time"))
     for name, (code, shape) in expected.items():
         if name not in f:
             errors.append(f"missing dataset /{name}")

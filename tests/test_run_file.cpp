@@ -145,7 +145,13 @@ void record(System& sys, RunRecorder& rec, Expected& ex, int from, int to, int f
   }
 }
 
-RunInfo run_info() { return {"# scene built in code\n", "test.toml", DEM2D_VERSION, 1}; }
+RunInfo run_info() {
+  RunInfo info;
+  info.scene_text = "# scene built in code\n";
+  info.scene_path = "test.toml";
+  info.code_version = DEM2D_VERSION;
+  return info;
+}
 
 // The whole standard run into dir/run.h5.
 Expected run(const fs::path& dir, int flush_every, int* segments = nullptr) {

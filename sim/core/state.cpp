@@ -11,7 +11,10 @@ void Particles::resize(std::size_t n) {
 
 void Bodies::resize(std::size_t n) {
   name.resize(n);
-  for (auto* v : {&ax, &ay, &bx, &by, &radius, &vx, &vy, &fx, &fy, &torque}) v->resize(n, 0.0);
+  for (auto* v : {&ax, &ay, &bx, &by, &radius, &vx, &vy, &anchor_x, &anchor_y, &fx, &fy, &torque})
+    v->resize(n, 0.0);
+  anchor_step.resize(n, 0);
+  active.resize(n, 1);
 }
 
 }  // namespace dem2d

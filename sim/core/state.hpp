@@ -36,13 +36,20 @@ struct Particles {
 
 // Sphero-lines: a segment from (ax, ay) to (bx, by) with round caps of radius
 // `radius` (cap diameter d_s = 2*radius). Static walls have zero velocity;
-// kinematic bodies translate at their prescribed velocity. Forces and torques
-// are those the grains exert on the body; torque is about the segment middle.
+// kinematic bodies translate at their prescribed velocity, which may change
+// during a run: C1 = anchor + v (step - anchor_step) dt, the anchor being
+// where the body was when its velocity last changed (exact for constant
+// motion, no accumulated round-off). A removed body (active = 0) no longer
+// touches anything. Forces and torques are those the grains exert on the
+// body; torque is about the segment middle.
 struct Bodies {
   std::vector<std::string> name;
   std::vector<double> ax, ay, bx, by;  // segment end points C1, C2 (m)
   std::vector<double> radius;          // cap radius (m)
   std::vector<double> vx, vy;          // prescribed velocity (m/s)
+  std::vector<double> anchor_x, anchor_y;  // C1 when the velocity last changed (m)
+  std::vector<std::int64_t> anchor_step;   // step when the velocity last changed
+  std::vector<std::uint8_t> active;        // 0 once removed
   std::vector<double> fx, fy;          // force from the grains, last step (N/m)
   std::vector<double> torque;          // torque from the grains about the middle (N)
 

@@ -1,6 +1,7 @@
 #include "engine/diagnostics.hpp"
 
 #include <algorithm>
+#include <limits>
 
 namespace dem2d {
 
@@ -49,6 +50,13 @@ double gravity_energy(const System& sys) {
   for (std::size_t i = 0; i < p.size(); ++i)
     if (p.active[i]) e -= p.mass[i] * (sys.gx * p.x[i] + sys.gy * p.y[i]);
   return e;
+}
+
+double highest_grain(const System& sys) {
+  double h = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < sys.p.size(); ++i)
+    if (sys.p.active[i]) h = std::max(h, sys.p.y[i]);
+  return h;
 }
 
 double max_overlap(const System& sys) {

@@ -18,6 +18,9 @@ double elastic_energy(const System& sys);
 // Gravitational potential energy -m g.r of the active grains (J/m).
 double gravity_energy(const System& sys);
 
+// Height of the highest active grain centre (m); -inf without grains.
+double highest_grain(const System& sys);
+
 // Largest overlap over all touching contacts (m), and their number.
 double max_overlap(const System& sys);
 std::size_t contact_count(const System& sys);

@@ -62,8 +62,8 @@ System::System(const Scene& scene)
     bodies.vx[b] = q.vx;
     bodies.vy[b] = q.vy;
   }
-  body_x0 = bodies.ax;
-  body_y0 = bodies.ay;
+  bodies.anchor_x = bodies.ax;
+  bodies.anchor_y = bodies.ay;
   seg.resize(nb);
   for (std::size_t b = 0; b < nb; ++b)
     seg[b] = make_segment(bodies.ax[b], bodies.ay[b], bodies.bx[b], bodies.by[b]);
@@ -78,6 +78,14 @@ System::System(const Scene& scene)
   remove_escaped();
   if (!failure.empty()) throw std::runtime_error(failure);
   rebuild();
+  for (const InitialContact& c : scene.initial_contacts) {  // history carried over from a run
+    if (c.j >= 0) {
+      lists.set_pair_history(c.i, c.j, c.ft, c.mr);
+    } else if (has(effects, effect::walls)) {
+      for (std::size_t b = 0; b < nb; ++b)  // a body of the earlier run may be gone: then no history
+        if (bodies.name[b] == c.body) lists.set_wall_history(c.i, static_cast<std::int32_t>(b), c.ft, c.mr);
+    }
+  }
   evaluate_initial_forces();
 }
 
@@ -90,14 +98,14 @@ void System::advance(std::int64_t steps) {
 void System::evaluate_initial_forces() { initial_forces_(*this); }
 
 void System::place_bodies() {
-  const double t = time();
   double moved = 0.0;
   for (std::size_t b = 0; b < bodies.size(); ++b) {
+    if (!bodies.active[b]) continue;
     const double vx = bodies.vx[b], vy = bodies.vy[b];
-    if (vx == 0.0 && vy == 0.0) continue;
+    const double t = static_cast<double>(step - bodies.anchor_step[b]) * dt;
     const double ex = bodies.bx[b] - bodies.ax[b], ey = bodies.by[b] - bodies.ay[b];
-    bodies.ax[b] = body_x0[b] + vx * t;
-    bodies.ay[b] = body_y0[b] + vy * t;
+    bodies.ax[b] = bodies.anchor_x[b] + vx * t;
+    bodies.ay[b] = bodies.anchor_y[b] + vy * t;
     bodies.bx[b] = bodies.ax[b] + ex;
     bodies.by[b] = bodies.ay[b] + ey;
     seg[b].ax = bodies.ax[b];
@@ -105,6 +113,29 @@ void System::place_bodies() {
     moved = std::max(moved, std::hypot(vx, vy) * dt);
   }
   moved_bodies += moved;
+}
+
+void System::set_body_velocity(std::size_t b, double vx, double vy) {
+  if ((vx != 0.0 || vy != 0.0) && !has(effects, effect::moving_bodies))
+    throw std::invalid_argument("body " + bodies.name[b] + " cannot move: the scene lacks the moving_bodies effect");
+  place_bodies();  // positions up to date for this step
+  bodies.anchor_x[b] = bodies.ax[b];
+  bodies.anchor_y[b] = bodies.ay[b];
+  bodies.anchor_step[b] = step;
+  bodies.vx[b] = vx;
+  bodies.vy[b] = vy;
+}
+
+void System::remove_body(std::size_t b) {
+  bodies.active[b] = 0;
+  bodies.fx[b] = bodies.fy[b] = bodies.torque[b] = 0.0;
+  rebuild();
+}
+
+std::size_t System::body_index(const std::string& name) const {
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    if (bodies.name[b] == name) return b;
+  throw std::invalid_argument("no body named '" + name + "'");
 }
 
 void System::remove_escaped() {
@@ -130,7 +161,7 @@ void System::remove_escaped() {
 
 void System::rebuild() {
   lists.rebuild_pairs(p);
-  if (has(effects, effect::walls)) lists.rebuild_walls(p, seg, bodies.radius);
+  if (has(effects, effect::walls)) lists.rebuild_walls(p, seg, bodies.radius, bodies.active);
   moved_particles = 0.0;
   moved_bodies = 0.0;
 }

@@ -48,7 +48,6 @@ struct System {
 
   Particles p;
   Bodies bodies;
-  std::vector<double> body_x0, body_y0;  // C1 at step 0 (m); moving bodies follow C1 = C1_0 + V t
   std::vector<Segment> seg;              // cached body geometry
   NeighbourLists lists;
 
@@ -73,6 +72,12 @@ struct System {
   void remove_escaped();
   // Recompute body positions for the current step (moving bodies only).
   void place_bodies();
+  // Prescribed motion from the current step on (needs the moving_bodies effect
+  // unless the velocity is zero).
+  void set_body_velocity(std::size_t b, double vx, double vy);
+  // Takes body b out of the scene from the next force evaluation on.
+  void remove_body(std::size_t b);
+  std::size_t body_index(const std::string& name) const;  // throws if unknown
   // Evaluate forces for the current positions without advancing the springs
   // (used once at start-up: velocity Verlet needs F(t=0)).
   void evaluate_initial_forces();

@@ -48,6 +48,9 @@ void write_header(const h5::File& f, const System& sys, const RunInfo& info, con
   h5::write_attr(f, "/", "n_particles", i64(sys.size()));
   h5::write_attr(f, "/", "n_bodies", i64(sys.bodies.size()));
   h5::write_attr(f, "/", "lost_particles", i64(sys.lost.size()));
+  h5::write_attr(f, "/", "initial_run", info.initial_run);
+  h5::write_attr(f, "/", "jams", i64(info.jam_times.size()));
+  h5::write(f, "events/jam_time", info.jam_times);
 
   const Particles& p = sys.p;
   std::vector<std::int32_t> ids;

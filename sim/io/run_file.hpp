@@ -22,6 +22,8 @@ namespace dem2d {
 struct RunInfo {
   std::string scene_text, scene_path, code_version;  // code_version: DEM2D_VERSION
   int threads = 1;
+  std::string initial_run;         // run file the grains came from ("" if none)
+  std::vector<double> jam_times;   // times (s) the hopper outlet was found jammed and tapped
 };
 
 inline constexpr const char* kRunFileFormat = "dem2d-run-1";

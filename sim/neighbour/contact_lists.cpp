@@ -105,7 +105,8 @@ void NeighbourLists::rebuild_pairs(const Particles& p) {
 }
 
 void NeighbourLists::rebuild_walls(const Particles& p, const std::vector<Segment>& seg,
-                                   const std::vector<double>& seg_radius) {
+                                   const std::vector<double>& seg_radius,
+                                   const std::vector<std::uint8_t>& seg_active) {
   const std::size_t n = p.size();
   std::swap(walls, old_walls_);
   WallList& nl = walls;
@@ -118,6 +119,7 @@ void NeighbourLists::rebuild_walls(const Particles& p, const std::vector<Segment
     nl.start[i] = static_cast<std::int32_t>(nl.body.size());
     if (!p.active[i]) continue;
     for (std::size_t b = 0; b < seg.size(); ++b) {
+      if (!seg_active[b]) continue;
       const SegmentProximity c = closest_point(seg[b], p.x[i], p.y[i]);
       if (c.dist < p.radius[i] + seg_radius[b] + skin_) nl.body.push_back(static_cast<std::int32_t>(b));
     }
@@ -129,6 +131,30 @@ void NeighbourLists::rebuild_walls(const Particles& p, const std::vector<Segment
     std::fill(nl.owner.begin() + nl.start[i], nl.owner.begin() + nl.start[i + 1], static_cast<std::int32_t>(i));
 
   if (have_old) carry_history(nl, ol, &WallList::body);
+}
+
+namespace {
+template <class List>
+bool set_history(List& L, const std::vector<std::int32_t>& key, std::int32_t i, std::int32_t k, double ft,
+                 double mr) {
+  const auto row = static_cast<std::size_t>(i);
+  if (row + 1 >= L.start.size()) return false;
+  const auto first = key.begin() + L.start[row], last = key.begin() + L.start[row + 1];
+  const auto it = std::lower_bound(first, last, k);  // rows are sorted by key
+  if (it == last || *it != k) return false;
+  const auto s = static_cast<std::size_t>(it - key.begin());
+  L.ft[s] = ft;
+  L.mr[s] = mr;
+  return true;
+}
+}  // namespace
+
+bool NeighbourLists::set_pair_history(std::int32_t i, std::int32_t j, double ft, double mr) {
+  return set_history(pairs, pairs.partner, i, j, ft, mr);
+}
+
+bool NeighbourLists::set_wall_history(std::int32_t i, std::int32_t b, double ft, double mr) {
+  return set_history(walls, walls.body, i, b, ft, mr);
 }
 
 }  // namespace dem2d

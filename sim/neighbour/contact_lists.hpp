@@ -67,7 +67,12 @@ class NeighbourLists {
 
   void rebuild_pairs(const Particles& p);
   void rebuild_walls(const Particles& p, const std::vector<Segment>& seg,
-                     const std::vector<double>& seg_radius);
+                     const std::vector<double>& seg_radius, const std::vector<std::uint8_t>& seg_active);
+
+  // Sets the stored history of the candidate contact (i, partner j) / (i, body
+  // b); false if the lists hold no such candidate.
+  bool set_pair_history(std::int32_t i, std::int32_t j, double ft, double mr);
+  bool set_wall_history(std::int32_t i, std::int32_t b, double ft, double mr);
 
   PairList pairs;
   WallList walls;

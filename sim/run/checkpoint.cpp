@@ -23,6 +23,21 @@ auto particle_arrays(P& p) {
                     std::pair{"torque", &p.torque}};
 }
 
+// The jam controller's counters.
+template <class S>
+auto jam_fields(S& st) {
+  return std::array{std::pair{"next_check", &st.next_check}, std::pair{"last_flow", &st.last_flow},
+                    std::pair{"last_count", &st.last_count}, std::pair{"tap_reverse", &st.tap_reverse},
+                    std::pair{"tap_end", &st.tap_end}};
+}
+
+// The body motion state a checkpoint stores (positions follow from it).
+template <class B>
+auto body_arrays(B& b) {
+  return std::array{std::pair{"vx", &b.vx}, std::pair{"vy", &b.vy}, std::pair{"anchor_x", &b.anchor_x},
+                    std::pair{"anchor_y", &b.anchor_y}};
+}
+
 // Touching contacts of a list as (row, key, ft, mr) columns.
 template <class List>
 void write_history(const h5::File& f, const std::string& group, const List& L,
@@ -43,25 +58,15 @@ void write_history(const h5::File& f, const std::string& group, const List& L,
   h5::write(f, group + "/mr", mr);
 }
 
-// Puts the stored history back into the (freshly rebuilt) list; both are
-// sorted by (row, key).
-template <class List>
-void read_history(const h5::File& f, const std::string& group, List& L,
-                  const std::vector<std::int32_t>& key) {
+// Puts the stored history back into the freshly rebuilt lists.
+void read_history(const h5::File& f, const std::string& group, bool walls, NeighbourLists& lists) {
   const auto row = h5::read<std::int32_t>(f, group + "/row");
   const auto col = h5::read<std::int32_t>(f, group + "/key");
   const auto ft = h5::read<double>(f, group + "/ft");
   const auto mr = h5::read<double>(f, group + "/mr");
   for (std::size_t c = 0; c < row.size(); ++c) {
-    const auto i = static_cast<std::size_t>(row[c]);
-    bool found = false;
-    for (auto s = static_cast<std::size_t>(L.start[i]); s < static_cast<std::size_t>(L.start[i + 1]); ++s)
-      if (key[s] == col[c]) {
-        L.ft[s] = ft[c];
-        L.mr[s] = mr[c];
-        found = true;
-        break;
-      }
+    const bool found = walls ? lists.set_wall_history(row[c], col[c], ft[c], mr[c])
+                             : lists.set_pair_history(row[c], col[c], ft[c], mr[c]);
     if (!found)
       throw std::runtime_error(f.path() + ": contact " + std::to_string(row[c]) + "-" +
                                std::to_string(col[c]) + " of the checkpoint is not a neighbour-list candidate");
@@ -82,6 +87,9 @@ void write_checkpoint(const std::string& path, const System& sys, const RunProgr
     h5::write_attr(f, "/", "next_series", pr.next_series);
     h5::write_attr(f, "/", "next_snapshot", pr.next_snapshot);
     h5::write_attr(f, "/", "next_check", pr.next_check);
+    h5::write_attr(f, "/", "last_contact", pr.last_contact);
+    for (const auto& [name, v] : jam_fields(pr.jam)) h5::write_attr(f, "/", std::string("jam_") + name, *v);
+    h5::write(f, "jam_times", pr.jam.jam_times);
     h5::write_attr(f, "/", "segments", static_cast<std::int64_t>(pr.segments));
     h5::write_attr(f, "/", "series_rows", pr.series_rows);
     h5::write_attr(f, "/", "snapshots", pr.snapshots);
@@ -89,6 +97,10 @@ void write_checkpoint(const std::string& path, const System& sys, const RunProgr
     h5::write(f, "particles/active", sys.p.active);
     write_history(f, "pairs", sys.lists.pairs, sys.lists.pairs.partner);
     write_history(f, "walls", sys.lists.walls, sys.lists.walls.body);
+    const Bodies& B = sys.bodies;
+    for (const auto& [name, v] : body_arrays(B)) h5::write(f, std::string("bodies/") + name, *v);
+    h5::write(f, "bodies/anchor_step", B.anchor_step);
+    h5::write(f, "bodies/active", B.active);
     h5::write(f, "bodies/fx_sum", sys.body_fx_sum);
     h5::write(f, "bodies/fy_sum", sys.body_fy_sum);
     h5::write(f, "bodies/torque_sum", sys.body_torque_sum);
@@ -122,10 +134,15 @@ RunProgress read_checkpoint(const std::string& path, System& sys) {
   const auto x = h5::read<double>(f, "lost/x"), y = h5::read<double>(f, "lost/y");
   for (std::size_t k = 0; k < id.size(); ++k) sys.lost.push_back({id[k], step[k], x[k], y[k]});
 
+  Bodies& B = sys.bodies;
+  for (const auto& [name, v] : body_arrays(B)) *v = h5::read<double>(f, std::string("bodies/") + name);
+  B.anchor_step = h5::read<std::int64_t>(f, "bodies/anchor_step");
+  B.active = h5::read<std::uint8_t>(f, "bodies/active");
+  if (B.vx.size() != B.size()) throw std::runtime_error(path + ": body count differs from the scene's");
   sys.place_bodies();
   sys.rebuild();
-  read_history(f, "pairs", sys.lists.pairs, sys.lists.pairs.partner);
-  if (has(sys.effects, effect::walls)) read_history(f, "walls", sys.lists.walls, sys.lists.walls.body);
+  read_history(f, "pairs", false, sys.lists);
+  if (has(sys.effects, effect::walls)) read_history(f, "walls", true, sys.lists);
   sys.body_fx_sum = h5::read<double>(f, "bodies/fx_sum");
   sys.body_fy_sum = h5::read<double>(f, "bodies/fy_sum");
   sys.body_torque_sum = h5::read<double>(f, "bodies/torque_sum");
@@ -135,6 +152,9 @@ RunProgress read_checkpoint(const std::string& path, System& sys) {
   pr.next_series = h5::read_attr_int(f, "/", "next_series");
   pr.next_snapshot = h5::read_attr_int(f, "/", "next_snapshot");
   pr.next_check = h5::read_attr_int(f, "/", "next_check");
+  pr.last_contact = h5::read_attr_int(f, "/", "last_contact");
+  for (const auto& [name, v] : jam_fields(pr.jam)) *v = h5::read_attr_int(f, "/", std::string("jam_") + name);
+  pr.jam.jam_times = h5::read<double>(f, "jam_times");
   pr.segments = static_cast<int>(h5::read_attr_int(f, "/", "segments"));
   pr.series_rows = h5::read_attr_int(f, "/", "series_rows");
   pr.snapshots = h5::read_attr_int(f, "/", "snapshots");

@@ -11,14 +11,17 @@
 #include <string>
 
 #include "engine/system.hpp"
+#include "run/jam_control.hpp"
 
 namespace dem2d {
 
 // Where the driver was when the checkpoint was taken.
 struct RunProgress {
   std::int64_t next_series = 0, next_snapshot = 0, next_check = 0;  // steps of the next events
-  int segments = 0;                                                  // run-file segments written
+  std::int64_t last_contact = 0;  // last step the stop.body_free body touched a grain
+  int segments = 0;               // run-file segments written
   std::int64_t series_rows = 0, snapshots = 0;
+  JamController::State jam;
 };
 
 // Written to path + ".tmp", then renamed: a checkpoint on disk is always complete.

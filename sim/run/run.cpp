@@ -81,27 +81,42 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   fs::create_directories(out_dir);
 
   System sys(scene);
+  JamController jam(scene.jam, sys);
   RunReport report;
   RunProgress pr;
   const std::int64_t every_series = steps_of(scene.output.series_interval, scene.dt);
   const std::int64_t every_snapshot = steps_of(scene.output.snapshot_interval, scene.dt);
-  const bool energy_stop = scene.stop.kinetic_energy_below > 0.0;
-  const std::int64_t every_check = energy_stop ? steps_of(scene.stop.check_interval, scene.dt) : 0;
-  const std::int64_t total = std::llround(scene.stop.duration / scene.dt);
+  const StopCondition& stop = scene.stop;
+  const bool energy_stop = stop.kinetic_energy_below > 0.0;
+  const bool free_stop = !stop.body_free.empty();
+  const std::int64_t every_check = energy_stop || free_stop ? steps_of(stop.check_interval, scene.dt) : 0;
+  const std::size_t free_body = free_stop ? sys.body_index(stop.body_free) : 0;
+  const std::int64_t free_steps = free_stop ? steps_of(stop.free_time, scene.dt) : 0;
+  const std::int64_t total = std::llround(stop.duration / scene.dt);
+  // bodies taken away during the run, by step
+  std::vector<std::pair<std::int64_t, std::size_t>> removals;
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b)
+    if (scene.bodies[b].remove_at >= 0.0) removals.emplace_back(std::llround(scene.bodies[b].remove_at / scene.dt), b);
+  std::sort(removals.begin(), removals.end());
 
   if (!opt.fresh && fs::exists(ckpt)) {
     if (checkpoint_scene_text(ckpt) != scene.text)
       throw std::runtime_error(ckpt + " was written by a different scene; rerun with --fresh to discard it");
     pr = read_checkpoint(ckpt, sys);
+    jam.restore(pr.jam);
     report.resumed = true;
   } else {
     fs::remove_all(work);
     fs::create_directories(work);
-    if (energy_stop) {  // first test at the first multiple of the interval at or after min_time
-      const std::int64_t first = std::llround(std::ceil(scene.stop.min_time / scene.dt));
+    if (every_check) {  // first test at the first multiple of the interval at or after min_time
+      const std::int64_t first = std::llround(std::ceil(stop.min_time / scene.dt));
       pr.next_check = std::max<std::int64_t>(every_check, (first + every_check - 1) / every_check * every_check);
     }
   }
+  // removals at or before the checkpoint's step were applied before it was written
+  std::size_t next_removal = 0;
+  while (next_removal < removals.size() && report.resumed && removals[next_removal].first <= sys.step) ++next_removal;
+
   RunRecorder recorder(sys, work.string());
   if (report.resumed) recorder.restore_counts(pr.segments, pr.series_rows, pr.snapshots);
 
@@ -110,7 +125,14 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     pr.segments = recorder.segments();
     pr.series_rows = recorder.series_rows();
     pr.snapshots = recorder.snapshot_count();
+    pr.jam = jam.state();
     write_checkpoint(ckpt, sys, pr, scene.text);
+  };
+  auto body_touched = [&](std::size_t b) {
+    const WallList& W = sys.lists.walls;
+    for (std::size_t s = 0; s < W.slots(); ++s)
+      if (W.overlap[s] > 0.0 && static_cast<std::size_t>(W.body[s]) == b) return true;
+    return false;
   };
 
   const std::int64_t first_step = sys.step;
@@ -124,13 +146,20 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     if (report.steps > 0 && active > 0)
       report.ns_per_particle_step = report.wall_seconds * 1e9 / (static_cast<double>(report.steps) * active);
     report.lost = sys.lost.size();
+    report.jams = jam.state().jam_times.size();
     return report;
   };
   auto last_checkpoint = Clock::now();
   std::int64_t chunk = 64;
   std::int64_t last_series = -1, last_snapshot = -1;
   while (true) {
-    // events due at this step
+    // events due at this step, always in this order
+    for (; next_removal < removals.size() && removals[next_removal].first == sys.step; ++next_removal)
+      sys.remove_body(removals[next_removal].second);
+    if (sys.step == jam.next_step() && !jam.update(sys)) {
+      report.stop_reason = "hopper outlet jammed: " + std::to_string(scene.jam.max_taps) + " taps did not clear it";
+      break;
+    }
     if (every_series && sys.step == pr.next_series) {
       recorder.record_series(sys);
       last_series = sys.step;
@@ -141,11 +170,17 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
       last_snapshot = sys.step;
       pr.next_snapshot += every_snapshot;
     }
-    if (energy_stop && sys.step == pr.next_check) {
+    if (every_check && sys.step == pr.next_check) {
       pr.next_check += every_check;
-      if (kinetic_energy(sys) < scene.stop.kinetic_energy_below) {
+      if (free_stop && body_touched(free_body)) pr.last_contact = sys.step;
+      if (free_stop && sys.step - pr.last_contact >= free_steps) {
+        report.stop_reason = "body " + stop.body_free + " touched no grain for " + std::to_string(stop.free_time) + " s";
+        break;
+      }
+      if (energy_stop && kinetic_energy(sys) < stop.kinetic_energy_below && highest_grain(sys) < stop.all_below) {
         std::ostringstream why;
-        why << "kinetic energy below " << scene.stop.kinetic_energy_below << " J/m";
+        why << "kinetic energy below " << stop.kinetic_energy_below << " J/m";
+        if (stop.all_below < 1e300) why << " with every grain below " << stop.all_below << " m";
         report.stop_reason = why.str();
         break;
       }
@@ -165,18 +200,19 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
       last_checkpoint = Clock::now();
     }
 
-    std::int64_t target = std::min(total, sys.step + chunk);
+    std::int64_t target = std::min({total, sys.step + chunk, jam.next_step()});
+    if (next_removal < removals.size()) target = std::min(target, removals[next_removal].first);
     if (every_series) target = std::min(target, pr.next_series);
     if (every_snapshot) target = std::min(target, pr.next_snapshot);
-    if (energy_stop) target = std::min(target, pr.next_check);
+    if (every_check) target = std::min(target, pr.next_check);
     if (opt.interrupt_at_step > sys.step) target = std::min(target, opt.interrupt_at_step);
     const auto t0 = Clock::now();
     const std::int64_t n = target - sys.step;
     sys.advance(n);
     const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
-    const double rate = secs > 0 ? static_cast<double>(n) / secs : 0.0;
     // aim at ~0.1 s per call: responsive to signals and checkpoints, negligible overhead
-    if (n == chunk) chunk = std::clamp<std::int64_t>(static_cast<std::int64_t>(rate * 0.1), 1, 1 << 24);
+    if (n == chunk && secs > 0)
+      chunk = std::clamp<std::int64_t>(static_cast<std::int64_t>(static_cast<double>(n) / secs * 0.1), 1, 1 << 24);
     progress.update(sys.step, sys.time());
   }
   progress.done();
@@ -185,11 +221,16 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   if (every_series && last_series != sys.step) recorder.record_series(sys);
   if (last_snapshot != sys.step) recorder.record_snapshot(sys);
 
-  const RunInfo info{scene.text, scene.path, std::string(DEM2D_VERSION), sys.threads};
+  RunInfo info;
+  info.scene_text = scene.text;
+  info.scene_path = scene.path;
+  info.code_version = std::string(DEM2D_VERSION);
+  info.threads = sys.threads;
+  info.initial_run = scene.initial_run;
+  info.jam_times = jam.state().jam_times;
   report.run_file = (out_dir / "run.h5").string();
   recorder.finish(sys, info, report.run_file, report.stop_reason);
   fs::remove_all(work);
-
   return finish_report(true);
 }
 

@@ -30,6 +30,7 @@ struct RunReport {
   double wall_seconds = 0.0;     // of this invocation
   double ns_per_particle_step = 0.0;
   std::size_t lost = 0;
+  std::size_t jams = 0;          // hopper jams detected (and tapped)
   std::string run_file;
 };
 

@@ -24,6 +24,32 @@ struct BodySpec {
   double ax = 0.0, ay = 0.0, bx = 0.0, by = 0.0;  // segment end points C1, C2 (m)
   double thickness = 0.0;                          // cap diameter d_s (m)
   double vx = 0.0, vy = 0.0;                       // prescribed velocity (m/s)
+  double remove_at = -1.0;                         // time the body is taken away (s); < 0: never
+};
+
+// Contact history carried over from an earlier run (the state a stage starts from).
+struct InitialContact {
+  std::int32_t i = 0;   // grain
+  std::int32_t j = -1;  // partner grain (> i), or -1 for the body named `body`
+  std::string body;
+  double ft = 0.0;      // tangential spring (N/m)
+  double mr = 0.0;      // rolling moment on i (N)
+};
+
+// Clogging of a hopper outlet: when no grain has left the hopper (crossed
+// below outlet_height) for no_flow_time while grains remain above it, the
+// hopper walls are tapped: moved at tap_velocity for half of tap_duration,
+// then back. The run stops, saying so, if max_taps taps did not empty it.
+struct JamControl {
+  bool enabled = false;
+  double outlet_height = 0.0;   // (m)
+  double start_time = 0.0;      // no jam is looked for before this time (s), e.g. gate opening
+  double no_flow_time = 0.0;    // (s)
+  double check_interval = 0.0;  // (s)
+  std::vector<std::string> bodies;
+  double tap_vx = 0.0, tap_vy = 0.0;  // (m/s)
+  double tap_duration = 0.0;          // (s)
+  int max_taps = 0;
 };
 
 struct Box {
@@ -34,8 +60,11 @@ struct Box {
 struct StopCondition {
   double duration = 0.0;                // simulated time limit (s); the run always ends here
   double kinetic_energy_below = -1.0;   // end earlier once total kinetic energy < this (J/m); <0: off
-  double check_interval = 0.0;          // how often the energy criterion is tested (s)
-  double min_time = 0.0;                // the criterion is not tested before this time (s)
+  double all_below = 1e300;             // ... and every active grain is below this height (m)
+  std::string body_free;                // end once this body has touched no grain for free_time
+  double free_time = 0.0;               // (s)
+  double check_interval = 0.0;          // how often the criteria are tested (s)
+  double min_time = 0.0;                // the criteria are not tested before this time (s)
 };
 
 struct OutputSpec {
@@ -64,6 +93,9 @@ struct Scene {
 
   std::vector<ParticleInit> particles;
   std::vector<BodySpec> bodies;
+  std::string initial_run;                      // run file the grains come from ("" if none)
+  std::vector<InitialContact> initial_contacts;  // its contact history
+  JamControl jam;
   OutputSpec output;
 
   // Smallest grain mass per unit depth (kg/m) and the stability bound

@@ -195,11 +195,33 @@ class TableReader {
     if (n && n->as_string()->get().empty()) fail(key, "must be a non-empty string");
     return n ? std::optional(n->as_string()->get()) : std::nullopt;
   }
+  // An array of non-empty strings.
+  std::vector<std::string> strings(std::string_view key, const char* what) const {
+    const toml::node* n = node(key);
+    if (!n) missing(key, std::string(what) + ", an array of strings");
+    const toml::array* a = n->as_array();
+    if (!a || a->empty()) fail(key, std::string("must be a non-empty array of strings (") + what + ")");
+    std::vector<std::string> out;
+    for (std::size_t k = 0; k < a->size(); ++k) {
+      const auto* str = a->get(k)->as_string();
+      if (!str || str->get().empty())
+        wrong_type(*a->get(k), path(key) + "[" + std::to_string(k) + "]", "a non-empty string");
+      out.push_back(str->get());
+    }
+    return out;
+  }
   std::int64_t integer(std::string_view key, std::int64_t min, const char* what) const {
     const toml::node* n = node(key);
     if (!n) missing(key, std::string(what) + ", an integer >= " + std::to_string(min));
-    if (!n->is_integer()) wrong_type(*n, path(key), "an integer");
-    const std::int64_t v = n->as_integer()->get();
+    return integer_at(*n, key, min, what);
+  }
+  std::int64_t integer_or(std::string_view key, std::int64_t min, const char* what, std::int64_t fallback) const {
+    const toml::node* n = node(key);
+    return n ? integer_at(*n, key, min, what) : fallback;
+  }
+  std::int64_t integer_at(const toml::node& n, std::string_view key, std::int64_t min, const char* what) const {
+    if (!n.is_integer()) wrong_type(n, path(key), "an integer");
+    const std::int64_t v = n.as_integer()->get();
     if (v < min) fail(key, "must be an integer >= " + std::to_string(min) + " (" + what + ")");
     return v;
   }
@@ -327,7 +349,7 @@ class SceneParser {
         top_(f, &root, "",
              {"name", "description", "allow_initial_overlap", "effects", "gravity", "material",
               "contact", "time", "stop", "domain", "neighbour", "particle", "generator", "body",
-              "output"}) {}
+              "jam", "output"}) {}
 
   void run() {
     const auto stem = std::filesystem::path(s_.path).stem().string();
@@ -340,6 +362,7 @@ class SceneParser {
     read_particles();
     read_generators();
     read_bodies();
+    read_jam();
     if (s_.particles.empty())
       f_.fail(nullptr, "the scene has no particles: add [[particle]] entries or a [[generator]]");
     check_domain();
@@ -394,19 +417,30 @@ class SceneParser {
   }
 
   void read_stop_domain_output() {
-    const TableReader st =
-        top_.table("stop", {"kinetic_energy_below", "check_interval", "min_time"});
-    if (const auto ke = st.number("kinetic_energy_below",
-                                  {"kinetic energy threshold", "J/m", Rule::positive})) {
-      s_.stop.kinetic_energy_below = *ke;
-      s_.stop.check_interval =
-          st.required("check_interval", {"interval between energy checks", "s", Rule::positive},
-                      "; required because stop.kinetic_energy_below is given");
-      s_.stop.min_time =
-          st.number_or("min_time", {"time before the first check", "s", Rule::non_negative}, 0.0);
+    stop_ = top_.table(
+        "stop", {"kinetic_energy_below", "all_below", "body_free", "free_time", "check_interval", "min_time"});
+    const TableReader& st = stop_;
+    StopCondition& stop = s_.stop;
+    if (const auto ke = st.number("kinetic_energy_below", {"kinetic energy threshold", "J/m", Rule::positive})) {
+      stop.kinetic_energy_below = *ke;
+      stop.all_below = st.number_or("all_below", {"height every grain must be below", "m", Rule::finite}, 1e300);
     } else {
-      st.forbid("check_interval", "stop.kinetic_energy_below is not");
-      st.forbid("min_time", "stop.kinetic_energy_below is not");
+      st.forbid("all_below", "stop.kinetic_energy_below is not");
+    }
+    if (const auto body = st.string("body_free")) {
+      stop.body_free = *body;
+      stop.free_time = st.required("free_time", {"time without contact", "s", Rule::positive},
+                                   "; required because stop.body_free is given");
+    } else {
+      st.forbid("free_time", "stop.body_free is not");
+    }
+    if (stop.kinetic_energy_below > 0.0 || !stop.body_free.empty()) {
+      stop.check_interval = st.required("check_interval", {"interval between checks", "s", Rule::positive},
+                                        "; required because a stop criterion is given");
+      stop.min_time = st.number_or("min_time", {"time before the first check", "s", Rule::non_negative}, 0.0);
+    } else {
+      st.forbid("check_interval", "no stop criterion (kinetic_energy_below, body_free) is");
+      st.forbid("min_time", "no stop criterion (kinetic_energy_below, body_free) is");
     }
 
     const TableReader d = top_.table("domain", {"xmin", "xmax", "ymin", "ymax"});
@@ -499,7 +533,7 @@ class SceneParser {
   }
 
   void read_bodies() {
-    const auto bodies = top_.entries("body", {"name", "a", "b", "thickness", "velocity"});
+    const auto bodies = top_.entries("body", {"name", "a", "b", "thickness", "velocity", "remove_at"});
     if (!bodies.empty() && !has(s_.effects, effect::walls))
       f_.fail(bodies.front().where(),
               "[[body]] given but effects.walls is false (bodies need effects.walls = true)");
@@ -525,12 +559,42 @@ class SceneParser {
       if ((v[0] != 0.0 || v[1] != 0.0) && !has(s_.effects, effect::moving_bodies))
         b.fail("velocity", "a non-zero velocity needs effects.moving_bodies = true");
       any_moving = any_moving || v[0] != 0.0 || v[1] != 0.0;
+      body.remove_at = b.number_or("remove_at", {"time the body is taken away", "s", Rule::non_negative}, -1.0);
       s_.bodies.push_back(body);
     }
-    if (has(s_.effects, effect::moving_bodies) && !any_moving)
-      effects_.fail(
-          "moving_bodies",
-          "no [[body]] has a non-zero velocity (remove the effect or give one a velocity)");
+    if (has(s_.effects, effect::moving_bodies) && !any_moving && !top_.has("jam"))
+      effects_.fail("moving_bodies",
+                    "no [[body]] has a non-zero velocity and there is no [jam] to tap bodies (remove the "
+                    "effect or give a body a velocity)");
+    if (!s_.stop.body_free.empty() && !has_body(s_.stop.body_free))
+      stop_.fail("body_free", "names no [[body]]");
+  }
+
+  bool has_body(const std::string& name) const {
+    return std::any_of(s_.bodies.begin(), s_.bodies.end(), [&](const BodySpec& b) { return b.name == name; });
+  }
+
+  void read_jam() {
+    const TableReader j = top_.table("jam", {"outlet_height", "start_time", "no_flow_time", "check_interval",
+                                             "bodies", "tap_velocity", "tap_duration", "max_taps"});
+    if (!top_.has("jam")) return;
+    if (!has(s_.effects, effect::moving_bodies))
+      f_.fail(j.where(), "[jam] taps hopper walls, which needs effects.moving_bodies = true");
+    JamControl& c = s_.jam;
+    c.enabled = true;
+    c.outlet_height = j.required("outlet_height", {"height of the hopper outlet", "m", Rule::finite});
+    c.start_time = j.number_or("start_time", {"time the outlet opens", "s", Rule::non_negative}, 0.0);
+    c.no_flow_time = j.required("no_flow_time", {"time without outflow that makes a jam", "s", Rule::positive});
+    c.check_interval = j.number_or("check_interval", {"interval between checks", "s", Rule::positive},
+                                   c.no_flow_time / 10.0);
+    c.bodies = j.strings("bodies", "the hopper walls tapped to clear a jam");
+    for (const std::string& name : c.bodies)
+      if (!has_body(name)) j.fail("bodies", "'" + name + "' names no [[body]]");
+    const Vec2 v = j.required_vec2("tap_velocity", {"tap velocity, first half of a tap", "m/s", Rule::finite});
+    c.tap_vx = v[0];
+    c.tap_vy = v[1];
+    c.tap_duration = j.required("tap_duration", {"duration of a tap, there and back", "s", Rule::positive});
+    c.max_taps = static_cast<int>(j.integer_or("max_taps", 1, "taps before giving up", 20));
   }
 
   // ------------------------------------------------------------ whole-scene checks
@@ -647,6 +711,7 @@ class SceneParser {
   Scene& s_;
   TableReader top_;
   TableReader effects_{f_, nullptr, "effects", {}};
+  TableReader stop_{f_, nullptr, "stop", {}};
   std::vector<Origin> origins_;
   double skin_ = -1.0;
 };

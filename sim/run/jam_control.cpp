@@ -1,0 +1,66 @@
+#include "run/jam_control.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dem2d {
+
+namespace {
+std::int64_t steps(double seconds, double dt) { return std::max<std::int64_t>(1, std::llround(seconds / dt)); }
+}  // namespace
+
+JamController::JamController(const JamControl& spec, const System& sys) : spec_(spec) {
+  if (!spec_.enabled) return;
+  for (const std::string& name : spec_.bodies) walls_.push_back(sys.body_index(name));
+  every_ = steps(spec_.check_interval, sys.dt);
+  no_flow_ = steps(spec_.no_flow_time, sys.dt);
+  half_tap_ = steps(0.5 * spec_.tap_duration, sys.dt);
+  start_ = std::llround(spec_.start_time / sys.dt);
+  st_.next_check = (start_ + every_ - 1) / every_ * every_;
+  st_.last_flow = start_;
+}
+
+std::int64_t JamController::next_step() const {
+  if (!spec_.enabled) return INT64_MAX;
+  std::int64_t next = st_.next_check;
+  if (st_.tap_reverse >= 0) next = std::min(next, st_.tap_reverse);
+  if (st_.tap_end >= 0) next = std::min(next, st_.tap_end);
+  return next;
+}
+
+void JamController::move_walls(System& sys, double vx, double vy) const {
+  for (const std::size_t b : walls_) sys.set_body_velocity(b, vx, vy);
+}
+
+bool JamController::update(System& sys) {
+  const std::int64_t step = sys.step;
+  if (step == st_.tap_reverse) {
+    move_walls(sys, -spec_.tap_vx, -spec_.tap_vy);
+    st_.tap_reverse = -1;
+  }
+  if (step == st_.tap_end) {
+    move_walls(sys, 0.0, 0.0);
+    st_.tap_end = -1;
+    st_.last_flow = step;  // give the flow no_flow_time to restart
+  }
+  if (step != st_.next_check) return true;
+  st_.next_check += every_;
+
+  std::int64_t above = 0;
+  for (std::size_t i = 0; i < sys.size(); ++i)
+    above += sys.p.active[i] && sys.p.y[i] > spec_.outlet_height;
+  if (st_.last_count < 0 || above < st_.last_count) st_.last_flow = step;
+  st_.last_count = above;
+  const bool tapping = st_.tap_end >= 0;
+  if (above == 0 || tapping || step - st_.last_flow < no_flow_) return true;
+
+  // a jam
+  st_.jam_times.push_back(sys.time());
+  if (static_cast<int>(st_.jam_times.size()) > spec_.max_taps) return false;
+  move_walls(sys, spec_.tap_vx, spec_.tap_vy);
+  st_.tap_reverse = step + half_tap_;
+  st_.tap_end = step + 2 * half_tap_;
+  return true;
+}
+
+}  // namespace dem2d

@@ -1,0 +1,54 @@
+// Clears clogs of a hopper outlet (scene table [jam], JamControl in scene.hpp).
+//
+// Every check_interval it counts the active grains above the outlet. A jam
+// is no decrease of that count for no_flow_time while grains remain (and
+// after start_time, when the outlet opens). The remedy is physical: the
+// hopper walls are tapped, moved at tap_velocity for half of tap_duration and
+// back at -tap_velocity for the other half, which loosens the arch over the
+// outlet. After a tap the controller waits no_flow_time again before the next.
+// Everything it decides depends only on the state at fixed steps, so runs
+// with taps stay bitwise reproducible and restartable.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "engine/system.hpp"
+#include "scene/scene.hpp"
+
+namespace dem2d {
+
+class JamController {
+ public:
+  // What a checkpoint must keep.
+  struct State {
+    std::int64_t next_check = 0;     // step of the next count
+    std::int64_t last_flow = 0;      // last step at which grains left the hopper
+    std::int64_t last_count = -1;    // grains above the outlet at the last check
+    std::int64_t tap_reverse = -1;   // steps at which the tap in progress turns back / ends (-1: none)
+    std::int64_t tap_end = -1;
+    std::vector<double> jam_times;   // (s)
+  };
+
+  JamController(const JamControl& spec, const System& sys);
+
+  bool enabled() const { return spec_.enabled; }
+  // The next step at which update() must run (a check or a tap turning).
+  std::int64_t next_step() const;
+  // Runs at next_step(). Returns false once a jam was detected after
+  // max_taps taps (the hopper cannot be emptied).
+  bool update(System& sys);
+
+  const State& state() const { return st_; }
+  void restore(const State& s) { st_ = s; }
+
+ private:
+  void move_walls(System& sys, double vx, double vy) const;
+
+  JamControl spec_;
+  std::vector<std::size_t> walls_;
+  std::int64_t every_ = 1, no_flow_ = 1, half_tap_ = 1, start_ = 0;
+  State st_;
+};
+
+}  // namespace dem2d
