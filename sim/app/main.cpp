@@ -1,6 +1,6 @@
 // dem2d: the command line.
-//   dem2d run SCENE.toml --out DIR [--threads N] [--fresh]
-//   dem2d check SCENE.toml
+//   dem2d run SCENE.toml --out DIR [--overlay FILE]... [--initial RUN.h5] [--threads N] [--fresh]
+//   dem2d check SCENE.toml [--overlay FILE]... [--initial RUN.h5]
 //   dem2d bench [--scene FILE] [--steps N] [--threads 1,2]
 // Exit codes: 0 done, 1 run failed, 2 bad input, 3 interrupted (checkpoint written).
 #include <unistd.h>
@@ -25,8 +25,8 @@ extern "C" void on_signal(int sig) {
   std::signal(sig, SIG_DFL);  // a second signal stops at once
 }
 
-int cmd_check(const std::string& path) {
-  const dem2d::Scene s = dem2d::load_scene(path);
+int cmd_check(const std::string& path, const dem2d::SceneSources& extra) {
+  const dem2d::Scene s = dem2d::load_scene(path, extra);
   std::printf("%s: valid\n  particles %zu, bodies %zu\n  effects: %s\n", path.c_str(), s.particles.size(),
               s.bodies.size(), s.effects ? dem2d::effect_names(s.effects, ", ").c_str() : "none");
   std::printf("  dt = %.6g s = dt_c/%.4g (dt_c = %.6g s), %lld steps for %.6g s\n", s.dt,
@@ -35,8 +35,8 @@ int cmd_check(const std::string& path) {
   return 0;
 }
 
-int cmd_run(const std::string& path, dem2d::RunOptions opt, int threads) {
-  dem2d::Scene scene = dem2d::load_scene(path);
+int cmd_run(const std::string& path, const dem2d::SceneSources& extra, dem2d::RunOptions opt, int threads) {
+  dem2d::Scene scene = dem2d::load_scene(path, extra);
   scene.threads = threads;
   opt.progress = isatty(STDERR_FILENO) != 0;
   std::signal(SIGINT, on_signal);
@@ -62,10 +62,16 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   std::string scene_path;
+  dem2d::SceneSources extra;
   dem2d::RunOptions run_opt;
   int threads = 0;
+  auto scene_options = [&](CLI::App* cmd) {
+    cmd->add_option("scene", scene_path, "Scene file (TOML)")->required();
+    cmd->add_option("--overlay", extra.overlays, "TOML file merged over the scene, e.g. a preset (repeatable)");
+    cmd->add_option("--initial", extra.initial_run, "Run file whose final state the grains start from");
+  };
   auto* run = app.add_subcommand("run", "Run a scene; writes DIR/run.h5 and DIR/run.xdmf");
-  run->add_option("scene", scene_path, "Scene file (TOML)")->required();
+  scene_options(run);
   run->add_option("--out", run_opt.out_dir, "Output directory")->required();
   run->add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
   run->add_flag("--fresh", run_opt.fresh, "Discard a checkpoint in DIR instead of resuming from it");
@@ -73,7 +79,7 @@ int main(int argc, char** argv) {
                   "Testing: checkpoint and stop as if interrupted at this step");
 
   auto* check = app.add_subcommand("check", "Validate a scene file and print its summary");
-  check->add_option("scene", scene_path, "Scene file (TOML)")->required();
+  scene_options(check);
 
   dem2d::BenchOptions bench_opt;
   auto* bench = app.add_subcommand("bench", "ns per particle-step on a settled bed, per effect set and thread count");
@@ -85,8 +91,8 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
   try {
-    if (*run) return cmd_run(scene_path, run_opt, threads);
-    if (*check) return cmd_check(scene_path);
+    if (*run) return cmd_run(scene_path, extra, run_opt, threads);
+    if (*check) return cmd_check(scene_path, extra);
     if (*bench) return dem2d::run_bench(bench_opt);
   } catch (const dem2d::SceneError& e) {
     std::fprintf(stderr, "dem2d: %s\n", e.what());

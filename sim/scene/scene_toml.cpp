@@ -87,10 +87,11 @@ std::string join(const std::vector<std::string_view>& keys) {
 struct File {
   std::string path;
 
+  // "file:line:column"; the file is the node's own (an overlay's key names the overlay).
   std::string at(const toml::source_region* where) const {
     if (!where || where->begin.line == 0) return path;
-    return path + ":" + std::to_string(where->begin.line) + ":" +
-           std::to_string(where->begin.column);
+    const std::string& file = where->path && !where->path->empty() ? *where->path : path;
+    return file + ":" + std::to_string(where->begin.line) + ":" + std::to_string(where->begin.column);
   }
   [[noreturn]] void fail(const toml::source_region* where, const std::string& msg) const {
     throw SceneError(at(where) + ": " + msg);
@@ -716,24 +717,26 @@ class SceneParser {
   double skin_ = -1.0;
 };
 
-}  // namespace
 
-Scene parse_scene(std::string_view text, const std::string& path_for_messages) {
-  const File f{path_for_messages.empty() ? "<scene>" : path_for_messages};
-  toml::table root;
+toml::table parse_toml(std::string_view text, const std::string& path) {
+  const File f{path.empty() ? "<scene>" : path};
   try {
-    root = toml::parse(text, std::string_view(path_for_messages));
+    return toml::parse(text, std::string_view(path));
   } catch (const toml::parse_error& e) {
     f.fail(&e.source(), "TOML syntax error: " + std::string(e.description()));
   }
+}
+
+Scene parse_table(const toml::table& root, std::string text, const std::string& path) {
+  const File f{path.empty() ? "<scene>" : path};
   Scene s;
-  s.path = path_for_messages;
-  s.text = std::string(text);
+  s.path = path;
+  s.text = std::move(text);
   SceneParser(f, root, s).run();
   return s;
 }
 
-Scene load_scene(const std::string& path) {
+std::string read_text(const std::string& path, const char* what) {
   std::string text;
   std::FILE* file = std::fopen(path.c_str(), "rb");
   int err = file ? 0 : errno;
@@ -744,8 +747,44 @@ Scene load_scene(const std::string& path) {
     if (std::ferror(file)) err = errno ? errno : EIO;
     std::fclose(file);
   }
-  if (err) throw SceneError(path + ": cannot read the scene file: " + std::strerror(err));
-  return parse_scene(text, path);
+  if (err) throw SceneError(path + ": cannot read the " + what + ": " + std::strerror(err));
+  return text;
+}
+
+// Overlay tables merge key by key; anything else replaces.
+void merge_into(toml::table& base, const toml::table& over) {
+  for (auto&& [key, value] : over) {
+    toml::table* sub = base.get_as<toml::table>(key);
+    if (sub && value.is_table())
+      merge_into(*sub, *value.as_table());
+    else
+      base.insert_or_assign(key, value);
+  }
+}
+
+}  // namespace
+
+Scene parse_scene(std::string_view text, const std::string& path_for_messages) {
+  return parse_table(parse_toml(text, path_for_messages), std::string(text), path_for_messages);
+}
+
+Scene load_scene(const std::string& path, const SceneSources& extra) {
+  std::string text = read_text(path, "scene file");
+  if (extra.overlays.empty() && extra.initial_run.empty()) return parse_scene(text, path);
+  toml::table root = parse_toml(text, path);
+  for (const std::string& overlay : extra.overlays)
+    merge_into(root, parse_toml(read_text(overlay, "overlay file"), overlay));
+  if (!extra.initial_run.empty()) {
+    if (!root.contains("initial")) root.insert("initial", toml::table{});
+    root.get_as<toml::table>("initial")->insert_or_assign(
+        "run", std::filesystem::absolute(extra.initial_run).lexically_normal().string());
+  }
+  std::ostringstream merged;
+  merged << "# " << path;
+  for (const std::string& overlay : extra.overlays) merged << " + " << overlay;
+  if (!extra.initial_run.empty()) merged << " + initial run " << extra.initial_run;
+  merged << "\n" << root << "\n";
+  return parse_table(root, merged.str(), path);
 }
 
 }  // namespace dem2d

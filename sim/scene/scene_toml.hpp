@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "scene/scene.hpp"
 
@@ -20,9 +21,21 @@ class SceneError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Reads and validates the scene file at `path`. Scene::path = path, Scene::text
-// = the file's contents. Scene::threads is left 0 (the command line sets it).
-Scene load_scene(const std::string& path);
+// What the command line adds to a scene file.
+struct SceneSources {
+  // TOML files merged over the scene, in order (e.g. a preset): their tables
+  // merge key by key into the scene's, any other value (numbers, strings,
+  // arrays, arrays of tables) replaces the scene's.
+  std::vector<std::string> overlays;
+  // Run file whose final state the grains start from; sets [initial] run.
+  std::string initial_run;
+};
+
+// Reads and validates the scene file at `path`, with `extra` merged in.
+// Scene::path = path; Scene::text = the file's contents, or, when `extra`
+// adds anything, the merged scene written out as TOML (what actually ran).
+// Scene::threads is left 0 (the command line sets it).
+Scene load_scene(const std::string& path, const SceneSources& extra = {});
 
 // Parses and validates scene text; `path_for_messages` prefixes every error
 // message and becomes Scene::path (its stem is the default Scene::name).

@@ -1,0 +1,27 @@
+// Settings of `bed_metrics` (data/bed_metrics.toml; keys in analysis/bed/README.md).
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace dem2d::analysis {
+
+// A problem with the input: the run file's contents or the configuration.
+struct BedError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct BedConfig {
+  double margin_d = 2.0;         // bulk region: this many mean diameters from walls, surface and intruder
+  double sampling_per_d = 50.0;  // solid fraction: sample points per mean diameter
+  double column_width_d = 1.0;   // free surface: column width in mean diameters
+  std::string left = "left", right = "right", floor = "floor";  // the cell's walls (required)
+  std::string intruder = "intruder";                             // optional in the run file
+  bool operator==(const BedConfig&) const = default;
+};
+
+// Reads a config file; keys not given keep their defaults. Unknown keys, wrong
+// types and values out of range are errors (BedError "FILE:LINE:COL: ...").
+BedConfig load_bed_config(const std::string& path);
+
+}  // namespace dem2d::analysis

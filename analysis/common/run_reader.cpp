@@ -1,0 +1,165 @@
+#include "common/run_reader.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+
+#include "io/run_file.hpp"
+
+namespace dem2d::analysis {
+
+void Contacts::add(std::int32_t gi, std::int32_t partner, double normal_force, double overlap_m, double n_x,
+                   double n_y, double tangential_force, bool is_sliding, double rolling_moment) {
+  i.push_back(gi);
+  j.push_back(partner);
+  fn.push_back(normal_force);
+  ft.push_back(tangential_force);
+  overlap.push_back(overlap_m);
+  nx.push_back(n_x);
+  ny.push_back(n_y);
+  mr.push_back(rolling_moment);
+  sliding.push_back(is_sliding ? 1 : 0);
+}
+
+std::size_t Snapshot::active_count() const {
+  return static_cast<std::size_t>(std::count_if(active.begin(), active.end(), [](std::uint8_t a) { return a != 0; }));
+}
+
+int Snapshot::find_body(std::string_view name) const {
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    if (bodies[b].name == name) return static_cast<int>(b);
+  return -1;
+}
+
+template <class T>
+std::vector<T> read_rows(const h5::File& f, const std::string& name, hsize_t first, hsize_t count) {
+  const auto fail = [&](const std::string& what) { throw std::runtime_error(f.path() + ": " + name + ": " + what); };
+  std::vector<hsize_t> dims = h5::shape(f, name);
+  if (dims.empty() || first + count > dims[0])
+    fail("rows " + std::to_string(first) + ".." + std::to_string(first + count) + " out of range");
+  std::vector<hsize_t> start(dims.size(), 0);
+  start[0] = first;
+  dims[0] = count;
+  hsize_t total = 1;
+  for (hsize_t d : dims) total *= d;
+  std::vector<T> out(total);
+  if (total == 0) return out;
+  h5::Handle ds(H5Dopen2(f.id(), name.c_str(), H5P_DEFAULT), H5Dclose);
+  if (ds.id() < 0) fail("cannot open the dataset");
+  h5::Handle file_space(H5Dget_space(ds), H5Sclose);
+  h5::Handle mem_space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
+  if (H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, dims.data(), nullptr) < 0 ||
+      H5Dread(ds, h5::native_type<T>(), mem_space, file_space, H5P_DEFAULT, out.data()) < 0)
+    fail("cannot read rows " + std::to_string(first) + ".." + std::to_string(first + count));
+  return out;
+}
+
+template std::vector<double> read_rows<double>(const h5::File&, const std::string&, hsize_t, hsize_t);
+template std::vector<std::int32_t> read_rows<std::int32_t>(const h5::File&, const std::string&, hsize_t, hsize_t);
+template std::vector<std::int64_t> read_rows<std::int64_t>(const h5::File&, const std::string&, hsize_t, hsize_t);
+template std::vector<std::uint8_t> read_rows<std::uint8_t>(const h5::File&, const std::string&, hsize_t, hsize_t);
+
+namespace {
+
+h5::File open_run_file(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": no such file");
+  return h5::File::open_read(path);
+}
+
+std::string show(const std::vector<hsize_t>& dims) {
+  std::string s = "[";
+  for (std::size_t k = 0; k < dims.size(); ++k) s += (k ? ", " : "") + std::to_string(dims[k]);
+  return s + "]";
+}
+
+}  // namespace
+
+void RunReader::fail(const std::string& what) const { throw std::runtime_error(path() + ": " + what); }
+
+RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
+  const std::string format =
+      h5::has_attr(file_, "/", "format") ? h5::read_attr_string(file_, "/", "format") : "(none)";
+  if (format != kRunFileFormat)
+    fail("not a dem2d run file: format attribute is " + format + ", expected " + kRunFileFormat);
+  const auto need = [&](const std::string& name) {
+    if (!h5::exists(file_, name)) fail("dataset /" + name + " is missing (truncated or not a run file?)");
+  };
+  for (const char* name : {"particles/diameter", "particles/mass", "bodies/name", "bodies/thickness",
+                           "snapshots/time", "snapshots/step", "snapshots/contact_start"})
+    need(name);
+  diameter_ = h5::read<double>(file_, "particles/diameter");
+  mass_ = h5::read<double>(file_, "particles/mass");
+  body_names_ = h5::read_strings(file_, "bodies/name");
+  thickness_ = h5::read<double>(file_, "bodies/thickness");
+  times_ = h5::read<double>(file_, "snapshots/time");
+  steps_ = h5::read<std::int64_t>(file_, "snapshots/step");
+  contact_start_ = h5::read<std::int64_t>(file_, "snapshots/contact_start");
+
+  const hsize_t N = diameter_.size(), B = body_names_.size(), S = times_.size();
+  const hsize_t C = contact_start_.empty() ? 0 : static_cast<hsize_t>(std::max<std::int64_t>(contact_start_.back(), 0));
+  const std::vector<std::pair<std::string, std::vector<hsize_t>>> shapes = {
+      {"particles/mass", {N}},          {"bodies/thickness", {B}},        {"snapshots/step", {S}},
+      {"snapshots/contact_start", {S + 1}}, {"snapshots/position", {S, N, 2}}, {"snapshots/velocity", {S, N, 2}},
+      {"snapshots/omega", {S, N}},      {"snapshots/active", {S, N}},     {"snapshots/body_ends", {S, B, 4}},
+      {"contacts/i", {C}},  {"contacts/j", {C}},  {"contacts/fn", {C}}, {"contacts/ft", {C}},
+      {"contacts/overlap", {C}}, {"contacts/nx", {C}}, {"contacts/ny", {C}}, {"contacts/mr", {C}},
+      {"contacts/sliding", {C}}};
+  for (const auto& [name, dims] : shapes) {
+    need(name);
+    const std::vector<hsize_t> got = h5::shape(file_, name);
+    if (got != dims) fail("dataset /" + name + " has shape " + show(got) + ", expected " + show(dims));
+  }
+  if (contact_start_.front() != 0 || !std::is_sorted(contact_start_.begin(), contact_start_.end()))
+    fail("/snapshots/contact_start is not a non-decreasing index starting at 0");
+}
+
+Snapshot RunReader::snapshot(std::size_t k) const {
+  if (k >= snapshots())
+    fail("snapshot " + std::to_string(k) + " requested, the file has " + std::to_string(snapshots()));
+  const std::size_t n = particles(), nb = body_names_.size();
+  Snapshot s;
+  s.index = k;
+  s.time = times_[k];
+  s.step = steps_[k];
+  s.diameter = diameter_;
+  s.mass = mass_;
+  const auto vec2 = [&](const std::string& name) {
+    const std::vector<double> flat = read_rows<double>(file_, name, k, 1);
+    std::vector<Vec2> out(n);
+    for (std::size_t i = 0; i < n; ++i) out[i] = {flat[2 * i], flat[2 * i + 1]};
+    return out;
+  };
+  s.position = vec2("snapshots/position");
+  s.velocity = vec2("snapshots/velocity");
+  s.omega = read_rows<double>(file_, "snapshots/omega", k, 1);
+  s.active = read_rows<std::uint8_t>(file_, "snapshots/active", k, 1);
+  const std::vector<double> ends = read_rows<double>(file_, "snapshots/body_ends", k, 1);
+  for (std::size_t b = 0; b < nb; ++b)
+    s.bodies.push_back({body_names_[b], ends[4 * b], ends[4 * b + 1], ends[4 * b + 2], ends[4 * b + 3], thickness_[b]});
+
+  const auto first = static_cast<hsize_t>(contact_start_[k]);
+  const auto count = static_cast<hsize_t>(contact_start_[k + 1] - contact_start_[k]);
+  Contacts& c = s.contacts;
+  c.i = read_rows<std::int32_t>(file_, "contacts/i", first, count);
+  c.j = read_rows<std::int32_t>(file_, "contacts/j", first, count);
+  c.fn = read_rows<double>(file_, "contacts/fn", first, count);
+  c.ft = read_rows<double>(file_, "contacts/ft", first, count);
+  c.overlap = read_rows<double>(file_, "contacts/overlap", first, count);
+  c.nx = read_rows<double>(file_, "contacts/nx", first, count);
+  c.ny = read_rows<double>(file_, "contacts/ny", first, count);
+  c.mr = read_rows<double>(file_, "contacts/mr", first, count);
+  c.sliding = read_rows<std::uint8_t>(file_, "contacts/sliding", first, count);
+  const auto in = [](std::int64_t v, std::size_t size) { return v >= 0 && static_cast<std::size_t>(v) < size; };
+  for (std::size_t r = 0; r < c.size(); ++r)
+    if (!in(c.i[r], n) || (c.j[r] >= 0 ? !in(c.j[r], n) : !in(-1 - static_cast<std::int64_t>(c.j[r]), nb)))
+      fail("snapshot " + std::to_string(k) + ": contact row " + std::to_string(first + r) + " (i = " +
+           std::to_string(c.i[r]) + ", j = " + std::to_string(c.j[r]) + ") refers to no grain or body");
+  return s;
+}
+
+Snapshot RunReader::last_snapshot() const {
+  if (snapshots() == 0) fail("the run file has no snapshots (/snapshots/time is empty)");
+  return snapshot(snapshots() - 1);
+}
+
+}  // namespace dem2d::analysis

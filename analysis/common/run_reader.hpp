@@ -1,0 +1,102 @@
+// Reading dem2d run files (docs/run_file.md) for the analysis stages: one
+// snapshot at a time, read as hyperslabs, so that a run with thousands of
+// snapshots costs only what is read.
+//
+// Every error is a std::runtime_error whose message starts with the file's
+// path and says what is wrong.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "io/h5.hpp"
+
+namespace dem2d::analysis {
+
+struct Vec2 {
+  double x = 0.0, y = 0.0;
+};
+
+// A sphero-line: segment (ax, ay)-(bx, by) with round caps of diameter `thickness` (m).
+struct Body {
+  std::string name;
+  double ax = 0.0, ay = 0.0, bx = 0.0, by = 0.0;
+  double thickness = 0.0;
+};
+
+// The touching contacts of one snapshot, one column per quantity (/contacts).
+struct Contacts {
+  std::vector<std::int32_t> i;      // grain
+  std::vector<std::int32_t> j;      // partner: grain j (> i) if j >= 0, else body -1 - j
+  std::vector<double> fn, ft;       // normal (>= 0) and tangential force on i (N/m)
+  std::vector<double> overlap;      // (m), > 0
+  std::vector<double> nx, ny;       // unit normal from the partner to i
+  std::vector<double> mr;           // rolling moment on i (N)
+  std::vector<std::uint8_t> sliding;  // 1: on the Coulomb cone
+
+  std::size_t size() const { return i.size(); }
+  // Appends one contact (for contacts built in code, e.g. in tests).
+  void add(std::int32_t gi, std::int32_t partner, double normal_force, double overlap_m, double n_x = 0.0,
+           double n_y = 0.0, double tangential_force = 0.0, bool is_sliding = false, double rolling_moment = 0.0);
+};
+
+// The state at one snapshot plus the run's constants. SI units, per unit depth.
+struct Snapshot {
+  std::size_t index = 0;  // snapshot number k in the run file
+  double time = 0.0;      // (s)
+  std::int64_t step = 0;
+
+  std::vector<Vec2> position;        // centre (m)         [N]
+  std::vector<Vec2> velocity;        // (m/s)              [N]
+  std::vector<double> omega;         // (rad/s), counter-clockwise positive [N]
+  std::vector<std::uint8_t> active;  // 0 once the grain has left the domain [N]
+  std::vector<double> diameter;      // (m)                [N]
+  std::vector<double> mass;          // (kg/m)             [N]
+  std::vector<Body> bodies;          // names, thickness and the ends at this snapshot [B]
+  Contacts contacts;
+
+  std::size_t size() const { return position.size(); }
+  std::size_t active_count() const;
+  // Index of the body called `name`, or -1.
+  int find_body(std::string_view name) const;
+};
+
+class RunReader {
+ public:
+  // Opens the run file and checks its format and the shapes of the datasets it reads.
+  explicit RunReader(const std::string& path);
+
+  const std::string& path() const { return file_.path(); }
+  // For what this class does not wrap (/series, root attributes): sim/io/h5.hpp.
+  const h5::File& file() const { return file_; }
+
+  std::size_t particles() const { return diameter_.size(); }
+  std::size_t snapshots() const { return times_.size(); }
+  const std::vector<double>& snapshot_times() const { return times_; }      // (s) [S]
+  const std::vector<std::int64_t>& snapshot_steps() const { return steps_; }  // [S]
+
+  // Snapshot k (0 <= k < snapshots()), reading only that record.
+  Snapshot snapshot(std::size_t k) const;
+  // The last snapshot (the final state of the run); an error if there is none.
+  Snapshot last_snapshot() const;
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const;
+
+  h5::File file_;
+  std::vector<double> diameter_, mass_, thickness_;
+  std::vector<std::string> body_names_;
+  std::vector<double> times_;
+  std::vector<std::int64_t> steps_, contact_start_;
+};
+
+// Rows [first, first + count) along the first dimension of dataset `name`,
+// all other dimensions whole, flattened in row-major order. T: double,
+// std::int32_t, std::int64_t or std::uint8_t.
+template <class T>
+std::vector<T> read_rows(const h5::File& f, const std::string& name, hsize_t first, hsize_t count);
+
+}  // namespace dem2d::analysis
