@@ -15,7 +15,7 @@
 
 #include "bed/bed_metrics.hpp"
 #include "common/output.hpp"
-#include "common/run_reader.hpp"
+#include "io/run_reader.hpp"
 #include "io/run_file.hpp"
 #include "scene_builder.hpp"
 

@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bed/bed_config.hpp"
-#include "common/run_reader.hpp"
+#include "io/run_reader.hpp"
 
 namespace dem2d::analysis {
 

@@ -1,6 +1,7 @@
-// Reading dem2d run files (docs/run_file.md) for the analysis stages: one
-// snapshot at a time, read as hyperslabs, so that a run with thousands of
-// snapshots costs only what is read.
+// Reading dem2d run files (docs/run_file.md), for the analysis stages and for
+// runs that start from an earlier run's final state: one snapshot at a time,
+// read as hyperslabs, so that a run with thousands of snapshots costs only
+// what is read.
 //
 // Every error is a std::runtime_error whose message starts with the file's
 // path and says what is wrong.
@@ -14,7 +15,7 @@
 
 #include "io/h5.hpp"
 
-namespace dem2d::analysis {
+namespace dem2d {
 
 struct Vec2 {
   double x = 0.0, y = 0.0;
@@ -99,4 +100,4 @@ class RunReader {
 template <class T>
 std::vector<T> read_rows(const h5::File& f, const std::string& name, hsize_t first, hsize_t count);
 
-}  // namespace dem2d::analysis
+}  // namespace dem2d

@@ -1,4 +1,4 @@
-#include "common/run_reader.hpp"
+#include "io/run_reader.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -6,7 +6,7 @@
 
 #include "io/run_file.hpp"
 
-namespace dem2d::analysis {
+namespace dem2d {
 
 void Contacts::add(std::int32_t gi, std::int32_t partner, double normal_force, double overlap_m, double n_x,
                    double n_y, double tangential_force, bool is_sliding, double rolling_moment) {
@@ -162,4 +162,4 @@ Snapshot RunReader::last_snapshot() const {
   return snapshot(snapshots() - 1);
 }
 
-}  // namespace dem2d::analysis
+}  // namespace dem2d
