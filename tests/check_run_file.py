@@ -18,7 +18,7 @@ import numpy as np
 ATTRS = {"scene_text": str, "scene_path": str, "code_version": str, "threads": np.int64, "dt": np.float64,
          "steps": np.int64, "end_time": np.float64, "stop_reason": str, "effects": str,
          "n_particles": np.int64, "n_bodies": np.int64, "lost_particles": np.int64, "format": str,
-         "initial_run": str, "jams": np.int64}
+         "initial_run": str, "jams": np.int64, "wall_seconds": np.float64}
 EFFECTS = {"gravity", "normal_damping", "friction", "rolling_resistance", "walls", "moving_bodies"}
 
 

@@ -1,6 +1,8 @@
 #include "engine/diagnostics.hpp"
 
 #include <algorithm>
+#include <cstdint>
+#include <vector>
 #include <limits>
 
 namespace dem2d {
@@ -57,6 +59,41 @@ double highest_grain(const System& sys) {
   for (std::size_t i = 0; i < sys.p.size(); ++i)
     if (sys.p.active[i]) h = std::max(h, sys.p.y[i]);
   return h;
+}
+
+bool held_by_bed(const System& sys, std::size_t b) {
+  const PairList& L = sys.lists.pairs;
+  const WallList& W = sys.lists.walls;
+  const std::size_t n = sys.size();
+  std::vector<std::uint8_t> seen(n, 0), anchored(n, 0);  // anchored: touches another body
+  std::vector<std::size_t> queue;
+  for (std::size_t s = 0; s < W.slots(); ++s) {
+    if (W.overlap[s] <= 0.0) continue;
+    const auto i = static_cast<std::size_t>(W.owner[s]);
+    if (static_cast<std::size_t>(W.body[s]) == b) {
+      if (!seen[i]) queue.push_back(i);
+      seen[i] = 1;
+    } else {
+      anchored[i] = 1;
+    }
+  }
+  for (std::size_t q = 0; q < queue.size(); ++q) {  // breadth-first over touching pairs
+    const std::size_t i = queue[q];
+    if (anchored[i]) return true;
+    auto visit = [&](std::size_t s, std::size_t k) {
+      if (L.overlap[s] > 0.0 && !seen[k]) {
+        seen[k] = 1;
+        queue.push_back(k);
+      }
+    };
+    for (auto s = static_cast<std::size_t>(L.start[i]); s < static_cast<std::size_t>(L.start[i + 1]); ++s)
+      visit(s, static_cast<std::size_t>(L.partner[s]));
+    for (auto r = static_cast<std::size_t>(L.rev_start[i]); r < static_cast<std::size_t>(L.rev_start[i + 1]); ++r) {
+      const auto s = static_cast<std::size_t>(L.rev_slot[r]);
+      visit(s, static_cast<std::size_t>(L.owner[s]));
+    }
+  }
+  return false;
 }
 
 double max_overlap(const System& sys) {

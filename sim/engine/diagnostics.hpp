@@ -21,6 +21,12 @@ double gravity_energy(const System& sys);
 // Height of the highest active grain centre (m); -inf without grains.
 double highest_grain(const System& sys);
 
+// Whether body b is still held by the bed: some grain touching it is
+// connected, through touching grains, to a grain touching another body
+// (walls, floor). Grains carried on it (a cluster touching nothing else) do
+// not count.
+bool held_by_bed(const System& sys, std::size_t b);
+
 // Largest overlap over all touching contacts (m), and their number.
 double max_overlap(const System& sys);
 std::size_t contact_count(const System& sys);

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <utility>
@@ -37,26 +38,32 @@ inline std::pair<size_t, size_t> my_range(size_t n) {
 //   Close: v += h a, omega += h T/I            (end of a step)
 //   Open:  the same kick, then x += dt v,      (start of the next step)
 //          theta += dt omega
-// Lost grains (active = 0) stay frozen: their kick is scaled by 0 (and by
-// exactly 1 for the others). With Open, each thread leaves the largest speed^2
+// Lost grains stay frozen: they have zero inverse mass (System::remove_escaped),
+// so their kick is scaled by 0 (by exactly 1 for the others); the mask comes
+// from inv_mass, not from `active`, so that the loop is all doubles and vectorises. With Open, each thread leaves the largest speed^2
 // and whether a grain left the domain or became non-finite in the System
 // (contains() is false for NaN); the caller reads them after a barrier.
 template <EffectSet E, bool Close, bool Open>
 inline void integrate(System& s) {
   Particles& p = s.p;
-  const auto [begin, end] = my_range(p.size());
+  // plain locals, not a structured binding: GCC does not see a binding's
+  // members as loop-invariant bounds and would not vectorise the loop
+  const std::pair<size_t, size_t> range = my_range(p.size());
+  const size_t begin = range.first, end = range.second;
   const double h = 0.5 * s.dt, dt = s.dt, gx = s.gx, gy = s.gy;
   const Box box = s.domain;
   double *x = p.x.data(), *y = p.y.data(), *vx = p.vx.data(), *vy = p.vy.data();
   double *w = p.omega.data(), *th = p.theta.data();
   const double *fx = p.fx.data(), *fy = p.fy.data(), *tq = p.torque.data();
   const double *im = p.inv_mass.data(), *ii = p.inv_inertia.data();
-  const std::uint8_t* act = p.active.data();
-  double v2max = 0.0;
-  int escaped = 0;
-#pragma omp simd reduction(max : v2max) reduction(| : escaped)
+  // Reductions on 64-bit integers, so that every lane is 8 bytes and no
+  // floating-point max is needed: a speed^2 is never negative, and
+  // non-negative doubles order like their bit patterns (NaN above all).
+  std::int64_t v2max_bits = 0, escaped = 0;
+#pragma omp simd reduction(max : v2max_bits) reduction(| : escaped)
   for (size_t i = begin; i < end; ++i) {
-    const double k = h * static_cast<double>(act[i]);
+    const double live = im[i] > 0.0 ? 1.0 : 0.0;
+    const double k = h * live;
     double ax = fx[i] * im[i], ay = fy[i] * im[i];
     if constexpr (has(E, effect::gravity)) {
       ax += gx;
@@ -77,9 +84,9 @@ inline void integrate(System& s) {
       x[i] = xn;
       y[i] = yn;
       th[i] += dt * o;
-      v2max = std::max(v2max, u * u + v * v);
+      v2max_bits = std::max(v2max_bits, std::bit_cast<std::int64_t>(u * u + v * v));
       const bool inside = (xn >= box.xmin) & (xn <= box.xmax) & (yn >= box.ymin) & (yn <= box.ymax);
-      escaped |= static_cast<int>(act[i] != 0) & static_cast<int>(!inside || !std::isfinite(o));
+      escaped |= static_cast<std::int64_t>(live != 0.0) & static_cast<std::int64_t>(!inside || !std::isfinite(o));
     }
     vx[i] = u;
     vy[i] = v;
@@ -87,8 +94,8 @@ inline void integrate(System& s) {
   }
   if constexpr (Open) {
     const auto t = static_cast<size_t>(omp_get_thread_num());
-    s.thread_v2max[t] = v2max;
-    s.thread_escaped[t] = static_cast<std::uint8_t>(escaped);
+    s.thread_v2max[t] = std::bit_cast<double>(v2max_bits);
+    s.thread_escaped[t] = static_cast<std::uint8_t>(escaped != 0);
   }
 }
 
@@ -214,8 +221,8 @@ inline void gather(System& s) {
   Particles& p = s.p;
   const PairList& L = s.lists.pairs;
   const WallList& W = s.lists.walls;
-  const auto [begin, end_i] = my_range(p.size());
-  for (size_t i = begin; i < end_i; ++i) {
+  const std::pair<size_t, size_t> range = my_range(p.size());
+  for (size_t i = range.first; i < range.second; ++i) {
     if (!p.active[i]) continue;
     constexpr bool kTorque = has(E, effect::friction) || has(E, effect::rolling_resistance);
     double fx = 0.0, fy = 0.0, tq = 0.0;

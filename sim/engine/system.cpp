@@ -157,6 +157,12 @@ void System::remove_escaped() {
       p.fx[i] = p.fy[i] = p.torque[i] = 0.0;
     }
   }
+  freeze_lost();
+}
+
+void System::freeze_lost() {
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!p.active[i]) p.inv_mass[i] = p.inv_inertia[i] = 0.0;  // frozen where it left
 }
 
 void System::rebuild() {

@@ -70,6 +70,9 @@ struct System {
   // Removes (deactivates, records in `lost`) grains outside the domain; a
   // non-finite grain sets `failure` instead. Called whenever a drift flags one.
   void remove_escaped();
+  // Gives the inactive grains zero inverse mass and inertia: the integrator
+  // leaves them where they are. (Called by remove_escaped and on restore.)
+  void freeze_lost();
   // Recompute body positions for the current step (moving bodies only).
   void place_bodies();
   // Prescribed motion from the current step on (needs the moving_bodies effect

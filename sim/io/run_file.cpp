@@ -50,6 +50,7 @@ void write_header(const h5::File& f, const System& sys, const RunInfo& info, con
   h5::write_attr(f, "/", "lost_particles", i64(sys.lost.size()));
   h5::write_attr(f, "/", "initial_run", info.initial_run);
   h5::write_attr(f, "/", "jams", i64(info.jam_times.size()));
+  h5::write_attr(f, "/", "wall_seconds", info.wall_seconds);
   h5::write(f, "events/jam_time", info.jam_times);
 
   const Particles& p = sys.p;

@@ -24,6 +24,7 @@ struct RunInfo {
   int threads = 1;
   std::string initial_run;         // run file the grains came from ("" if none)
   std::vector<double> jam_times;   // times (s) the hopper outlet was found jammed and tapped
+  double wall_seconds = 0.0;       // wall-clock time of the whole run, over all its invocations (s)
 };
 
 inline constexpr const char* kRunFileFormat = "dem2d-run-1";

@@ -88,6 +88,7 @@ void write_checkpoint(const std::string& path, const System& sys, const RunProgr
     h5::write_attr(f, "/", "next_snapshot", pr.next_snapshot);
     h5::write_attr(f, "/", "next_check", pr.next_check);
     h5::write_attr(f, "/", "last_contact", pr.last_contact);
+    h5::write_attr(f, "/", "wall_seconds", pr.wall_seconds);
     for (const auto& [name, v] : jam_fields(pr.jam)) h5::write_attr(f, "/", std::string("jam_") + name, *v);
     h5::write(f, "jam_times", pr.jam.jam_times);
     h5::write_attr(f, "/", "segments", static_cast<std::int64_t>(pr.segments));
@@ -127,6 +128,7 @@ RunProgress read_checkpoint(const std::string& path, System& sys) {
     if (v->size() != n) throw std::runtime_error(path + ": particle count differs from the scene's");
   }
   sys.p.active = h5::read<std::uint8_t>(f, "particles/active");
+  sys.freeze_lost();
   sys.step = h5::read_attr_int(f, "/", "step");
   sys.lost.clear();
   const auto id = h5::read<std::int32_t>(f, "lost/id");
@@ -153,6 +155,7 @@ RunProgress read_checkpoint(const std::string& path, System& sys) {
   pr.next_snapshot = h5::read_attr_int(f, "/", "next_snapshot");
   pr.next_check = h5::read_attr_int(f, "/", "next_check");
   pr.last_contact = h5::read_attr_int(f, "/", "last_contact");
+  pr.wall_seconds = h5::read_attr_double(f, "/", "wall_seconds");
   for (const auto& [name, v] : jam_fields(pr.jam)) *v = h5::read_attr_int(f, "/", std::string("jam_") + name);
   pr.jam.jam_times = h5::read<double>(f, "jam_times");
   pr.segments = static_cast<int>(h5::read_attr_int(f, "/", "segments"));

@@ -19,6 +19,7 @@ namespace dem2d {
 struct RunProgress {
   std::int64_t next_series = 0, next_snapshot = 0, next_check = 0;  // steps of the next events
   std::int64_t last_contact = 0;  // last step the stop.body_free body touched a grain
+  double wall_seconds = 0.0;       // wall-clock time spent on the run so far (s)
   int segments = 0;               // run-file segments written
   std::int64_t series_rows = 0, snapshots = 0;
   JamController::State jam;

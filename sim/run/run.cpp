@@ -120,7 +120,10 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   RunRecorder recorder(sys, work.string());
   if (report.resumed) recorder.restore_counts(pr.segments, pr.series_rows, pr.snapshots);
 
+  const double wall_before = pr.wall_seconds;  // spent by earlier invocations
+  auto wall_now = [&] { return wall_before + std::chrono::duration<double>(Clock::now() - t_start).count(); };
   auto checkpoint = [&] {
+    pr.wall_seconds = wall_now();
     recorder.flush_segment();
     pr.segments = recorder.segments();
     pr.series_rows = recorder.series_rows();
@@ -128,13 +131,6 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     pr.jam = jam.state();
     write_checkpoint(ckpt, sys, pr, scene.text);
   };
-  auto body_touched = [&](std::size_t b) {
-    const WallList& W = sys.lists.walls;
-    for (std::size_t s = 0; s < W.slots(); ++s)
-      if (W.overlap[s] > 0.0 && static_cast<std::size_t>(W.body[s]) == b) return true;
-    return false;
-  };
-
   const std::int64_t first_step = sys.step;
   Progress progress(opt.progress, total, sys.size(), first_step);
   auto finish_report = [&](bool complete) {
@@ -172,9 +168,9 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     }
     if (every_check && sys.step == pr.next_check) {
       pr.next_check += every_check;
-      if (free_stop && body_touched(free_body)) pr.last_contact = sys.step;
+      if (free_stop && held_by_bed(sys, free_body)) pr.last_contact = sys.step;
       if (free_stop && sys.step - pr.last_contact >= free_steps) {
-        report.stop_reason = "body " + stop.body_free + " touched no grain for " + std::to_string(stop.free_time) + " s";
+        report.stop_reason = "body " + stop.body_free + " free of the bed for " + std::to_string(stop.free_time) + " s";
         break;
       }
       if (energy_stop && kinetic_energy(sys) < stop.kinetic_energy_below && highest_grain(sys) < stop.all_below) {
@@ -228,6 +224,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   info.threads = sys.threads;
   info.initial_run = scene.initial_run;
   info.jam_times = jam.state().jam_times;
+  info.wall_seconds = wall_now();
   report.run_file = (out_dir / "run.h5").string();
   recorder.finish(sys, info, report.run_file, report.stop_reason);
   fs::remove_all(work);

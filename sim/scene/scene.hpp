@@ -61,7 +61,9 @@ struct StopCondition {
   double duration = 0.0;                // simulated time limit (s); the run always ends here
   double kinetic_energy_below = -1.0;   // end earlier once total kinetic energy < this (J/m); <0: off
   double all_below = 1e300;             // ... and every active grain is below this height (m)
-  std::string body_free;                // end once this body has touched no grain for free_time
+  std::string body_free;                // end once this body has been free of the bed for free_time:
+                                        // no grain touching it connects, through touching grains, to a
+                                        // grain touching another body (grains it carries do not count)
   double free_time = 0.0;               // (s)
   double check_interval = 0.0;          // how often the criteria are tested (s)
   double min_time = 0.0;                // the criteria are not tested before this time (s)

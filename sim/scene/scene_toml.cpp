@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "scene/generators.hpp"
+#include "scene/initial_state.hpp"
 
 namespace dem2d {
 namespace {
@@ -349,8 +350,8 @@ class SceneParser {
         s_(s),
         top_(f, &root, "",
              {"name", "description", "allow_initial_overlap", "effects", "gravity", "material",
-              "contact", "time", "stop", "domain", "neighbour", "particle", "generator", "body",
-              "jam", "output"}) {}
+              "contact", "time", "stop", "domain", "neighbour", "initial", "particle", "generator",
+              "body", "jam", "output"}) {}
 
   void run() {
     const auto stem = std::filesystem::path(s_.path).stem().string();
@@ -360,6 +361,7 @@ class SceneParser {
     read_effects_and_physics();
     const TableReader time = read_time();
     read_stop_domain_output();
+    read_initial();
     read_particles();
     read_generators();
     read_bodies();
@@ -367,7 +369,7 @@ class SceneParser {
     if (s_.particles.empty())
       f_.fail(nullptr, "the scene has no particles: add [[particle]] entries or a [[generator]]");
     check_domain();
-    if (!allow_overlap) check_overlaps();
+    if (!allow_overlap && s_.initial_run.empty()) check_overlaps();  // a run's grains touch: that is their state
     set_time_step(time);
   }
 
@@ -463,6 +465,23 @@ class SceneParser {
                  o.number_or("snapshot_interval", every, 0.0),
                  o.number_or("checkpoint_interval",
                              {"wall-clock interval, 0 = off", "s", Rule::non_negative}, 0.0)};
+  }
+
+  void read_initial() {
+    const TableReader t = top_.table("initial", {"run"});
+    if (!top_.has("initial")) return;
+    const auto run = t.string("run");
+    if (!run) t.missing("run", "run file whose final state the grains start from");
+    if (top_.has("particle") || top_.has("generator"))
+      t.fail("run", "the grains come from this run: remove [[particle]] and [[generator]]");
+    std::filesystem::path file(*run);
+    if (file.is_relative()) file = std::filesystem::path(s_.path).parent_path() / file;
+    try {
+      load_initial_state(file.lexically_normal().string(), s_);
+    } catch (const std::exception& e) {
+      t.fail("run", std::string("cannot start from it: ") + e.what());
+    }
+    origins_.push_back({0, "the initial run", true, t.where()});
   }
 
   void read_particles() {

@@ -1,0 +1,22 @@
+// The study's constants (data/study.toml): what the analysis stages need to
+// compare with the experiment (W, V, L_c, L, d) and the names of the bodies.
+#pragma once
+
+#include <string>
+
+namespace dem2d::analysis {
+
+struct Study {
+  double intruder_depth = 0.049;   // m, W
+  double cell_width = 0.100;       // m, L_c
+  double intruder_length = 0.010;  // m, L
+  double pull_speed = 0.0012;      // m/s, V
+  double mean_diameter = 0.003;    // m, d
+  std::string intruder = "intruder", floor = "floor", left = "left", right = "right";
+};
+
+// Reads the file (default: DEM2D_DATA_DIR/study.toml). Unknown keys and bad
+// values are errors naming the file, key and value (std::runtime_error).
+Study load_study(const std::string& path = std::string(DEM2D_DATA_DIR) + "/study.toml");
+
+}  // namespace dem2d::analysis

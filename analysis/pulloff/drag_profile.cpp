@@ -1,0 +1,85 @@
+#include "pulloff/drag_profile.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+
+namespace dem2d::analysis {
+
+namespace {
+
+std::size_t body_index(const RunReader& run, const std::string& name) {
+  const auto names = h5::read_strings(run.file(), "bodies/name");
+  for (std::size_t b = 0; b < names.size(); ++b)
+    if (names[b] == name) return b;
+  throw std::runtime_error(run.path() + ": the run has no body named '" + name + "'");
+}
+
+}  // namespace
+
+DragProfile read_drag_profile(const RunReader& run, const Study& study) {
+  const h5::File& f = run.file();
+  const std::size_t b = body_index(run, study.intruder), fl = body_index(run, study.floor);
+  const std::size_t nb = h5::shape(f, "bodies/name")[0];
+  DragProfile p;
+  p.time = h5::read<double>(f, "series/time");
+  if (p.time.empty()) throw std::runtime_error(run.path() + ": the run has no time series (output.series_interval = 0?)");
+  const auto force = h5::read<double>(f, "series/body_force_mean");  // [T, B, 2]
+  const auto ends = h5::read<double>(f, "series/body_ends");         // [T, B, 4]
+  const auto thickness = h5::read<double>(f, "bodies/thickness");
+  for (std::size_t k = 0; k < p.time.size(); ++k) {
+    const double* e = &ends[(k * nb + b) * 4];
+    const double* g = &ends[(k * nb + fl) * 4];
+    const double floor_top = std::max(g[1], g[3]) + 0.5 * thickness[fl];
+    p.height.push_back(0.5 * (e[1] + e[3]) - floor_top);
+    p.drag.push_back(-force[(k * nb + b) * 2 + 1]);
+  }
+  return p;
+}
+
+nlohmann::ordered_json pulloff_metrics(const RunReader& run, const DragProfile& p, const Study& study) {
+  const h5::File& f = run.file();
+  const auto max_it = std::max_element(p.drag.begin(), p.drag.end());
+  const auto k_max = static_cast<std::size_t>(max_it - p.drag.begin());
+  const auto overlap = h5::read<double>(f, "series/max_overlap");
+  const auto diameter = h5::read<double>(f, "particles/diameter");
+  double d_mean = 0.0;
+  for (const double d : diameter) d_mean += d / static_cast<double>(diameter.size());
+  // (run files written before wall_seconds existed report no cost)
+  const double wall = h5::has_attr(f, "/", "wall_seconds") ? h5::read_attr_double(f, "/", "wall_seconds") : 0.0;
+  const auto steps = h5::read_attr_int(f, "/", "steps");
+  const double particle_steps = static_cast<double>(steps) * static_cast<double>(run.particles());
+  return {{"pulloff",
+           {{"run_file", run.path()},
+            {"stop_reason", h5::read_attr_string(f, "/", "stop_reason")},
+            {"start_height_mm", 1e3 * p.height.front()},
+            {"end_height_mm", 1e3 * p.height.back()},
+            {"travel_mm", 1e3 * (p.height.back() - p.height.front())},
+            {"duration_s", p.time.back() - p.time.front()},
+            {"series_rows", p.time.size()},
+            {"drag_max_N_per_m", *max_it},
+            {"drag_max_N", *max_it * study.intruder_depth},
+            {"height_at_drag_max_mm", 1e3 * p.height[k_max]},
+            {"drag_start_N_per_m", p.drag.front()},
+            {"drag_final_N_per_m", p.drag.back()},
+            {"max_overlap_over_d", *std::max_element(overlap.begin(), overlap.end()) / d_mean},
+            {"particles", run.particles()},
+            {"lost_particles", h5::read_attr_int(f, "/", "lost_particles")},
+            {"steps", steps},
+            {"wall_seconds", wall},
+            {"ns_per_particle_step", particle_steps > 0 && wall > 0 ? wall * 1e9 / particle_steps : 0.0},
+            {"intruder_depth_W_m", study.intruder_depth}}}};
+}
+
+std::string drag_csv(const DragProfile& p, const Study& study) {
+  std::string out = "time_s,height_mm,drag_N_per_m,drag_N\n";
+  char line[160];
+  for (std::size_t k = 0; k < p.time.size(); ++k) {
+    std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g\n", p.time[k], 1e3 * p.height[k], p.drag[k],
+                  p.drag[k] * study.intruder_depth);
+    out += line;
+  }
+  return out;
+}
+
+}  // namespace dem2d::analysis

@@ -1,0 +1,34 @@
+// The drag on the intruder along the pull-off, from a run file's /series.
+// Drag = -F_y: the vertical force of the grains on the intruder, per unit
+// depth (N/m), positive when it resists the upward pull; the mean over each
+// series interval (/series/body_force_mean: anti-aliased, not a sample).
+// Height = the intruder's centre above the floor's top face (SPEC: heights
+// from the cell floor to the intruder's centre).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "common/study.hpp"
+#include "io/run_reader.hpp"
+
+namespace dem2d::analysis {
+
+struct DragProfile {
+  std::vector<double> time;    // s
+  std::vector<double> height;  // m
+  std::vector<double> drag;    // N/m
+};
+
+// Throws std::runtime_error naming the file if the run has no series or lacks the bodies.
+DragProfile read_drag_profile(const RunReader& run, const Study& study);
+
+// Summary of the pull-off (pulloff.* metrics, lengths in mm, forces in N/m
+// and, x W, in N) and the run's cost.
+nlohmann::ordered_json pulloff_metrics(const RunReader& run, const DragProfile& profile, const Study& study);
+
+// time_s,height_mm,drag_N_per_m,drag_N
+std::string drag_csv(const DragProfile& profile, const Study& study);
+
+}  // namespace dem2d::analysis

@@ -1,0 +1,126 @@
+// The study's two stages on a small scene of the same kind (200 disks, a 40 mm
+// cell, hopper, intruder pulled at 20 mm/s): fill, then pull-off from the
+// fill's final state, as `make fill pulloff` does with the study's scenes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+#include <unistd.h>
+
+#include "bed/bed_metrics.hpp"
+#include "io/h5.hpp"
+#include "io/run_reader.hpp"
+#include "pulloff/drag_profile.hpp"
+#include "run/run.hpp"
+#include "scene/scene_toml.hpp"
+
+namespace dem2d::test {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kScenes = std::string(DEM2D_TESTS_DIR) + "/scenes/";
+
+struct QuickStudy : ::testing::Test {
+  static inline fs::path dir;
+  static inline RunReport fill, pull;
+
+  // One thread: ctest runs tests side by side, and OpenMP threads waiting at
+  // barriers on an oversubscribed machine slow everything down.
+  static Scene scene(const std::string& file, const std::string& initial = "") {
+    SceneSources extra;
+    extra.initial_run = initial;
+    Scene s = load_scene(kScenes + file, extra);
+    s.threads = 1;
+    return s;
+  }
+
+  static void SetUpTestSuite() {
+    // per process: ctest runs each test of this suite in its own process, side by side
+    dir = fs::temp_directory_path() / ("dem2d_quick_study_" + std::to_string(getpid()));
+    fs::remove_all(dir);
+    fill = run_scene(scene("quick_fill.toml"), {(dir / "fill").string()});
+    pull = run_scene(scene("quick_pulloff.toml", fill.run_file), {(dir / "pulloff").string()});
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir); }
+};
+
+TEST_F(QuickStudy, FillEndsWithABedAtRest) {
+  ASSERT_TRUE(fill.complete);
+  EXPECT_NE(fill.stop_reason.find("kinetic energy below"), std::string::npos) << fill.stop_reason;
+  EXPECT_EQ(fill.lost, 0u);
+  const auto m = analysis::measure_run_file(fill.run_file, analysis::BedConfig{}, "")["fill"];
+  EXPECT_GT(m["solid_fraction"].get<double>(), 0.78);
+  EXPECT_LT(m["solid_fraction"].get<double>(), 0.88);
+  // 200 grains of 7.3 mm^2 in a 40 mm cell at such a solid fraction: ~ 43 mm
+  EXPECT_NEAR(m["bed_height_mm"].get<double>(), 43.0, 6.0);
+  EXPECT_LT(m["max_overlap_over_d"].get<double>(), 0.01);
+  EXPECT_EQ(m["grains_above_surface"].get<int>() <= 5, true);
+}
+
+TEST_F(QuickStudy, PullOffStartsFromTheFillAndEndsClear) {
+  ASSERT_TRUE(pull.complete);
+  EXPECT_NE(pull.stop_reason.find("free of the bed"), std::string::npos) << pull.stop_reason;
+  EXPECT_EQ(pull.lost, 0u);
+  const RunReader run(pull.run_file);
+  EXPECT_EQ(run.particles(), 200u);
+  EXPECT_EQ(h5::read_attr_string(run.file(), "/", "initial_run"), fill.run_file);
+  // the first snapshot is the fill's last state (renumbered in spatial order)
+  const RunReader fill_run(fill.run_file);
+  const Snapshot a = fill_run.last_snapshot(), b = run.snapshot(0);
+  auto sorted = [](const Snapshot& sn) {
+    std::vector<std::pair<double, double>> v;
+    for (const Vec2& q : sn.position) v.emplace_back(q.x, q.y);
+    std::sort(v.begin(), v.end());
+    return v;
+  };
+  EXPECT_EQ(sorted(a), sorted(b));
+  const double row = *std::max_element(b.diameter.begin(), b.diameter.end());
+  for (std::size_t i = 1; i < b.size(); ++i)  // bottom-up rows of one largest diameter
+    ASSERT_LE(std::floor(b.position[i - 1].y / row), std::floor(b.position[i].y / row)) << i;
+}
+
+TEST_F(QuickStudy, DragIsPositiveWhileBuriedAndVanishesOnceClear) {
+  const RunReader run(pull.run_file);
+  const analysis::Study study;
+  const analysis::DragProfile p = analysis::read_drag_profile(run, study);
+  const double bed = analysis::measure_run_file(fill.run_file, analysis::BedConfig{}, "")["fill"]["bed_height_mm"]
+                         .get<double>() * 1e-3;
+  std::vector<double> buried;
+  for (std::size_t k = 0; k < p.drag.size(); ++k) {
+    ASSERT_TRUE(std::isfinite(p.drag[k])) << k;
+    if (p.height[k] < bed - 3 * study.mean_diameter) buried.push_back(p.drag[k]);
+  }
+  ASSERT_GT(buried.size(), 100u);
+  const auto positive = std::count_if(buried.begin(), buried.end(), [](double f) { return f > 0.0; });
+  EXPECT_GT(static_cast<double>(positive), 0.95 * static_cast<double>(buried.size()));
+  std::nth_element(buried.begin(), buried.begin() + static_cast<long>(buried.size() / 2), buried.end());
+  EXPECT_GT(buried[buried.size() / 2], 1.0);  // N/m: the bed resists
+  const double peak = *std::max_element(p.drag.begin(), p.drag.end());
+  EXPECT_LT(std::abs(p.drag.back()), 0.02 * peak);  // clear: at most a few carried grains' weight
+  EXPECT_GT(p.height.back(), bed);
+}
+
+TEST_F(QuickStudy, ResumedPullOffEqualsUninterrupted) {
+  const Scene s = scene("quick_pulloff.toml", fill.run_file);
+  RunOptions opt{(dir / "pulloff_resumed").string()};
+  opt.interrupt_at_step = pull.final_step / 2;
+  ASSERT_FALSE(run_scene(s, opt).complete);
+  opt.interrupt_at_step = -1;
+  const RunReport r = run_scene(s, opt);
+  ASSERT_TRUE(r.complete);
+  EXPECT_TRUE(r.resumed);
+  EXPECT_EQ(r.final_step, pull.final_step);
+  const h5::File fa = h5::File::open_read(pull.run_file), fb = h5::File::open_read(r.run_file);
+  for (const char* name : {"series/body_force_mean", "snapshots/position", "snapshots/velocity", "contacts/ft"}) {
+    const auto x = h5::read<double>(fa, name), y = h5::read<double>(fb, name);
+    ASSERT_EQ(x.size(), y.size()) << name;
+    EXPECT_EQ(std::memcmp(x.data(), y.data(), x.size() * sizeof(double)), 0) << name;
+  }
+}
+
+}  // namespace
+}  // namespace dem2d::test
