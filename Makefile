@@ -9,6 +9,7 @@
 #   make reproduce  the study, PRESET=default (or paper), into results/<preset>/
 #   make fill       stage: hopper filling, bed metrics   (results/<preset>/fill/)
 #   make pulloff    stage: intruder pull-off, drag      (results/<preset>/pulloff/)
+#   make pulloff-slice  the first 5 mm of the pull-off only: the preset's cost (results/<preset>/pulloff_5mm/)
 #   make clean      remove build/ (results/ stays)
 
 SHELL := /bin/bash
@@ -30,7 +31,7 @@ DEBIAN_PACKAGES := g++ cmake make pkg-config git \
   python3-h5py python3-numpy python3-matplotlib
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: deps build test test-release test-sanitize bench reproduce fill pulloff clean FORCE
+.PHONY: deps build test test-release test-sanitize bench reproduce fill pulloff pulloff-slice clean FORCE
 
 deps:
 	@missing=$$(for p in $(DEBIAN_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done); \
@@ -86,8 +87,16 @@ $(RESULTS)/pulloff/run.h5: pipeline/pulloff.toml $(PRESET_FILE) $(RESULTS)/fill/
 $(RESULTS)/pulloff/metrics.json: $(RESULTS)/pulloff/run.h5 data/study.toml $(PULLOFF_METRICS)
 	$(PULLOFF_METRICS) $< --out $@ --csv $(@D)/drag.csv
 
+$(RESULTS)/pulloff_5mm/run.h5: pipeline/pulloff.toml $(PRESET_FILE) pipeline/slice_5mm.toml $(RESULTS)/fill/run.h5 $(DEM2D)
+	$(DEM2D) run pipeline/pulloff.toml --overlay $(PRESET_FILE) --overlay pipeline/slice_5mm.toml \
+	  --initial $(RESULTS)/fill/run.h5 --out $(@D) --threads $(THREADS)
+
+$(RESULTS)/pulloff_5mm/metrics.json: $(RESULTS)/pulloff_5mm/run.h5 data/study.toml $(PULLOFF_METRICS)
+	$(PULLOFF_METRICS) $< --out $@ --csv $(@D)/drag.csv
+
 fill: $(RESULTS)/fill/metrics.json
 pulloff: $(RESULTS)/pulloff/metrics.json
+pulloff-slice: $(RESULTS)/pulloff_5mm/metrics.json
 
 reproduce: fill pulloff
 	@echo "make reproduce: $(RESULTS)/fill and $(RESULTS)/pulloff are up to date."

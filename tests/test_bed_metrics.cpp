@@ -18,8 +18,11 @@
 #include "io/run_reader.hpp"
 #include "io/run_file.hpp"
 #include "scene_builder.hpp"
+#include "temp_dir.hpp"
 
 namespace dem2d::analysis {
+
+using test::TempDir;
 namespace {
 
 namespace fs = std::filesystem;
@@ -277,26 +280,6 @@ TEST(BedMetrics, EmptySnapshotIsAnError) {
 
 // ---- the config file ---------------------------------------------------------
 
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() / ("dem2d_bed_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    if (!std::getenv("DEM2D_KEEP_TEST_FILES")) fs::remove_all(path_);
-  }
-  std::string file(const std::string& name, const std::string& text = "") const {
-    const fs::path p = path_ / name;
-    if (!text.empty()) std::ofstream(p) << text;
-    return p.string();
-  }
-
- private:
-  fs::path path_;
-};
 
 TEST(BedMetricsConfig, DefaultFileHoldsTheDefaults) {
   EXPECT_EQ(load_bed_config(DEM2D_DATA_DIR "/bed_metrics.toml"), BedConfig{});

@@ -9,6 +9,7 @@
 #include "io/h5.hpp"
 #include "run/run.hpp"
 #include "scene_builder.hpp"
+#include "temp_dir.hpp"
 
 namespace dem2d::test {
 namespace {
@@ -31,13 +32,6 @@ Scene stirred_box() {
   return s;
 }
 
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& name) : path(fs::temp_directory_path() / ("dem2d_ckpt_" + name)) {
-    fs::remove_all(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-};
 
 // Every dataset of two run files, compared byte for byte.
 void expect_same_datasets(const std::string& a, const std::string& b) {
@@ -64,17 +58,17 @@ void expect_same_datasets(const std::string& a, const std::string& b) {
 TEST(Checkpoint, ResumedRunIsBitwiseIdenticalToUninterrupted) {
   const Scene s = stirred_box();
   TempDir whole("whole"), parts("parts");
-  const RunReport full = run_scene(s, {whole.path.string()});
+  const RunReport full = run_scene(s, {whole.path().string()});
   ASSERT_TRUE(full.complete);
   ASSERT_EQ(full.lost, 1u);
 
   // interrupted twice, the second leg with two threads
-  RunOptions opt{parts.path.string()};
+  RunOptions opt{parts.path().string()};
   opt.interrupt_at_step = 7777;
   RunReport r = run_scene(s, opt);
   ASSERT_FALSE(r.complete);
   EXPECT_EQ(r.final_step, 7777);
-  EXPECT_FALSE(fs::exists(parts.path / "run.h5"));  // nothing that looks complete
+  EXPECT_FALSE(fs::exists(parts.path() / "run.h5"));  // nothing that looks complete
   Scene two = s;
   two.threads = 2;
   opt.interrupt_at_step = 23456;
@@ -86,7 +80,7 @@ TEST(Checkpoint, ResumedRunIsBitwiseIdenticalToUninterrupted) {
   ASSERT_TRUE(r.complete);
   EXPECT_TRUE(r.resumed);
   EXPECT_EQ(r.final_step, full.final_step);
-  EXPECT_FALSE(fs::exists(parts.path / ".run.work"));  // cleaned up
+  EXPECT_FALSE(fs::exists(parts.path() / ".run.work"));  // cleaned up
 
   expect_same_datasets(full.run_file, r.run_file);
 }
@@ -94,7 +88,7 @@ TEST(Checkpoint, ResumedRunIsBitwiseIdenticalToUninterrupted) {
 TEST(Checkpoint, RefusesToResumeAnotherScene) {
   Scene s = stirred_box();
   TempDir dir("other");
-  RunOptions opt{dir.path.string()};
+  RunOptions opt{dir.path().string()};
   opt.interrupt_at_step = 100;
   ASSERT_FALSE(run_scene(s, opt).complete);
   s.text += " (edited)";

@@ -17,33 +17,13 @@
 #include "io/h5.hpp"
 #include "io/run_file.hpp"
 #include "scene_builder.hpp"
+#include "temp_dir.hpp"
 
 namespace dem2d::test {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh directory per test, removed afterwards.
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() / ("dem2d_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    if (!std::getenv("DEM2D_KEEP_TEST_FILES")) fs::remove_all(path_);
-  }
-  fs::path sub(const std::string& name) const {
-    fs::create_directories(path_ / name);
-    return path_ / name;
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 // Four grains in a row on a floor with one on top, a piston coming in from the
 // right, and one grain thrown out of the domain (lost, then inactive).

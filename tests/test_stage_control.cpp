@@ -12,6 +12,7 @@
 #include "run/run.hpp"
 #include "scene/scene_toml.hpp"
 #include "scene_builder.hpp"
+#include "temp_dir.hpp"
 
 namespace dem2d::test {
 namespace {
@@ -20,13 +21,6 @@ namespace fs = std::filesystem;
 constexpr EffectSet kFull = effect::gravity | effect::normal_damping | effect::friction |
                             effect::rolling_resistance | effect::walls;
 
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& name) : path(fs::temp_directory_path() / ("dem2d_stage_" + name)) {
-    fs::remove_all(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-};
 
 // Moving a body at v for n steps and back at -v for n steps returns it to
 // where it was (to round-off), and the motion is exact in between.
@@ -70,7 +64,7 @@ TEST(Bodies, RemovedGateLetsGrainsFall) {
   s.output.snapshot_interval = 0.01;
   set_dt_fraction(s, 20.0);
   TempDir dir("gate");
-  const RunReport r = run_scene(s, {dir.path.string()});
+  const RunReport r = run_scene(s, {dir.path().string()});
   ASSERT_TRUE(r.complete);
   const h5::File f = h5::File::open_read(r.run_file);
   const auto pos = h5::read<double>(f, "snapshots/position");  // [S, 1, 2]
@@ -112,7 +106,7 @@ Scene jamming_hopper() {
 
 TEST(Jam, DetectedTappedAndNeverHangs) {
   TempDir dir("jam");
-  const RunReport r = run_scene(jamming_hopper(), {dir.path.string()});
+  const RunReport r = run_scene(jamming_hopper(), {dir.path().string()});
   ASSERT_TRUE(r.complete);
   EXPECT_GE(r.jams, 1u);
   const h5::File f = h5::File::open_read(r.run_file);
@@ -132,12 +126,12 @@ TEST(Jam, DetectedTappedAndNeverHangs) {
 TEST(Jam, RestartDuringTapsIsBitwiseIdentical) {
   const Scene s = jamming_hopper();
   TempDir whole("jam_whole"), parts("jam_parts");
-  const RunReport full = run_scene(s, {whole.path.string()});
+  const RunReport full = run_scene(s, {whole.path().string()});
   ASSERT_GE(full.jams, 1u);
   // interrupt in the middle of the first tap: 2 ms after its detection
   const h5::File ff = h5::File::open_read(full.run_file);
   const double first_jam = h5::read<double>(ff, "events/jam_time")[0];
-  RunOptions opt{parts.path.string()};
+  RunOptions opt{parts.path().string()};
   opt.interrupt_at_step = std::llround((first_jam + 0.002) / s.dt);
   ASSERT_FALSE(run_scene(s, opt).complete);
   opt.interrupt_at_step = -1;
@@ -170,7 +164,7 @@ TEST(Stop, BodyFreeEndsThePullOnceClear) {
   pull.stop.free_time = 0.05;
   pull.stop.check_interval = 0.005;
   TempDir dir("free");
-  const RunReport r = run_scene(pull, {dir.path.string()});
+  const RunReport r = run_scene(pull, {dir.path().string()});
   ASSERT_TRUE(r.complete);
   EXPECT_NE(r.stop_reason.find("free of the bed"), std::string::npos) << r.stop_reason;
   EXPECT_LT(static_cast<double>(r.final_step) * pull.dt, 1.5);
