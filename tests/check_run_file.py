@@ -18,7 +18,8 @@ import numpy as np
 ATTRS = {"scene_text": str, "scene_path": str, "code_version": str, "threads": np.int64, "dt": np.float64,
          "steps": np.int64, "end_time": np.float64, "stop_reason": str, "effects": str,
          "n_particles": np.int64, "n_bodies": np.int64, "lost_particles": np.int64, "format": str,
-         "initial_run": str, "jams": np.int64, "wall_seconds": np.float64}
+         "initial_run": str, "jams": np.int64, "wall_seconds": np.float64,
+         "displacement_window": np.float64}
 EFFECTS = {"gravity", "normal_damping", "friction", "rolling_resistance", "walls", "moving_bodies"}
 
 
@@ -34,7 +35,7 @@ def layout(T, S, C, L, N, B, J):
         "series/body_torque_mean": (f8, (T, B)), "series/body_ends": (f8, (T, B, 4)),
         "series/kinetic_energy": (f8, (T,)), "series/max_overlap": (f8, (T,)), "series/contacts": (i8, (T,)),
         "snapshots/time": (f8, (S,)), "snapshots/step": (i8, (S,)), "snapshots/position": (f8, (S, N, 2)),
-        "snapshots/velocity": (f8, (S, N, 2)), "snapshots/omega": (f8, (S, N)), "snapshots/theta": (f8, (S, N)),
+        "snapshots/velocity": (f8, (S, N, 2)), "snapshots/displacement": (f8, (S, N, 2)), "snapshots/omega": (f8, (S, N)), "snapshots/theta": (f8, (S, N)),
         "snapshots/active": (u1, (S, N)), "snapshots/body_ends": (f8, (S, B, 4)),
         "snapshots/contact_start": (i8, (S + 1,)),
         "contacts/i": (i4, (C,)), "contacts/j": (i4, (C,)), "contacts/fn": (f8, (C,)), "contacts/ft": (f8, (C,)),

@@ -29,6 +29,7 @@ Scene stirred_box() {
   s.stop.duration = 0.12;
   s.output.series_interval = 1e-3;
   s.output.snapshot_interval = 0.01;
+  s.output.displacement_window = 0.005;  // reference positions 0.005 s before each snapshot
   return s;
 }
 
@@ -39,7 +40,8 @@ void expect_same_datasets(const std::string& a, const std::string& b) {
   const char* numeric[] = {"particles/diameter", "particles/mass", "series/time", "series/body_force",
                            "series/body_force_mean", "series/body_torque", "series/body_ends",
                            "series/kinetic_energy", "series/max_overlap", "snapshots/time",
-                           "snapshots/position", "snapshots/velocity", "snapshots/omega", "snapshots/theta",
+                           "snapshots/position", "snapshots/velocity", "snapshots/displacement",
+                           "snapshots/omega", "snapshots/theta",
                            "snapshots/body_ends", "contacts/fn", "contacts/ft", "contacts/overlap",
                            "contacts/nx", "contacts/ny", "contacts/mr", "lost/x", "lost/y"};
   for (const char* name : numeric) {
@@ -62,16 +64,19 @@ TEST(Checkpoint, ResumedRunIsBitwiseIdenticalToUninterrupted) {
   ASSERT_TRUE(full.complete);
   ASSERT_EQ(full.lost, 1u);
 
-  // interrupted twice, the second leg with two threads
+  // interrupted twice, the second leg with two threads; both interruptions
+  // fall between a snapshot's reference positions and the snapshot itself
+  const auto every = std::llround(s.output.snapshot_interval / s.dt), window = std::llround(s.output.displacement_window / s.dt);
+  const std::int64_t first = 3 * every - window / 2, second = 8 * every - window / 3;
   RunOptions opt{parts.path().string()};
-  opt.interrupt_at_step = 7777;
+  opt.interrupt_at_step = first;
   RunReport r = run_scene(s, opt);
   ASSERT_FALSE(r.complete);
-  EXPECT_EQ(r.final_step, 7777);
+  EXPECT_EQ(r.final_step, first);
   EXPECT_FALSE(fs::exists(parts.path() / "run.h5"));  // nothing that looks complete
   Scene two = s;
   two.threads = 2;
-  opt.interrupt_at_step = 23456;
+  opt.interrupt_at_step = second;
   r = run_scene(two, opt);
   ASSERT_FALSE(r.complete);
   EXPECT_TRUE(r.resumed);

@@ -74,6 +74,32 @@ TEST(Bodies, RemovedGateLetsGrainsFall) {
   EXPECT_LT(lowest, -0.04);  // fell through to the floor (and bounces there)
 }
 
+// output.displacement_window: each snapshot holds the displacement over the
+// window before it (x(t) - x(t - window)): exact for a disk in free flight,
+// NaN where there was no reference (the first snapshot, the final state).
+TEST(Output, DisplacementOverTheWindow) {
+  Scene s = glass_scene(effect::normal_damping);
+  add_disk(s, 0.0, 0.0, 3e-3, 0.1, -0.05);
+  set_dt_fraction(s, 20.0);
+  s.stop.duration = 0.0505;
+  s.output.snapshot_interval = 0.01;
+  s.output.displacement_window = 0.002;
+  TempDir dir;
+  const RunReport r = run_scene(s, {dir.path().string()});
+  const h5::File f = h5::File::open_read(r.run_file);
+  const auto d = h5::read<double>(f, "snapshots/displacement");  // [S, 1, 2]
+  const auto t = h5::read<double>(f, "snapshots/time");
+  ASSERT_EQ(t.size(), 7u);  // 0, 0.01, ..., 0.05 and the final state
+  const double w = h5::read_attr_double(f, "/", "displacement_window");
+  EXPECT_NEAR(w, 0.002, s.dt);
+  EXPECT_TRUE(std::isnan(d[0]) && std::isnan(d[1]));
+  for (std::size_t k = 1; k + 1 < t.size(); ++k) {
+    EXPECT_NEAR(d[2 * k], 0.1 * w, 1e-15) << k;
+    EXPECT_NEAR(d[2 * k + 1], -0.05 * w, 1e-15) << k;
+  }
+  EXPECT_TRUE(std::isnan(d[2 * (t.size() - 1)]));
+}
+
 // A small hopper whose outlet (2 d) jams: jams are detected and tapped, and
 // the run always ends (emptied, or stopped saying the outlet stays jammed).
 Scene jamming_hopper() {

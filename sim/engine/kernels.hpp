@@ -38,11 +38,12 @@ inline std::pair<size_t, size_t> my_range(size_t n) {
 //   Close: v += h a, omega += h T/I            (end of a step)
 //   Open:  the same kick, then x += dt v,      (start of the next step)
 //          theta += dt omega
-// Lost grains stay frozen: they have zero inverse mass (System::remove_escaped),
+// Lost grains stay frozen: they have zero inverse mass (System::freeze_lost),
 // so their kick is scaled by 0 (by exactly 1 for the others); the mask comes
-// from inv_mass, not from `active`, so that the loop is all doubles and vectorises. With Open, each thread leaves the largest speed^2
-// and whether a grain left the domain or became non-finite in the System
-// (contains() is false for NaN); the caller reads them after a barrier.
+// from inv_mass, not from `active`, so that the loop is all doubles and
+// vectorises. With Open, each thread leaves the largest speed^2 and whether a
+// grain left the domain or became non-finite in the System (the box test is
+// false for NaN); the caller reads them after a barrier.
 template <EffectSet E, bool Close, bool Open>
 inline void integrate(System& s) {
   Particles& p = s.p;

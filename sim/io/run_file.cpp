@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
@@ -51,6 +52,7 @@ void write_header(const h5::File& f, const System& sys, const RunInfo& info, con
   h5::write_attr(f, "/", "initial_run", info.initial_run);
   h5::write_attr(f, "/", "jams", i64(info.jam_times.size()));
   h5::write_attr(f, "/", "wall_seconds", info.wall_seconds);
+  h5::write_attr(f, "/", "displacement_window", info.displacement_window);
   h5::write(f, "events/jam_time", info.jam_times);
 
   const Particles& p = sys.p;
@@ -162,6 +164,7 @@ std::vector<RunRecorder::Column> RunRecorder::columns() {
       {"snapshots/step", {}, &snap_.step, s},
       {"snapshots/position", {n, 2}, &snap_.position, s},
       {"snapshots/velocity", {n, 2}, &snap_.velocity, s},
+      {"snapshots/displacement", {n, 2}, &snap_.displacement, s},
       {"snapshots/omega", {n}, &snap_.omega, s},
       {"snapshots/theta", {n}, &snap_.theta, s},
       {"snapshots/active", {n}, &snap_.active, s},
@@ -203,13 +206,17 @@ void RunRecorder::record_series(System& sys) {
   sys.reset_body_sums();
 }
 
-void RunRecorder::record_snapshot(const System& sys) {
+void RunRecorder::record_snapshot(const System& sys, const std::vector<double>* reference) {
   const Particles& p = sys.p;
   snap_.time.push_back(sys.time());
   snap_.step.push_back(sys.step);
   for (std::size_t i = 0; i < p.size(); ++i) {
     snap_.position.insert(snap_.position.end(), {p.x[i], p.y[i]});
     snap_.velocity.insert(snap_.velocity.end(), {p.vx[i], p.vy[i]});
+    if (reference)
+      snap_.displacement.insert(snap_.displacement.end(), {p.x[i] - (*reference)[2 * i], p.y[i] - (*reference)[2 * i + 1]});
+    else
+      snap_.displacement.insert(snap_.displacement.end(), 2, std::numeric_limits<double>::quiet_NaN());
     snap_.omega.push_back(p.omega[i]);
     snap_.theta.push_back(p.theta[i]);
     snap_.active.push_back(p.active[i]);

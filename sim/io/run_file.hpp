@@ -25,6 +25,7 @@ struct RunInfo {
   std::string initial_run;         // run file the grains came from ("" if none)
   std::vector<double> jam_times;   // times (s) the hopper outlet was found jammed and tapped
   double wall_seconds = 0.0;       // wall-clock time of the whole run, over all its invocations (s)
+  double displacement_window = 0.0;  // (s) of /snapshots/displacement, 0 if not recorded
 };
 
 inline constexpr const char* kRunFileFormat = "dem2d-run-1";
@@ -39,8 +40,10 @@ class RunRecorder {
 
   // Appends one time-series row, then resets the body force sums (sys.reset_body_sums()).
   void record_series(System& sys);
-  // Appends one snapshot: every particle (inactive ones flagged) and every touching contact.
-  void record_snapshot(const System& sys);
+  // Appends one snapshot: every particle (inactive ones flagged) and every
+  // touching contact. `reference`: the positions (x0, y0, x1, y1, ...) some
+  // time before, for /snapshots/displacement; without it that row is NaN.
+  void record_snapshot(const System& sys, const std::vector<double>* reference = nullptr);
   // Writes the buffered records as the next segment file and clears the buffers;
   // does nothing if nothing is buffered.
   void flush_segment();
@@ -84,7 +87,7 @@ class RunRecorder {
     std::vector<std::int64_t> step, contacts;
   } series_;
   struct {
-    std::vector<double> time, position, velocity, omega, theta, ends;
+    std::vector<double> time, position, velocity, displacement, omega, theta, ends;
     std::vector<std::int64_t> step, contact_count;  // contacts per snapshot (segments only)
     std::vector<std::uint8_t> active;
   } snap_;

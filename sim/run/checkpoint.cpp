@@ -91,6 +91,8 @@ void write_checkpoint(const std::string& path, const System& sys, const RunProgr
     h5::write_attr(f, "/", "wall_seconds", pr.wall_seconds);
     for (const auto& [name, v] : jam_fields(pr.jam)) h5::write_attr(f, "/", std::string("jam_") + name, *v);
     h5::write(f, "jam_times", pr.jam.jam_times);
+    h5::write_attr(f, "/", "ref_for", pr.ref_for);
+    h5::write(f, "ref_position", pr.ref_position);
     h5::write_attr(f, "/", "segments", static_cast<std::int64_t>(pr.segments));
     h5::write_attr(f, "/", "series_rows", pr.series_rows);
     h5::write_attr(f, "/", "snapshots", pr.snapshots);
@@ -158,6 +160,8 @@ RunProgress read_checkpoint(const std::string& path, System& sys) {
   pr.wall_seconds = h5::read_attr_double(f, "/", "wall_seconds");
   for (const auto& [name, v] : jam_fields(pr.jam)) *v = h5::read_attr_int(f, "/", std::string("jam_") + name);
   pr.jam.jam_times = h5::read<double>(f, "jam_times");
+  pr.ref_for = h5::read_attr_int(f, "/", "ref_for");
+  pr.ref_position = h5::read<double>(f, "ref_position");
   pr.segments = static_cast<int>(h5::read_attr_int(f, "/", "segments"));
   pr.series_rows = h5::read_attr_int(f, "/", "series_rows");
   pr.snapshots = h5::read_attr_int(f, "/", "snapshots");

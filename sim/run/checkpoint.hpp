@@ -23,6 +23,9 @@ struct RunProgress {
   int segments = 0;               // run-file segments written
   std::int64_t series_rows = 0, snapshots = 0;
   JamController::State jam;
+  // positions taken for the displacement of the snapshot at step ref_for (-1: none pending)
+  std::int64_t ref_for = -1;
+  std::vector<double> ref_position;  // x0, y0, x1, y1, ... (m)
 };
 
 // Written to path + ".tmp", then renamed: a checkpoint on disk is always complete.

@@ -86,6 +86,8 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   RunProgress pr;
   const std::int64_t every_series = steps_of(scene.output.series_interval, scene.dt);
   const std::int64_t every_snapshot = steps_of(scene.output.snapshot_interval, scene.dt);
+  // PIV-like displacements: positions are taken `window` steps before each scheduled snapshot
+  const std::int64_t window = every_snapshot ? steps_of(scene.output.displacement_window, scene.dt) : 0;
   const StopCondition& stop = scene.stop;
   const bool energy_stop = stop.kinetic_energy_below > 0.0;
   const bool free_stop = !stop.body_free.empty();
@@ -161,8 +163,17 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
       last_series = sys.step;
       pr.next_series += every_series;
     }
+    if (window && sys.step == pr.next_snapshot - window) {
+      pr.ref_for = pr.next_snapshot;
+      pr.ref_position.resize(2 * sys.size());
+      for (std::size_t i = 0; i < sys.size(); ++i) {
+        pr.ref_position[2 * i] = sys.p.x[i];
+        pr.ref_position[2 * i + 1] = sys.p.y[i];
+      }
+    }
     if (every_snapshot && sys.step == pr.next_snapshot) {
-      recorder.record_snapshot(sys);
+      recorder.record_snapshot(sys, pr.ref_for == sys.step ? &pr.ref_position : nullptr);
+      pr.ref_for = -1;
       last_snapshot = sys.step;
       pr.next_snapshot += every_snapshot;
     }
@@ -200,6 +211,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     if (next_removal < removals.size()) target = std::min(target, removals[next_removal].first);
     if (every_series) target = std::min(target, pr.next_series);
     if (every_snapshot) target = std::min(target, pr.next_snapshot);
+    if (window && pr.next_snapshot - window > sys.step) target = std::min(target, pr.next_snapshot - window);
     if (every_check) target = std::min(target, pr.next_check);
     if (opt.interrupt_at_step > sys.step) target = std::min(target, opt.interrupt_at_step);
     const auto t0 = Clock::now();
@@ -225,6 +237,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   info.initial_run = scene.initial_run;
   info.jam_times = jam.state().jam_times;
   info.wall_seconds = wall_now();
+  info.displacement_window = window ? static_cast<double>(window) * scene.dt : 0.0;
   report.run_file = (out_dir / "run.h5").string();
   recorder.finish(sys, info, report.run_file, report.stop_reason);
   fs::remove_all(work);

@@ -73,6 +73,9 @@ struct OutputSpec {
   double series_interval = 0.0;      // body force/torque time series (s); 0 = none
   double snapshot_interval = 0.0;    // particle snapshots with contact lists (s); 0 = none
   double checkpoint_interval = 0.0;  // wall-clock seconds between checkpoints; 0 = none
+  double displacement_window = 0.0;  // each scheduled snapshot also stores every grain's
+                                     // displacement over this past interval (s), a PIV-like
+                                     // velocity = displacement / window; 0 = none
 };
 
 struct Scene {

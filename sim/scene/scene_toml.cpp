@@ -458,13 +458,20 @@ class SceneParser {
     skin_ = top_.table("neighbour", {"skin"})
                 .number_or("skin", {"Verlet-list skin", "m", Rule::positive}, -1.0);
 
-    const TableReader o =
-        top_.table("output", {"series_interval", "snapshot_interval", "checkpoint_interval"});
+    const TableReader o = top_.table(
+        "output", {"series_interval", "snapshot_interval", "checkpoint_interval", "displacement_window"});
     const Num every{"interval, 0 = off", "s", Rule::non_negative};
     s_.output = {o.number_or("series_interval", every, 0.0),
                  o.number_or("snapshot_interval", every, 0.0),
                  o.number_or("checkpoint_interval",
-                             {"wall-clock interval, 0 = off", "s", Rule::non_negative}, 0.0)};
+                             {"wall-clock interval, 0 = off", "s", Rule::non_negative}, 0.0),
+                 o.number_or("displacement_window",
+                             {"window of the displacement stored with each snapshot, 0 = off", "s",
+                              Rule::non_negative},
+                             0.0)};
+    if (s_.output.displacement_window > s_.output.snapshot_interval)
+      o.fail("displacement_window", "must be <= output.snapshot_interval = " +
+                                        shortest(s_.output.snapshot_interval) + " s (and snapshots on)");
   }
 
   void read_initial() {
