@@ -1,0 +1,1 @@
+// Stage `cg` (issue 5): being written.

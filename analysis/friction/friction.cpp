@@ -1,0 +1,1 @@
+// Stage `friction` (issue 6): being written.

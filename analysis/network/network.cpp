@@ -1,0 +1,1 @@
+// Stage `network` (issue 6): being written.

@@ -1,0 +1,1 @@
+// Stage `spectrum` (issue 4): being written.
