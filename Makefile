@@ -10,6 +10,10 @@
 #   make fill       stage: hopper filling, bed metrics   (results/<preset>/fill/)
 #   make pulloff    stage: intruder pull-off, drag      (results/<preset>/pulloff/)
 #   make pulloff-slice  the first 5 mm of the pull-off only: the preset's cost (results/<preset>/pulloff_5mm/)
+#   make spectrum   stage: drag spectrum, loading/rupture events, top layer  (results/<preset>/spectrum/)
+#   make cg         stage: coarse-grained fields, mobility zones, cone angle (results/<preset>/cg/)
+#   make network    stage: force network, percolation, keystones             (results/<preset>/network/)
+#   make friction   stage: friction mobilisation                             (results/<preset>/friction/)
 #   make clean      remove build/ (results/ stays)
 
 SHELL := /bin/bash
@@ -19,6 +23,10 @@ SANITIZE_BUILD := build/sanitize
 DEM2D := $(BUILD)/sim/dem2d
 BED_METRICS := $(BUILD)/analysis/bed_metrics
 PULLOFF_METRICS := $(BUILD)/analysis/pulloff_metrics
+SPECTRUM := $(BUILD)/analysis/spectrum
+CG := $(BUILD)/analysis/cg
+NETWORK := $(BUILD)/analysis/network
+FRICTION := $(BUILD)/analysis/friction
 
 PRESET ?= default
 PRESET_FILE := pipeline/presets/$(PRESET).toml
@@ -31,7 +39,8 @@ DEBIAN_PACKAGES := g++ cmake make pkg-config git \
   python3-h5py python3-numpy python3-matplotlib
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: deps build test test-release test-sanitize bench reproduce fill pulloff pulloff-slice clean FORCE
+.PHONY: deps build test test-release test-sanitize bench reproduce fill pulloff pulloff-slice spectrum cg \
+  network friction clean FORCE
 
 deps:
 	@missing=$$(for p in $(DEBIAN_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done); \
@@ -66,7 +75,7 @@ bench: build
 # The programs are always asked to build (a no-op when up to date); a stage
 # reruns only when its inputs or its program actually changed. An interrupted
 # simulation stage resumes from its checkpoint when rerun.
-$(DEM2D) $(BED_METRICS) $(PULLOFF_METRICS): FORCE | $(BUILD)/CMakeCache.txt
+$(DEM2D) $(BED_METRICS) $(PULLOFF_METRICS) $(SPECTRUM) $(CG) $(NETWORK) $(FRICTION): FORCE | $(BUILD)/CMakeCache.txt
 	@cmake --build $(BUILD) -j $(JOBS) --target $(notdir $@) > $(BUILD)/$(notdir $@).build.log || \
 	  (cat $(BUILD)/$(notdir $@).build.log; exit 1)
 
@@ -94,14 +103,34 @@ $(RESULTS)/pulloff_5mm/run.h5: pipeline/pulloff.toml $(PRESET_FILE) pipeline/sli
 $(RESULTS)/pulloff_5mm/metrics.json: $(RESULTS)/pulloff_5mm/run.h5 data/study.toml $(PULLOFF_METRICS)
 	$(PULLOFF_METRICS) $< --out $@ --csv $(@D)/drag.csv
 
+PULLOFF_RUN := $(RESULTS)/pulloff/run.h5
+
+$(RESULTS)/spectrum/metrics.json: $(PULLOFF_RUN) $(RESULTS)/fill/metrics.json data/spectrum.toml data/study.toml \
+                                  $(SPECTRUM)
+	$(SPECTRUM) $< --out $(@D) --fill-metrics $(RESULTS)/fill/metrics.json
+
+$(RESULTS)/cg/metrics.json: $(PULLOFF_RUN) $(RESULTS)/spectrum/metrics.json data/cg.toml data/study.toml $(CG)
+	$(CG) $< --out $(@D) --events $(RESULTS)/spectrum/spectrum.h5 --threads $(THREADS)
+
+$(RESULTS)/network/metrics.json: $(PULLOFF_RUN) $(RESULTS)/spectrum/metrics.json data/network.toml data/study.toml \
+                                 $(NETWORK)
+	$(NETWORK) $< --out $(@D) --events $(RESULTS)/spectrum/spectrum.h5 \
+	  --spectrum-metrics $(RESULTS)/spectrum/metrics.json
+
+$(RESULTS)/friction/metrics.json: $(PULLOFF_RUN) data/friction.toml data/study.toml $(FRICTION)
+	$(FRICTION) $< --out $(@D)
+
 fill: $(RESULTS)/fill/metrics.json
 pulloff: $(RESULTS)/pulloff/metrics.json
 pulloff-slice: $(RESULTS)/pulloff_5mm/metrics.json
+spectrum: $(RESULTS)/spectrum/metrics.json
+cg: $(RESULTS)/cg/metrics.json
+network: $(RESULTS)/network/metrics.json
+friction: $(RESULTS)/friction/metrics.json
 
-reproduce: fill pulloff
-	@echo "make reproduce: $(RESULTS)/fill and $(RESULTS)/pulloff are up to date."
-	@echo "Not implemented yet: the analysis stages spectrum, cg, network, friction (issues 4-6),"
-	@echo "metrics.json, figures and report (issue 7). See README.md, Status."
+reproduce: fill pulloff spectrum cg network friction
+	@echo "make reproduce: the stages of $(RESULTS) are up to date."
+	@echo "Not implemented yet: the merged metrics.json, tolerance tests, figures and report (issue 7)."
 
 clean:
 	rm -rf build

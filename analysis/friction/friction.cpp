@@ -1,1 +1,321 @@
-// Stage `friction` (issue 6): being written.
+#include "friction/friction.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <toml++/toml.h>
+
+#include "io/run_reader.hpp"
+#include "common/stage_config.hpp"
+
+namespace dem2d::analysis {
+
+namespace {
+
+using json = nlohmann::ordered_json;
+constexpr double kMm = 1e3;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+}  // namespace
+
+FrictionCoefficients friction_from_scene(const std::string& scene_text, const std::string& where) {
+  toml::table scene;
+  try {
+    scene = toml::parse(scene_text);
+  } catch (const toml::parse_error& e) {
+    throw StageError(where + ": cannot read the scene text: " + std::string(e.description()));
+  }
+  if (!scene["effects"]["friction"].value_or(false))
+    throw StageError(where + ": the scene has no friction (effects.friction is off): mu* is undefined; give mu_grain "
+                             "and mu_wall in the config to measure |F_t| / (mu F_n) anyway");
+  const std::optional<double> grain = scene["contact"]["friction"].value<double>();
+  if (!grain || !(*grain > 0.0))
+    throw StageError(where + ": [contact] friction is missing or not > 0 in the scene text");
+  FrictionCoefficients mu{*grain, scene["contact"]["wall"]["friction"].value_or(*grain)};
+  if (!(mu.wall > 0.0)) throw StageError(where + ": [contact.wall] friction = " + format_number(mu.wall) + ": must be > 0");
+  return mu;
+}
+
+std::vector<double> mu_star(const Contacts& c, const std::vector<Partner>& partners, const FrictionCoefficients& mu) {
+  std::vector<double> out(c.size(), kNaN);
+  for (std::size_t k = 0; k < c.size(); ++k)
+    if (c.fn[k] > 0.0) out[k] = std::abs(c.ft[k]) / ((partners[k] == Partner::grain ? mu.grain : mu.wall) * c.fn[k]);
+  return out;
+}
+
+SnapshotFriction summarise_friction(const Contacts& c, const std::vector<Partner>& partners,
+                                    const std::vector<double>& ms, const std::vector<double>& thresholds) {
+  SnapshotFriction s;
+  s.rows = static_cast<std::int64_t>(c.size());
+  s.slipping.assign(thresholds.size(), 0);
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    if (std::isnan(ms[k])) {
+      ++s.zero_fn;
+      continue;
+    }
+    const double v = ms[k];
+    s.all.add(v);
+    switch (partners[k]) {
+      case Partner::grain: s.bulk.add(v); break;
+      case Partner::left:
+      case Partner::right: s.wall.add(v); break;
+      case Partner::floor: s.floor.add(v); break;
+      case Partner::intruder: s.intruder.add(v); break;
+      case Partner::other: break;
+    }
+    for (std::size_t t = 0; t < thresholds.size(); ++t) s.slipping[t] += v >= thresholds[t];
+    s.sliding_flag += c.sliding[k] != 0;
+  }
+  return s;
+}
+
+FrictionConfig load_friction_config(const std::string& path) {
+  StageConfig f(path);
+  FrictionConfig c;
+  f.number("slip_threshold", c.slip_threshold, 0.0, 1.0, "slipping: mu* >= this");
+  f.number("cone_angle_deg", c.cone_angle_deg, 1.0, 89.0, "beta of H_c = (L_c - L)/2 tan(beta), degrees");
+  f.number("critical_height_mm", c.critical_height_mm, 0.0, 1e6, "H_c in mm, overrides cone_angle_deg");
+  f.number("lower_band_top", c.lower_band_top, 0.0, 1.0, "lower part: height < this x H_c");
+  f.number("bin_width_d", c.bin_width_d, 1e-3, 100.0, "height bins, mean diameters");
+  f.integer("histogram_bins", c.histogram_bins, 1, 100000, "mu* histogram bins over [0, 1]");
+  f.integer("figure_every", c.figure_every, 1, 1000000000, "per-contact data every k-th snapshot");
+  f.number("mu_grain", c.mu_grain, 1e-9, 100.0, "grain-grain friction coefficient, overrides the scene's");
+  f.number("mu_wall", c.mu_wall, 1e-9, 100.0, "grain-body friction coefficient, overrides the scene's");
+  f.numbers("sensitivity_slip_threshold", c.sensitivity_slip_threshold, 0.0, 1.0, "mu* thresholds");
+  f.numbers("sensitivity_lower_band_top", c.sensitivity_lower_band_top, 0.0, 1.0, "x H_c");
+  f.reject_unknown();
+  if (c.mu_grain.has_value() != c.mu_wall.has_value())
+    throw StageError(path + ": give both mu_grain and mu_wall, or neither (then the scene's are used)");
+  return c;
+}
+
+json to_json(const FrictionConfig& c) {
+  const auto opt = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
+  return {{"slip_threshold", c.slip_threshold},
+          {"cone_angle_deg", c.cone_angle_deg},
+          {"critical_height_mm", opt(c.critical_height_mm)},
+          {"lower_band_top", c.lower_band_top},
+          {"bin_width_d", c.bin_width_d},
+          {"histogram_bins", c.histogram_bins},
+          {"figure_every", c.figure_every},
+          {"mu_grain", opt(c.mu_grain)},
+          {"mu_wall", opt(c.mu_wall)},
+          {"sensitivity_slip_threshold", c.sensitivity_slip_threshold},
+          {"sensitivity_lower_band_top", c.sensitivity_lower_band_top}};
+}
+
+FrictionResult run_friction(const std::string& run_path, const std::string& config_path, const FrictionConfig& cfg,
+                            const Study& study) {
+  const RunReader run(run_path);
+  const std::size_t S = run.snapshots();
+  if (S == 0) throw StageError(run.path() + ": the run file has no snapshots");
+  FrictionCoefficients mu;
+  std::string mu_source;
+  if (cfg.mu_grain) {
+    mu = {*cfg.mu_grain, *cfg.mu_wall};
+    mu_source = "config " + config_path;
+  } else {
+    if (!h5::has_attr(run.file(), "/", "scene_text")) throw StageError(run.path() + ": no scene_text attribute");
+    mu = friction_from_scene(h5::read_attr_string(run.file(), "/", "scene_text"), run.path() + ": scene_text");
+    mu_source = "the run's scene ([contact] friction, [contact.wall] friction)";
+  }
+
+  // Thresholds: the configured one first, then the sensitivity ones.
+  std::vector<double> thresholds = {cfg.slip_threshold};
+  for (const double t : cfg.sensitivity_slip_threshold)
+    if (t != cfg.slip_threshold) thresholds.push_back(t);
+
+  const std::vector<std::size_t> figure = every_kth(S, static_cast<std::size_t>(cfg.figure_every));
+  std::vector<std::int64_t> fig_index, fig_start = {0};
+  std::vector<double> fx, fy, ffn, fft, fmu;
+  std::vector<std::uint8_t> fpartner;
+
+  const auto nbins = static_cast<std::size_t>(cfg.histogram_bins);
+  std::vector<std::int64_t> hist_bulk(nbins, 0), hist_wall(nbins, 0), hist_all(nbins, 0);
+  std::vector<double> time, height;
+  std::vector<SnapshotFriction> snap;
+  double bed0 = 0.0, hc = 0.0;
+  for (std::size_t k = 0; k < S; ++k) {
+    const Snapshot s = run.snapshot(k);
+    try {
+      const PulloffGeometry geo = pulloff_geometry(s, study);
+      if (k == 0) {
+        bed0 = bed_height(s, geo);
+        hc = cfg.critical_height_mm ? *cfg.critical_height_mm / kMm
+                                    : geo.end_to_wall() * std::tan(cfg.cone_angle_deg * std::numbers::pi / 180.0);
+      }
+      const std::vector<Partner> partners = classify_contacts(s, geo);
+      const std::vector<double> ms = mu_star(s.contacts, partners, mu);
+      time.push_back(s.time);
+      height.push_back(geo.height());
+      snap.push_back(summarise_friction(s.contacts, partners, ms, thresholds));
+      if (geo.height() < bed0) {
+        for (std::size_t c = 0; c < ms.size(); ++c) {
+          if (std::isnan(ms[c])) continue;
+          const std::size_t b = std::min(nbins - 1, static_cast<std::size_t>(std::max(0.0, ms[c]) * static_cast<double>(nbins)));
+          ++hist_all[b];
+          if (partners[c] == Partner::grain) ++hist_bulk[b];
+          if (partners[c] == Partner::left || partners[c] == Partner::right) ++hist_wall[b];
+        }
+      }
+      if (std::binary_search(figure.begin(), figure.end(), k)) {
+        fig_index.push_back(static_cast<std::int64_t>(k));
+        for (std::size_t c = 0; c < ms.size(); ++c) {
+          if (std::isnan(ms[c])) continue;
+          const Vec2 p = contact_point(s, c);
+          fx.push_back(p.x), fy.push_back(p.y), ffn.push_back(s.contacts.fn[c]), fft.push_back(s.contacts.ft[c]);
+          fmu.push_back(ms[c]), fpartner.push_back(static_cast<std::uint8_t>(partners[c]));
+        }
+        fig_start.push_back(static_cast<std::int64_t>(fx.size()));
+      }
+    } catch (const StageError& e) {
+      throw StageError(run.path() + ": snapshot " + std::to_string(k) + ": " + e.what());
+    }
+  }
+
+  // Per-snapshot series.
+  const auto series = [&](auto get) {
+    std::vector<double> v;
+    for (const SnapshotFriction& f : snap) v.push_back(get(f));
+    return v;
+  };
+  const std::vector<double> slip = series([](const SnapshotFriction& f) { return f.slip_fraction(0); });
+  const std::vector<double> bulk = series([](const SnapshotFriction& f) { return f.bulk.mean(); });
+  const std::vector<double> wall = series([](const SnapshotFriction& f) { return f.wall.mean(); });
+  const std::vector<double> all = series([](const SnapshotFriction& f) { return f.all.mean(); });
+
+  json m;
+  m["run_file"] = run.path();
+  m["config_file"] = config_path;
+  m["snapshots"] = S;
+  m["mu_grain"] = mu.grain;
+  m["mu_wall"] = mu.wall;
+  m["mu_source"] = mu_source;
+  m["initial_bed_height_mm"] = bed0 * kMm;
+  std::int64_t in_bed = 0;
+  m["slip_threshold"] = cfg.slip_threshold;
+  m["slip_fraction"] = number_or_null(mean_in_band(height, slip, -kInf, bed0, &in_bed));
+  m["slip_fraction_snapshots"] = in_bed;
+  {
+    double mx = kNaN;
+    std::int64_t rows = 0, zero = 0, used = 0, slipping = 0, flagged = 0;
+    for (std::size_t k = 0; k < S; ++k) {
+      if (!(height[k] < bed0)) continue;
+      if (!std::isnan(slip[k]) && (std::isnan(mx) || slip[k] > mx)) mx = slip[k];
+      rows += snap[k].rows, zero += snap[k].zero_fn, used += snap[k].all.count;
+      slipping += snap[k].slipping[0], flagged += snap[k].sliding_flag;
+    }
+    const auto frac = [](std::int64_t a, std::int64_t b) { return b > 0 ? json(static_cast<double>(a) / static_cast<double>(b)) : json(nullptr); };
+    m["slip_fraction_max"] = number_or_null(mx);
+    m["slip_fraction_pooled"] = frac(slipping, used);
+    m["sliding_flag_fraction_pooled"] = frac(flagged, used);
+    m["contact_rows"] = rows;
+    m["contacts_zero_fn_excluded"] = zero;
+    m["zero_fn_fraction"] = frac(zero, rows);
+  }
+
+  const double lower_top = cfg.lower_band_top * hc;
+  m["critical_height_mm"] = hc * kMm;
+  m["critical_height_source"] = cfg.critical_height_mm ? "config critical_height_mm"
+                                                       : "(x_right - x_left - L)/2 tan(" + format_number(cfg.cone_angle_deg) + " deg), cell and intruder of the run";
+  m["lower_band_mm"] = {height.front() * kMm, lower_top * kMm};
+  m["middle_band_mm"] = {lower_top * kMm, hc * kMm};
+  m["upper_band_mm"] = {hc * kMm, bed0 * kMm};
+  m["mean_mu_star_lower"] = number_or_null(mean_in_band(height, bulk, -kInf, lower_top));
+  m["mean_mu_star_middle"] = number_or_null(mean_in_band(height, bulk, lower_top, hc));
+  m["mean_mu_star_upper"] = number_or_null(mean_in_band(height, bulk, hc, bed0));
+  m["mean_mu_star_lower_wall"] = number_or_null(mean_in_band(height, wall, -kInf, lower_top));
+  m["mean_mu_star_middle_wall"] = number_or_null(mean_in_band(height, wall, lower_top, hc));
+  m["mean_mu_star_upper_wall"] = number_or_null(mean_in_band(height, wall, hc, bed0));
+  m["mean_mu_star_lower_all"] = number_or_null(mean_in_band(height, all, -kInf, lower_top));
+  m["mean_mu_star_upper_all"] = number_or_null(mean_in_band(height, all, hc, bed0));
+  {
+    // The last 10 % of the upper band: where the curves end up ("falling towards 0.24").
+    const double lo = hc + 0.9 * (bed0 - hc);
+    m["mean_mu_star_upper_end"] = number_or_null(mean_in_band(height, bulk, lo, bed0));
+    m["mean_mu_star_upper_end_wall"] = number_or_null(mean_in_band(height, wall, lo, bed0));
+    m["upper_end_band_mm"] = {lo * kMm, bed0 * kMm};
+  }
+  m["mean_mu_star_floor"] = number_or_null(mean_in_band(height, series([](const SnapshotFriction& f) { return f.floor.mean(); }), -kInf, bed0));
+  m["mean_mu_star_intruder"] =
+      number_or_null(mean_in_band(height, series([](const SnapshotFriction& f) { return f.intruder.mean(); }), -kInf, bed0));
+
+  json sens;
+  for (std::size_t t = 0; t < thresholds.size(); ++t) {
+    const std::vector<double> v = series([t](const SnapshotFriction& f) { return f.slip_fraction(t); });
+    double mx = 0.0;
+    for (std::size_t k = 0; k < S; ++k)
+      if (height[k] < bed0 && !std::isnan(v[k])) mx = std::max(mx, v[k]);
+    sens["slip_fraction"].push_back({{"threshold", thresholds[t]},
+                                     {"slip_fraction", number_or_null(mean_in_band(height, v, -kInf, bed0))},
+                                     {"slip_fraction_max", mx}});
+  }
+  std::sort(sens["slip_fraction"].begin(), sens["slip_fraction"].end(),
+            [](const json& a, const json& b) { return a["threshold"].get<double>() < b["threshold"].get<double>(); });
+  for (const double f : cfg.sensitivity_lower_band_top)
+    sens["mean_mu_star_lower"].push_back({{"lower_band_top", f},
+                                          {"band_mm", {height.front() * kMm, f * hc * kMm}},
+                                          {"bulk", number_or_null(mean_in_band(height, bulk, -kInf, f * hc))},
+                                          {"wall", number_or_null(mean_in_band(height, wall, -kInf, f * hc))}});
+  m["sensitivity"] = sens;
+  m["config"] = to_json(cfg);
+
+  FrictionResult r;
+  r.metrics = {{"friction", m}};
+  H5Output& h = r.h5;
+  h.note("stage", "friction");
+  h.note("run_file", run.path());
+  h.note("definitions", "analysis/friction/README.md");
+  h.add("snapshots/time", time, "s", "snapshot time");
+  h.add("snapshots/height", height, "m", "intruder centre above the floor's inner face");
+  std::vector<std::int64_t> counted, zero;
+  for (const SnapshotFriction& f : snap) counted.push_back(f.all.count), zero.push_back(f.zero_fn);
+  h.add("snapshots/contacts", counted, "-", "contacts with fn > 0");
+  h.add("snapshots/zero_fn", zero, "-", "contacts with fn = 0 (excluded)");
+  for (std::size_t t = 0; t < thresholds.size(); ++t)
+    h.add("snapshots/slip_fraction_" + format_number(thresholds[t]),
+          series([t](const SnapshotFriction& f) { return f.slip_fraction(t); }), "-",
+          "fraction of the contacts with fn > 0 whose mu* >= " + format_number(thresholds[t]));
+  h.add("snapshots/slip_fraction", slip, "-", "the same at slip_threshold = " + format_number(cfg.slip_threshold));
+  h.add("snapshots/mean_mu_star_bulk", bulk, "-", "mean mu* of grain-grain contacts");
+  h.add("snapshots/mean_mu_star_wall", wall, "-", "mean mu* of grain-side wall contacts (left, right)");
+  h.add("snapshots/mean_mu_star_floor", series([](const SnapshotFriction& f) { return f.floor.mean(); }), "-",
+        "mean mu* of grain-floor contacts");
+  h.add("snapshots/mean_mu_star_intruder", series([](const SnapshotFriction& f) { return f.intruder.mean(); }), "-",
+        "mean mu* of grain-intruder contacts");
+  h.add("snapshots/mean_mu_star_all", all, "-", "mean mu* of all contacts with fn > 0");
+
+  const HeightBins bins{cfg.bin_width_d * study.mean_diameter};
+  const BinnedMean pb = binned_mean(bins, height, bulk), pw = binned_mean(bins, height, wall);
+  std::vector<double> lower, upper, wall_mean(pb.mean.size(), kNaN);
+  for (std::size_t b = 0; b < pb.mean.size(); ++b) {
+    lower.push_back(bins.lower(b)), upper.push_back(bins.lower(b + 1));
+    if (b < pw.mean.size()) wall_mean[b] = pw.mean[b];
+  }
+  h.add("profile/lower", lower, "m", "height bin lower edge");
+  h.add("profile/upper", upper, "m", "height bin upper edge");
+  h.add("profile/snapshots", pb.count, "-", "snapshots in the bin");
+  h.add("profile/mean_mu_star_bulk", pb.mean, "-", "mean over the bin's snapshots of the bulk mean mu*");
+  h.add("profile/mean_mu_star_wall", wall_mean, "-", "the same for the side-wall contacts");
+
+  std::vector<double> edges;
+  for (std::size_t b = 0; b <= nbins; ++b) edges.push_back(static_cast<double>(b) / static_cast<double>(nbins));
+  h.add("histogram/edges", edges, "-", "mu* bin edges (the last bin also holds mu* >= 1)");
+  h.add("histogram/all", hist_all, "-", "contacts with fn > 0, snapshots with the intruder below the initial surface");
+  h.add("histogram/bulk", hist_bulk, "-", "grain-grain contacts");
+  h.add("histogram/wall", hist_wall, "-", "grain-side wall contacts");
+
+  h.add("figure/snapshot", fig_index, "-", "snapshots with per-contact data");
+  h.add("figure/start", fig_start, "-", "contacts of figure/snapshot[m]: rows start[m] .. start[m+1]-1");
+  h.add("figure/x", fx, "m", "contact point");
+  h.add("figure/y", fy, "m", "contact point");
+  h.add("figure/fn", ffn, "N/m", "normal force (> 0)");
+  h.add("figure/ft", fft, "N/m", "tangential force on grain i");
+  h.add("figure/mu_star", fmu, "-", "|ft| / (mu fn)");
+  h.add("figure/partner", fpartner, "-", "0 grain, 1 left, 2 right, 3 floor, 4 intruder, 5 other");
+  return r;
+}
+
+}  // namespace dem2d::analysis

@@ -1,1 +1,317 @@
-// Stage `network` (issue 6): being written.
+#include "network/network.hpp"
+
+#include <boost/graph/connected_components.hpp>
+#include <boost/graph/filtered_graph.hpp>
+#include <boost/graph/push_relabel_max_flow.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "io/h5.hpp"
+
+namespace dem2d::analysis {
+
+namespace {
+
+using Graph = ContactGraph::Graph;
+using Edge = boost::graph_traits<Graph>::edge_descriptor;
+
+// Grains left out of every path: none, or those touching the floor.
+std::vector<std::uint8_t> excluded_grains(const ContactGraph& g, FloorRule rule) {
+  std::vector<std::uint8_t> out(g.grains, 0);
+  if (rule != FloorRule::bottom_layer_removed) return out;
+  for (const Edge e : boost::make_iterator_range(boost::out_edges(g.floor(), g.graph))) {
+    const std::size_t other = boost::target(e, g.graph);
+    if (other < g.grains) out[other] = 1;
+  }
+  return out;
+}
+
+// The edges a path may use: fn > threshold and, for grain-grain edges, neither
+// grain excluded. Body ends are filtered separately.
+struct GrainEdge {
+  const Graph* graph = nullptr;
+  const std::vector<std::uint8_t>* excluded = nullptr;
+  std::size_t grains = 0;
+  double threshold = 0.0;
+  bool operator()(const Edge& e) const {
+    const std::size_t u = boost::source(e, *graph), v = boost::target(e, *graph);
+    return u < grains && v < grains && !(*excluded)[u] && !(*excluded)[v] &&
+           boost::get(boost::edge_weight, *graph, e) > threshold;
+  }
+};
+
+// Integer capacities for the max-flow (exact arithmetic): fn in units of
+// 1e-12 of the largest strong force.
+using FlowTraits = boost::adjacency_list_traits<boost::vecS, boost::vecS, boost::directedS>;
+using FlowGraph = boost::adjacency_list<
+    boost::vecS, boost::vecS, boost::directedS, boost::no_property,
+    boost::property<boost::edge_capacity_t, std::int64_t,
+                    boost::property<boost::edge_residual_capacity_t, std::int64_t,
+                                    boost::property<boost::edge_reverse_t, FlowTraits::edge_descriptor>>>>;
+
+struct FlowNetwork {
+  FlowGraph graph;
+  double unit = 1.0;  // N/m per capacity unit
+
+  explicit FlowNetwork(std::size_t vertices) : graph(vertices) {}
+  // An undirected edge: two arcs, each the other's reverse, both of capacity c.
+  void add(std::size_t u, std::size_t v, std::int64_t c) {
+    auto cap = boost::get(boost::edge_capacity, graph);
+    auto rev = boost::get(boost::edge_reverse, graph);
+    const auto a = boost::add_edge(u, v, graph).first, b = boost::add_edge(v, u, graph).first;
+    cap[a] = cap[b] = c;
+    rev[a] = b;
+    rev[b] = a;
+  }
+  double max_flow(std::size_t source, std::size_t sink) {
+    return unit * static_cast<double>(boost::push_relabel_max_flow(graph, source, sink));
+  }
+  // The max flow with vertex v's arcs closed.
+  double max_flow_without(std::size_t v, std::size_t source, std::size_t sink) {
+    auto cap = boost::get(boost::edge_capacity, graph);
+    auto rev = boost::get(boost::edge_reverse, graph);
+    std::vector<std::pair<FlowTraits::edge_descriptor, std::int64_t>> saved;
+    for (const auto a : boost::make_iterator_range(boost::out_edges(v, graph))) {
+      saved.emplace_back(a, cap[a]);
+      saved.emplace_back(rev[a], cap[rev[a]]);
+      cap[a] = cap[rev[a]] = 0;
+    }
+    const double flow = max_flow(source, sink);
+    for (const auto& [a, c] : saved) cap[a] = c;
+    return flow;
+  }
+};
+
+}  // namespace
+
+const char* floor_rule_name(FloorRule r) {
+  return r == FloorRule::vertex_removed ? "vertex_removed" : "bottom_layer_removed";
+}
+
+FloorRule floor_rule_from_name(const std::string& name) {
+  if (name == "vertex_removed") return FloorRule::vertex_removed;
+  if (name == "bottom_layer_removed") return FloorRule::bottom_layer_removed;
+  throw StageError("unknown floor rule '" + name + "' (vertex_removed, bottom_layer_removed)");
+}
+
+ContactGraph build_contact_graph(const Snapshot& s, const std::vector<Partner>& partners) {
+  ContactGraph g;
+  g.grains = s.size();
+  g.graph = Graph(g.grains + 4);
+  const Contacts& c = s.contacts;
+  double sum = 0.0;
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    if (!(c.fn[k] > 0.0) || partners[k] == Partner::other) continue;
+    const auto i = static_cast<std::size_t>(c.i[k]);
+    if (i >= g.grains || !s.active[i]) continue;
+    std::size_t v = 0;
+    switch (partners[k]) {
+      case Partner::grain: v = static_cast<std::size_t>(c.j[k]); break;
+      case Partner::left: v = g.left(); break;
+      case Partner::right: v = g.right(); break;
+      case Partner::floor: v = g.floor(); break;
+      case Partner::intruder: v = g.intruder(); break;
+      case Partner::other: continue;
+    }
+    if (partners[k] == Partner::grain && (v >= g.grains || !s.active[v])) continue;
+    boost::add_edge(i, v, c.fn[k], g.graph);
+    sum += c.fn[k];
+  }
+  g.mean_fn = g.edges() > 0 ? sum / static_cast<double>(g.edges()) : 0.0;
+  return g;
+}
+
+Percolation percolation(const ContactGraph& g, double threshold, FloorRule rule) {
+  const std::vector<std::uint8_t> excluded = excluded_grains(g, rule);
+  const boost::filtered_graph<Graph, GrainEdge> paths(g.graph, GrainEdge{&g.graph, &excluded, g.grains, threshold});
+  std::vector<std::size_t> component(boost::num_vertices(g.graph));
+  const auto n = static_cast<std::size_t>(boost::connected_components(paths, component.data()));
+  // Which bodies each grain cluster touches through edges above the threshold.
+  constexpr std::uint8_t kIntruder = 1, kLeft = 2, kRight = 4;
+  std::vector<std::uint8_t> touches(n, 0);
+  for (const std::size_t body : {g.intruder(), g.left(), g.right()}) {
+    const std::uint8_t bit = body == g.intruder() ? kIntruder : body == g.left() ? kLeft : kRight;
+    for (const Edge e : boost::make_iterator_range(boost::out_edges(body, g.graph))) {
+      const std::size_t grain = boost::target(e, g.graph);
+      if (grain < g.grains && !excluded[grain] && boost::get(boost::edge_weight, g.graph, e) > threshold)
+        touches[component[grain]] |= bit;
+    }
+  }
+  Percolation p;
+  for (const std::uint8_t t : touches) {
+    p.left = p.left || (t & (kIntruder | kLeft)) == (kIntruder | kLeft);
+    p.right = p.right || (t & (kIntruder | kRight)) == (kIntruder | kRight);
+  }
+  return p;
+}
+
+Fabric fabric(const std::vector<Vec2>& normals, std::size_t min_contacts) {
+  Fabric f;
+  f.contacts = static_cast<std::int64_t>(normals.size());
+  if (normals.empty() || normals.size() < min_contacts) return f;
+  double xx = 0.0, yy = 0.0, xy = 0.0;
+  for (const Vec2& n : normals) {
+    const double len2 = n.x * n.x + n.y * n.y;  // normalised, in case
+    xx += n.x * n.x / len2, yy += n.y * n.y / len2, xy += n.x * n.y / len2;
+  }
+  const double count = static_cast<double>(normals.size());
+  xx /= count, yy /= count, xy /= count;
+  const double diff = std::sqrt((xx - yy) * (xx - yy) + 4.0 * xy * xy);  // l1 - l2
+  f.anisotropy = 2.0 * diff / (xx + yy);
+  double angle = 0.5 * std::atan2(2.0 * xy, xx - yy) * 180.0 / std::numbers::pi;
+  if (angle < 0.0) angle += 180.0;
+  f.angle_deg = angle;
+  f.noise = std::sqrt(std::numbers::pi / count);
+  f.debiased = std::sqrt(std::max(0.0, f.anisotropy * f.anisotropy - 4.0 / count));
+  return f;
+}
+
+Fabric region_fabric(const Snapshot& s, const std::vector<Partner>& partners, double threshold, double y_min,
+                     double y_max, std::size_t min_contacts) {
+  std::vector<Vec2> normals;
+  const Contacts& c = s.contacts;
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    if (partners[k] != Partner::grain || !(c.fn[k] > threshold)) continue;
+    const double y = contact_point(s, k).y;
+    if (y >= y_min && y < y_max) normals.push_back({c.nx[k], c.ny[k]});
+  }
+  return fabric(normals, min_contacts);
+}
+
+std::vector<std::int32_t> KeystoneAnalysis::keystones(double min_share) const {
+  std::vector<std::int32_t> out;
+  for (const KeystoneCandidate& k : candidates)
+    if (k.share() > 0.0 && k.share() >= min_share) out.push_back(k.grain);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+KeystoneAnalysis analyse_keystones(const ContactGraph& g, const Snapshot& s, const PulloffGeometry& geo,
+                                   double threshold, FloorRule rule, double end_zone) {
+  KeystoneAnalysis out;
+  const std::vector<std::uint8_t> excluded = excluded_grains(g, rule);
+  const auto usable = [&](std::size_t v) { return v >= g.grains || !excluded[v]; };
+  double largest = 0.0;
+  for (const Edge e : boost::make_iterator_range(boost::edges(g.graph)))
+    largest = std::max(largest, boost::get(boost::edge_weight, g.graph, e));
+  if (!(largest > threshold)) return out;
+
+  // Candidates: grains on a strong contact with an intruder end.
+  const double reach = 0.5 * geo.segment_length() - end_zone;
+  for (const Edge e : boost::make_iterator_range(boost::out_edges(g.intruder(), g.graph))) {
+    const std::size_t grain = boost::target(e, g.graph);
+    if (grain >= g.grains || !usable(grain) || !(boost::get(boost::edge_weight, g.graph, e) > threshold)) continue;
+    const double along = geo.axial(s.position[grain]);
+    if (std::abs(along) >= reach) out.candidates.push_back({static_cast<std::int32_t>(grain), along < 0.0 ? -1 : 1});
+  }
+
+  for (const std::size_t wall : {g.left(), g.right()}) {
+    FlowNetwork net(boost::num_vertices(g.graph));
+    net.unit = largest * 1e-12;
+    for (const Edge e : boost::make_iterator_range(boost::edges(g.graph))) {
+      const double fn = boost::get(boost::edge_weight, g.graph, e);
+      std::size_t u = boost::source(e, g.graph), v = boost::target(e, g.graph);
+      if (u > v) std::swap(u, v);  // u is a grain
+      const bool allowed = v < g.grains || v == g.intruder() || v == wall;
+      if (fn > threshold && allowed && usable(u) && usable(v)) net.add(u, v, std::llround(fn / net.unit));
+    }
+    const double flow = net.max_flow(g.intruder(), wall);
+    (wall == g.left() ? out.flow_left : out.flow_right) = flow;
+    if (!(flow > 0.0)) continue;
+    for (KeystoneCandidate& k : out.candidates) {
+      const double share = (flow - net.max_flow_without(static_cast<std::size_t>(k.grain), g.intruder(), wall)) / flow;
+      (wall == g.left() ? k.share_left : k.share_right) = share;
+    }
+  }
+  return out;
+}
+
+PercolationProfile percolation_profile(const HeightBins& bins, const std::vector<double>& heights,
+                                       const std::vector<std::uint8_t>& flags) {
+  std::vector<double> as_double(flags.begin(), flags.end());
+  const BinnedMean m = binned_mean(bins, heights, as_double);
+  PercolationProfile p;
+  for (std::size_t b = 0; b < m.mean.size(); ++b) {
+    if (m.count[b] == 0) continue;
+    p.lower.push_back(bins.lower(b));
+    p.upper.push_back(bins.lower(b + 1));
+    p.snapshots.push_back(m.count[b]);
+    p.fraction.push_back(m.mean[b]);
+  }
+  return p;
+}
+
+std::optional<double> loss_height(const PercolationProfile& p, double level) {
+  if (p.fraction.empty()) return std::nullopt;
+  for (std::size_t b = p.fraction.size(); b-- > 0;) {
+    if (p.fraction[b] < level) continue;
+    if (b + 1 == p.fraction.size()) return std::nullopt;  // still percolating in the highest bin
+    return p.upper[b];
+  }
+  return p.lower.front();
+}
+
+double flagged_fraction(const std::vector<double>& heights, const std::vector<std::uint8_t>& flags, double lo,
+                        double hi, std::int64_t* used) {
+  std::vector<double> as_double(flags.begin(), flags.end());
+  return mean_in_band(heights, as_double, lo, hi, used);
+}
+
+std::vector<RuptureEvent> read_events(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw StageError(path + ": no such file");
+  std::vector<RuptureEvent> out;
+  try {
+    const h5::File f = h5::File::open_read(path);
+    const char* names[] = {"events/peak_time", "events/drop_end_time", "events/peak_height", "events/load_start_time"};
+    std::vector<std::vector<double>> cols;
+    for (const char* n : names) {
+      if (!h5::exists(f, n)) throw StageError(path + ": dataset /" + std::string(n) + " is missing (events file of the spectrum stage)");
+      cols.push_back(h5::read<double>(f, n));
+      if (cols.back().size() != cols.front().size())
+        throw StageError(path + ": /" + std::string(n) + " has " + std::to_string(cols.back().size()) +
+                         " rows, /events/peak_time has " + std::to_string(cols.front().size()));
+    }
+    for (std::size_t e = 0; e < cols[0].size(); ++e) {
+      const RuptureEvent ev{cols[0][e], cols[1][e], cols[2][e], cols[3][e]};
+      if (!std::isfinite(ev.peak_time) || !std::isfinite(ev.drop_end_time) || ev.drop_end_time < ev.peak_time)
+        throw StageError(path + ": event " + std::to_string(e) + ": drop_end_time " + std::to_string(ev.drop_end_time) +
+                         " s is not a finite time at or after peak_time " + std::to_string(ev.peak_time) + " s");
+      out.push_back(ev);
+    }
+  } catch (const StageError&) {
+    throw;
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    throw StageError(what.rfind(path, 0) == 0 ? what : path + ": " + what);
+  }
+  return out;
+}
+
+EventWindow event_window(const std::vector<double>& times, const RuptureEvent& e, double max_gap) {
+  EventWindow w;
+  const auto after = std::lower_bound(times.begin(), times.end(), e.drop_end_time);
+  const auto past_peak = std::upper_bound(times.begin(), times.end(), e.peak_time);
+  if (past_peak != times.begin()) w.before = static_cast<std::int64_t>(past_peak - times.begin()) - 1;
+  if (after != times.end()) w.after = static_cast<std::int64_t>(after - times.begin());
+  w.resolved = w.before >= 0 && w.after >= 0 && e.peak_time - times[static_cast<std::size_t>(w.before)] <= max_gap &&
+               times[static_cast<std::size_t>(w.after)] - e.drop_end_time <= max_gap;
+  return w;
+}
+
+Displacement largest_displacement(const std::vector<std::int32_t>& grains, const std::vector<Vec2>& from,
+                                  const std::vector<Vec2>& to, const std::vector<double>& diameter) {
+  Displacement out;
+  for (const std::int32_t g : grains) {
+    const auto i = static_cast<std::size_t>(g);
+    const double dx = to[i].x - from[i].x, dy = to[i].y - from[i].y;
+    const double over_d = std::hypot(dx, dy) / diameter[i];
+    if (out.grain < 0 || over_d > out.over_d) out = {g, over_d, dx, dy};
+  }
+  return out;
+}
+
+}  // namespace dem2d::analysis

@@ -1,1 +1,580 @@
-// Stage `spectrum` (issue 4): being written.
+#include "spectrum/spectrum.hpp"
+
+#include <fftw3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+namespace dem2d::analysis {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double dbl(std::size_t n) { return static_cast<double>(n); }
+std::size_t samples(double travel_d, double samples_per_d) {
+  return std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(travel_d * samples_per_d)));
+}
+
+// Linear-interpolated quantile q in [0, 1]; NaN for an empty set.
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return kNaN;
+  std::sort(v.begin(), v.end());
+  const double pos = q * dbl(v.size() - 1);
+  const auto i = static_cast<std::size_t>(pos);
+  return i + 1 < v.size() ? v[i] + (pos - dbl(i)) * (v[i + 1] - v[i]) : v[i];
+}
+double median(std::vector<double> v) { return quantile(std::move(v), 0.5); }
+
+std::string num(double v, const char* unit = "") {
+  std::ostringstream s;
+  s << v << unit;
+  return s.str();
+}
+std::string mm(double m) { return num(1e3 * m, " mm"); }
+
+// A real-to-complex FFTW plan of size n with its own aligned buffers.
+class RealFft {
+ public:
+  explicit RealFft(std::size_t n)
+      : n_(n), in_(fftw_alloc_real(n)), out_(fftw_alloc_complex(n / 2 + 1)),
+        plan_(fftw_plan_dft_r2c_1d(static_cast<int>(n), in_, out_, FFTW_ESTIMATE)) {
+    if (!in_ || !out_ || !plan_) throw std::runtime_error("FFTW: cannot plan a transform of size " + std::to_string(n));
+  }
+  ~RealFft() {
+    fftw_destroy_plan(plan_);
+    fftw_free(in_);
+    fftw_free(out_);
+  }
+  RealFft(const RealFft&) = delete;
+  RealFft& operator=(const RealFft&) = delete;
+  double* input() { return in_; }
+  // |X_j|^2 added to acc[j], j = 0 .. n/2
+  void add_power(std::vector<double>& acc) {
+    fftw_execute(plan_);
+    for (std::size_t j = 0; j <= n_ / 2; ++j) acc[j] += out_[j][0] * out_[j][0] + out_[j][1] * out_[j][1];
+  }
+
+ private:
+  std::size_t n_;
+  double* in_;
+  fftw_complex* out_;
+  fftw_plan plan_;
+};
+
+// Periodic (DFT-even) windows.
+std::vector<double> window_values(std::size_t n, const std::string& kind) {
+  std::vector<double> w(n, 1.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double a = 2.0 * kPi * dbl(i) / dbl(n);
+    if (kind == "hann") w[i] = 0.5 - 0.5 * std::cos(a);
+    if (kind == "hamming") w[i] = 0.54 - 0.46 * std::cos(a);
+    if (kind == "blackman") w[i] = 0.42 - 0.5 * std::cos(a) + 0.08 * std::cos(2.0 * a);
+  }
+  return w;
+}
+
+double digamma(double x) {
+  double r = 0.0;
+  for (; x < 6.0; x += 1.0) r -= 1.0 / x;
+  const double f = 1.0 / (x * x);
+  return r + std::log(x) - 0.5 / x - f * (1.0 / 12 - f * (1.0 / 120 - f / 252));
+}
+
+// z with P(Z > z) = p for a standard normal Z (bisection; p in (0, 1)).
+double normal_upper_quantile(double p) {
+  double lo = -40.0, hi = 40.0;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (0.5 * std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// x with P(chi2_nu > x) = p (Wilson-Hilferty; conservative by a few % at nu = 2 in the far tail).
+double chi2_upper_quantile(double p, double nu) {
+  const double a = 2.0 / (9.0 * nu);
+  return nu * std::pow(std::max(0.0, 1.0 - a + normal_upper_quantile(p) * std::sqrt(a)), 3.0);
+}
+
+// Rows whose height lies in [low, high) (height increasing).
+std::pair<std::size_t, std::size_t> rows_between(const std::vector<double>& h, double low, double high) {
+  const auto b = std::lower_bound(h.begin(), h.end(), low), e = std::lower_bound(h.begin(), h.end(), high);
+  return {static_cast<std::size_t>(b - h.begin()), static_cast<std::size_t>(std::max(b, e) - h.begin())};
+}
+
+// f falls by more than delta within `window` samples somewhere in [p, t].
+bool falls_fast(const std::vector<double>& f, std::size_t p, std::size_t t, double delta, std::size_t window) {
+  for (std::size_t j = p; j < t; ++j) {
+    const auto last = f.begin() + static_cast<std::ptrdiff_t>(std::min(j + window, t)) + 1;
+    if (f[j] - *std::min_element(f.begin() + static_cast<std::ptrdiff_t>(j) + 1, last) > delta) return true;
+  }
+  return false;
+}
+
+[[noreturn]] void bad_profile(const std::string& source, const std::string& what) {
+  throw SpectrumError(source + ": " + what);
+}
+
+// The profile checked; a last row covering a shorter interval (the run stopped
+// inside it) is dropped. Sets rows_dropped, height_step, step_deviation.
+DragProfile checked_profile(const DragProfile& in, double tolerance, const std::string& source, SpectrumResult& r) {
+  const std::size_t n = in.height.size();
+  if (n == 0) bad_profile(source, "the drag profile is empty");
+  if (in.time.size() != n || in.drag.size() != n) bad_profile(source, "the drag profile's columns differ in length");
+  if (n < 8) bad_profile(source, "the drag profile is too short: " + std::to_string(n) + " rows");
+  for (std::size_t k = 0; k < n; ++k)
+    if (!std::isfinite(in.time[k]) || !std::isfinite(in.height[k]) || !std::isfinite(in.drag[k]))
+      bad_profile(source, "row " + std::to_string(k) + " is not finite (time, height, drag = " + num(in.time[k]) +
+                              " s, " + num(in.height[k]) + " m, " + num(in.drag[k]) + " N/m)");
+  for (std::size_t k = 1; k < n; ++k)
+    if (!(in.height[k] > in.height[k - 1]) || !(in.time[k] > in.time[k - 1]))
+      bad_profile(source, "the intruder height (or time) does not increase at row " + std::to_string(k) + ": " +
+                              mm(in.height[k - 1]) + " then " + mm(in.height[k]));
+  DragProfile p = in;
+  // The series is uniform in time and the intruder moves at constant V: the
+  // steps of time and of height must both be uniform.
+  for (const std::vector<double>* x : {&in.time, &in.height}) {
+    std::vector<double> step(n - 1);
+    for (std::size_t k = 1; k < n; ++k) step[k - 1] = (*x)[k] - (*x)[k - 1];
+    const double typical = median(step);
+    const char* unit = x == &in.time ? " s" : " m";
+    if (step.back() < (1.0 - tolerance) * typical && p.time.size() == n) {
+      for (auto* col : {&p.time, &p.height, &p.drag}) col->pop_back();
+      r.rows_dropped = 1;
+    }
+    double worst = 0.0;
+    for (std::size_t k = 0; k + 1 < p.time.size(); ++k) {
+      const double dev = std::abs(step[k] / typical - 1.0);
+      if (dev > tolerance)
+        bad_profile(source, std::string("the series is not uniform in ") + (x == &in.time ? "time" : "height") +
+                                ": step " + std::to_string(k + 1) + " is " + num(step[k], unit) +
+                                ", the median step " + num(typical, unit) +
+                                " (profile.uniform_tolerance = " + num(tolerance) + ")");
+      worst = std::max(worst, dev);
+    }
+    if (x == &in.height) r.height_step = typical, r.step_deviation = worst;
+  }
+  return p;
+}
+
+std::size_t argmax(const std::vector<double>& x, std::size_t b, std::size_t e) {
+  return static_cast<std::size_t>(std::max_element(x.begin() + static_cast<std::ptrdiff_t>(b),
+                                                   x.begin() + static_cast<std::ptrdiff_t>(e)) - x.begin());
+}
+std::size_t argmin(const std::vector<double>& x, std::size_t b, std::size_t e) {
+  return static_cast<std::size_t>(std::min_element(x.begin() + static_cast<std::ptrdiff_t>(b),
+                                                   x.begin() + static_cast<std::ptrdiff_t>(e)) - x.begin());
+}
+
+Band make_band(const std::string& name, double low, double high, const SpectrumResult& r, double samples_per_d,
+               const SpectrumConfig& c) {
+  Band b{name, low, high, 0, 0, {}, {}};
+  std::tie(b.begin, b.end) = rows_between(r.profile.height, low, high);
+  const std::vector<double> x(r.fluctuation.begin() + static_cast<std::ptrdiff_t>(b.begin),
+                              r.fluctuation.begin() + static_cast<std::ptrdiff_t>(b.end));
+  b.psd = welch_psd(x, samples_per_d, std::min(samples(c.segment_d, samples_per_d), x.size()), c.overlap, c.window);
+  b.peak = dominant_peak(b.psd, c.min_period_d, c.max_period_d, c.false_alarm);
+  return b;
+}
+
+}  // namespace
+
+// ---- building blocks ----------------------------------------------------
+
+std::vector<double> running_median(const std::vector<double>& x, std::size_t half_width) {
+  const std::size_t n = x.size();
+  std::vector<double> out(n), buf;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t w = std::min({half_width, k, n - 1 - k});
+    buf.assign(x.begin() + static_cast<std::ptrdiff_t>(k - w), x.begin() + static_cast<std::ptrdiff_t>(k + w + 1));
+    std::nth_element(buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(w), buf.end());
+    out[k] = buf[w];
+  }
+  return out;
+}
+
+std::vector<double> running_rms(const std::vector<double>& x, std::size_t half_width) {
+  const std::size_t n = x.size();
+  std::vector<double> sum(n + 1, 0.0), out(n);
+  for (std::size_t k = 0; k < n; ++k) sum[k + 1] = sum[k] + x[k] * x[k];
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t w = std::min({half_width, k, n - 1 - k});
+    out[k] = std::sqrt(std::max(0.0, (sum[k + w + 1] - sum[k - w]) / dbl(2 * w + 1)));
+  }
+  return out;
+}
+
+double noise_level(const std::vector<double>& x, std::size_t begin, std::size_t end) {
+  if (end > x.size() || end < begin + 3) return kNaN;
+  std::vector<double> diff;
+  for (std::size_t k = begin + 1; k < end; ++k) diff.push_back(x[k] - x[k - 1]);
+  const double m = median(diff);
+  for (double& v : diff) v = std::abs(v - m);
+  return 1.4826 * median(diff) / std::sqrt(2.0);
+}
+
+LinearFit linear_fit(const std::vector<double>& x, const std::vector<double>& y) {
+  LinearFit f;
+  f.points = x.size();
+  if (x.size() < 3 || y.size() != x.size()) return f;
+  const double n = dbl(x.size());
+  const double mx = std::accumulate(x.begin(), x.end(), 0.0) / n, my = std::accumulate(y.begin(), y.end(), 0.0) / n;
+  double sxx = 0.0, sxy = 0.0, syy = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    sxx += (x[i] - mx) * (x[i] - mx);
+    sxy += (x[i] - mx) * (y[i] - my);
+    syy += (y[i] - my) * (y[i] - my);
+  }
+  if (sxx <= 0.0) return f;
+  f.slope = sxy / sxx;
+  f.intercept = my - f.slope * mx;
+  f.r2 = syy > 0.0 ? sxy * sxy / (sxx * syy) : kNaN;
+  return f;
+}
+
+Psd welch_psd(const std::vector<double>& x, double samples_per_d, std::size_t n, double overlap,
+              const std::string& window) {
+  Psd p;
+  if (n < 4 || x.size() < n) return p;
+  const std::size_t shift = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(dbl(n) * (1.0 - overlap))));
+  const std::size_t segments = 1 + (x.size() - n) / shift;
+  const std::vector<double> w = window_values(n, window);
+  const double w2 = std::inner_product(w.begin(), w.end(), w.begin(), 0.0);
+  RealFft fft(n);
+  std::vector<double> acc(n / 2 + 1, 0.0);
+  for (std::size_t s = 0; s < segments; ++s) {
+    const double* seg = x.data() + s * shift;
+    const double mean = std::accumulate(seg, seg + n, 0.0) / dbl(n);
+    for (std::size_t i = 0; i < n; ++i) fft.input()[i] = (seg[i] - mean) * w[i];
+    fft.add_power(acc);
+  }
+  const double scale = 1.0 / (dbl(segments) * samples_per_d * w2);
+  for (std::size_t j = 1; j <= n / 2; ++j) {
+    p.wavenumber.push_back(dbl(j) * samples_per_d / dbl(n));
+    p.power.push_back((2 * j == n ? 1.0 : 2.0) * acc[j] * scale);
+  }
+  // Equivalent degrees of freedom (Welch 1967): 2K / (1 + 2 sum_j (1 - j/K) rho(j shift)^2).
+  double corr = 0.0;
+  for (std::size_t j = 1; j < segments && j * shift < n; ++j) {
+    double rho = 0.0;
+    for (std::size_t i = 0; i + j * shift < n; ++i) rho += w[i] * w[i + j * shift];
+    corr += (1.0 - dbl(j) / dbl(segments)) * (rho / w2) * (rho / w2);
+  }
+  p.segments = segments;
+  p.segment_samples = n;
+  p.dof = 2.0 * dbl(segments) / (1.0 + 2.0 * corr);
+  return p;
+}
+
+DominantPeak dominant_peak(const Psd& psd, double min_period_d, double max_period_d, double false_alarm) {
+  DominantPeak r;
+  const auto& k = psd.wavenumber;
+  const std::size_t j0 = static_cast<std::size_t>(std::lower_bound(k.begin(), k.end(), 1.0 / max_period_d) - k.begin());
+  const std::size_t j1 = static_cast<std::size_t>(std::upper_bound(k.begin(), k.end(), 1.0 / min_period_d) - k.begin());
+  if (j1 < j0 + 3) return r;
+  r.found = true;
+  r.bins = j1 - j0;
+  // Power-law background: least squares of ln P on ln k (a tiny floor keeps
+  // exact zeros of noise-free signals finite), shifted by the mean of
+  // ln(chi2_nu / nu) = digamma(nu/2) - ln(nu/2) so that it is a mean level.
+  const double top = *std::max_element(psd.power.begin() + static_cast<std::ptrdiff_t>(j0),
+                                       psd.power.begin() + static_cast<std::ptrdiff_t>(j1));
+  std::vector<double> lx, ly, power;
+  for (std::size_t j = j0; j < j1; ++j) {
+    power.push_back(std::max(psd.power[j], 1e-12 * top));
+    lx.push_back(std::log(k[j]));
+    ly.push_back(std::log(power.back()));
+  }
+  const LinearFit bg = linear_fit(lx, ly);
+  r.background_exponent = bg.slope;
+  const double bias = digamma(psd.dof / 2.0) - std::log(psd.dof / 2.0);
+  std::vector<double> excess(r.bins);
+  for (std::size_t i = 0; i < r.bins; ++i) excess[i] = power[i] / std::exp(bg.intercept + bg.slope * lx[i] - bias);
+  const std::size_t m = argmax(excess, 0, r.bins);
+  const double dk = k[j0 + 1] - k[j0];
+  double shift = 0.0;
+  r.at_edge = m == 0 || m + 1 == r.bins;
+  if (!r.at_edge) {
+    const double a = std::log(excess[m - 1]), b = std::log(excess[m]), c = std::log(excess[m + 1]);
+    if (a - 2.0 * b + c < 0.0) shift = std::clamp(0.5 * (a - c) / (a - 2.0 * b + c), -0.5, 0.5);
+  }
+  r.wavenumber = k[j0 + m] + shift * dk;
+  r.period_d = 1.0 / r.wavenumber;
+  r.peak_to_background = excess[m];
+  r.peak_to_median = power[m] / median(power);
+  const double per_bin = -std::expm1(std::log1p(-false_alarm) / dbl(r.bins));
+  r.threshold = chi2_upper_quantile(per_bin, psd.dof) / psd.dof;
+  r.significant = !r.at_edge && r.peak_to_background > r.threshold;  // a maximum at the edge is no peak
+  // Width where the excess stays above half its peak (linear between bins; the range's edge if it does not fall).
+  const double half = 0.5 * excess[m];
+  std::size_t lo = m, hi = m;
+  while (lo > 0 && excess[lo - 1] > half) --lo;
+  while (hi + 1 < r.bins && excess[hi + 1] > half) ++hi;
+  const double k_lo = k[j0 + lo] - (lo > 0 ? (excess[lo] - half) / (excess[lo] - excess[lo - 1]) * dk : 0.0);
+  const double k_hi = k[j0 + hi] + (hi + 1 < r.bins ? (excess[hi] - half) / (excess[hi] - excess[hi + 1]) * dk : 0.0);
+  r.half_width_d = 0.5 * (1.0 / k_lo - 1.0 / k_hi);
+  r.quality = r.wavenumber / (k_hi - k_lo);
+  return r;
+}
+
+std::vector<Pivot> zigzag(const std::vector<double>& x, double delta, std::size_t begin) {
+  std::vector<Pivot> out;
+  enum class Dir { unknown, rising, falling } dir = Dir::unknown;
+  std::size_t hi = begin, lo = begin;
+  for (std::size_t k = begin + 1; k < x.size(); ++k) {
+    if (dir != Dir::falling && x[k] > x[hi]) hi = k;
+    if (dir != Dir::rising && x[k] < x[lo]) lo = k;
+    if (dir != Dir::falling && x[hi] - x[k] > delta) {
+      out.push_back({hi, true});
+      dir = Dir::falling;
+      lo = k;
+    } else if (dir != Dir::rising && x[k] - x[lo] > delta) {
+      out.push_back({lo, false});
+      dir = Dir::rising;
+      hi = k;
+    }
+  }
+  if (dir == Dir::falling) out.push_back({lo, false});
+  return out;
+}
+
+std::vector<Event> detect_events(const std::vector<double>& f, double delta, std::size_t window) {
+  const std::vector<Pivot> pivots = zigzag(f, delta);
+  std::vector<Event> out;
+  for (std::size_t i = 0; i + 1 < pivots.size(); ++i) {
+    const std::size_t p = pivots[i].index, t = pivots[i + 1].index;
+    if (!pivots[i].peak || !falls_fast(f, p, t, delta, window)) continue;
+    out.push_back({i > 0 ? pivots[i - 1].index : argmin(f, 0, p + 1), p, t});
+  }
+  return out;
+}
+
+// ---- the analysis ---------------------------------------------------------
+
+SpectrumResult analyse(const DragProfile& profile, const SpectrumScales& s, const SpectrumConfig& c,
+                       const std::string& source) {
+  check_spectrum_config(c, source + " (config)");
+  SpectrumResult r;
+  r.profile = checked_profile(profile, c.uniform_tolerance, source, r);
+  const DragProfile& p = r.profile;
+  const std::vector<double>& h = p.height;
+  const std::size_t n = h.size();
+  const double hb = s.bed_height, fs = s.d / r.height_step;  // samples per d
+  r.speed = (h.back() - h.front()) / (p.time.back() - p.time.front());
+  if (!(hb > h.front())) bad_profile(source, "the bed height " + mm(hb) + " is not above the first height " + mm(h.front()));
+  if (c.min_period_d * fs < 2.0)
+    bad_profile(source, "psd.min_period_d = " + num(c.min_period_d) +
+                            " d is shorter than two height steps: the series is too coarse");
+
+  r.trend = running_median(p.drag, samples(0.5 * c.trend_window_d, fs));
+  r.fluctuation.resize(n);
+  for (std::size_t k = 0; k < n; ++k) r.fluctuation[k] = p.drag[k] - r.trend[k];
+  const std::size_t env_half = samples(0.5 * c.envelope_window_d, fs);
+  r.envelope = running_rms(r.fluctuation, env_half);
+
+  r.second_part = make_band("second_part", c.bottom_top * hb, c.upper_top * hb, r, fs, c);
+  const double span_d = dbl(r.second_part.end - r.second_part.begin) / fs;
+  if (span_d < 2.0 * c.max_period_d)
+    bad_profile(source, "the drag profile is too short: the loading/rupture part [" + mm(r.second_part.low) + ", " +
+                            mm(r.second_part.high) + ") holds " + num(span_d) + " d of travel, fewer than 2 x psd.max_period_d");
+  r.noise = noise_level(r.fluctuation, r.second_part.begin, r.second_part.end);
+  if (!(r.noise > 0.0))
+    bad_profile(source, "the fluctuations have no measurable noise (MAD of first differences = 0): "
+                        "the noise-relative thresholds are undefined");
+  r.drop_delta = c.drop_threshold * r.noise;
+  const double edges[] = {0.0, c.bottom_top * hb, c.middle_top * hb, c.upper_top * hb, hb};
+  const char* names[] = {"bottom", "middle", "upper", "top_layer"};
+  for (std::size_t b = 0; b < 4; ++b) r.bands.push_back(make_band(names[b], edges[b], edges[b + 1], r, fs, c));
+
+  // Events, their spacing in the second part, and their amplitude in the upper part.
+  r.events = detect_events(r.fluctuation, r.drop_delta, samples(c.drop_window_d, fs));
+  const auto inside = [&h](const Event& e, double low, double high) { return h[e.peak] >= low && h[e.peak] < high; };
+  std::vector<double> amp_x, amp_y;
+  for (std::size_t i = 0; i < r.events.size(); ++i) {
+    const Event& e = r.events[i];
+    if (i > 0 && inside(e, edges[1], edges[3]) && inside(r.events[i - 1], edges[1], edges[3]))
+      r.spacing_d.push_back((h[e.peak] - h[r.events[i - 1].peak]) / s.d);
+    if (inside(e, edges[2], edges[3])) {
+      amp_x.push_back(1e3 * h[e.peak]);
+      amp_y.push_back(p.drag[e.peak] - p.drag[e.drop_end]);
+    }
+  }
+  r.amplitude_fit = linear_fit(amp_x, amp_y);
+  const Band& upper = r.bands[2];
+  std::vector<double> env_x, env_y;
+  for (std::size_t k = upper.begin; k < upper.end; ++k) env_x.push_back(1e3 * h[k]), env_y.push_back(r.envelope[k]);
+  r.envelope_fit = linear_fit(env_x, env_y);
+
+  // Bottom zone: the first high peak, the collapse after it, the next loading.
+  const Band& bottom = r.bands[0];
+  if (bottom.end > bottom.begin) {
+    r.bottom_peak = argmax(p.drag, bottom.begin, bottom.end);
+    const auto pivots = zigzag(p.drag, c.collapse_fraction * std::abs(p.drag[r.bottom_peak]), r.bottom_peak);
+    const auto trough = std::find_if(pivots.begin(), pivots.end(), [](const Pivot& v) { return !v.peak; });
+    if (trough != pivots.end()) {
+      r.bottom_collapse = trough->index;
+      if (trough + 1 != pivots.end()) r.bottom_reload = (trough + 1)->index;
+    }
+  }
+
+  // Top layer: above the last height where the envelope reaches the noise floor.
+  const double floor = c.floor_factor * r.noise;
+  std::size_t above = 0;  // rows up to the last one at or above the floor
+  for (std::size_t k = n; k-- > 0 && above == 0;)
+    if (r.envelope[k] >= floor) above = k + 1;
+  r.top_found = above < n;
+  if (r.top_found) {
+    // the window centred on the last row above the floor just reaches the
+    // fluctuating part: that part ends half a window lower
+    r.top_height = above == 0 ? h.front() : std::max(h.front(), h[above - 1] - dbl(env_half) * r.height_step);
+    std::tie(r.top_begin, r.top_end) = rows_between(h, r.top_height, hb - c.fit_margin_d * s.d);
+    std::vector<double> depth, drag;
+    for (std::size_t k = r.top_begin; k < r.top_end; ++k) depth.push_back(1e3 * (hb - h[k])), drag.push_back(p.drag[k]);
+    r.top_fit = linear_fit(depth, drag);
+  }
+  return r;
+}
+
+// ---- metrics ----------------------------------------------------------------
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+double at_speed(double period_d, double d, double v) { return v / (period_d * d); }
+
+Json peak_json(const Band& b, const SpectrumScales& s, const SpectrumResult& r) {
+  const DominantPeak& k = b.peak;
+  const double run_speed = r.speed;
+  return {{"range_mm", {1e3 * b.low, 1e3 * b.high}},
+          {"travel_d", dbl(b.end - b.begin) * r.height_step / s.d},
+          {"found", k.found},
+          {"dominant_period_d", k.period_d},
+          {"dominant_period_mm", 1e3 * k.period_d * s.d},
+          {"frequency_hz_at_run_v", at_speed(k.period_d, s.d, run_speed)},
+          {"frequency_hz_at_paper_v", at_speed(k.period_d, s.d, s.paper_speed)},
+          {"significant", k.significant},
+          {"peak_to_background", k.peak_to_background},
+          {"significance_threshold", k.threshold},
+          {"peak_to_median", k.peak_to_median},
+          {"background_exponent", k.background_exponent},
+          {"half_width_d", k.half_width_d},
+          {"quality_factor", k.quality},
+          {"at_range_edge", k.at_edge},
+          {"segments", b.psd.segments},
+          {"segment_d", dbl(b.psd.segment_samples) * r.height_step / s.d},
+          {"dof", b.psd.dof},
+          {"bins_searched", k.bins}};
+}
+
+Json stats_json(const std::vector<double>& v) {
+  const double mean = v.empty() ? kNaN : std::accumulate(v.begin(), v.end(), 0.0) / dbl(v.size());
+  return {{"count", v.size()}, {"mean", mean}, {"median", median(v)}, {"q1", quantile(v, 0.25)}, {"q3", quantile(v, 0.75)}};
+}
+
+}  // namespace
+
+nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& c,
+                                        double intruder_depth) {
+  const auto& h = r.profile.height;
+  const auto& drag = r.profile.drag;
+  const double spacing = median(r.spacing_d);
+  const Json spacing_stats = stats_json(r.spacing_d);
+  const double mean_spacing = spacing_stats["mean"].is_number() ? spacing_stats["mean"].get<double>() : kNaN;
+  std::vector<double> drops;
+  for (const Event& e : r.events) drops.push_back(drag[e.peak] - drag[e.drop_end]);
+  auto point = [&](std::size_t k) -> Json {
+    if (k == SpectrumResult::npos) return {{"height_mm", nullptr}, {"drag_N_per_m", nullptr}, {"drag_N", nullptr}};
+    return {{"height_mm", 1e3 * h[k]}, {"drag_N_per_m", drag[k]}, {"drag_N", drag[k] * intruder_depth}};
+  };
+  auto fit = [](const LinearFit& f, const char* unit) -> Json {
+    return {{"slope", f.slope}, {"slope_unit", unit}, {"intercept", f.intercept}, {"r2", f.r2}, {"points", f.points}};
+  };
+  const double top_depth = s.bed_height - r.top_height;
+  const double sp_hz = at_speed(spacing, s.d, s.paper_speed);
+  Json m;
+  // the metrics shared with the tolerance tests (SPEC), first
+  m["bottom_peak_height_mm"] = point(r.bottom_peak)["height_mm"];
+  m["amplitude_slope_upper"] = r.amplitude_fit.slope;
+  m["amplitude_slope_upper_unit"] = "N/m per mm";
+  m["amplitude_fit_r2_upper"] = r.amplitude_fit.r2;
+  m["rupture_spacing_d"] = spacing;
+  m["rupture_frequency_hz_at_1p2mm_s"] = sp_hz;
+  m["top_layer_height_mm"] = r.top_found ? 1e3 * r.top_height : kNaN;
+  m["top_layer_depth_fit_r2"] = r.top_fit.r2;
+  // the profile
+  m["rows"] = h.size();
+  m["rows_dropped"] = r.rows_dropped;
+  m["height_step_mm"] = 1e3 * r.height_step;
+  m["height_step_max_relative_deviation"] = r.step_deviation;
+  m["mean_diameter_mm"] = 1e3 * s.d;
+  m["samples_per_d"] = s.d / r.height_step;
+  m["speed_mm_s"] = 1e3 * r.speed;
+  m["paper_speed_mm_s"] = 1e3 * s.paper_speed;
+  m["bed_height_mm"] = 1e3 * s.bed_height;
+  m["noise_level_N_per_m"] = r.noise;
+  m["noise_level_N"] = r.noise * intruder_depth;
+  m["drop_delta_N_per_m"] = r.drop_delta;
+  // spectrum
+  m["dominant_period_d"] = r.second_part.peak.period_d;
+  m["dominant_frequency_hz_at_1p2mm_s"] = at_speed(r.second_part.peak.period_d, s.d, s.paper_speed);
+  m["dominant_period_significant"] = r.second_part.peak.significant;
+  m["psd"] = peak_json(r.second_part, s, r);
+  for (const Band& b : r.bands) m["bands"][b.name] = peak_json(b, s, r);
+  // events
+  m["event_count"] = r.events.size();
+  m["rupture_spacing"] = {{"unit", "d"}, {"stats", spacing_stats}};
+  m["rupture_spacing_mean_d"] = mean_spacing;
+  m["rupture_rate_hz_at_1p2mm_s"] = at_speed(mean_spacing, s.d, s.paper_speed);
+  m["rupture_frequency_hz_at_run_v"] = at_speed(spacing, s.d, r.speed);
+  m["drop_N_per_m"] = stats_json(drops);
+  m["amplitude_fit_upper"] = fit(r.amplitude_fit, "N/m per mm");
+  m["amplitude_slope_upper_N_per_mm"] = r.amplitude_fit.slope * intruder_depth;
+  m["envelope_fit_upper"] = fit(r.envelope_fit, "N/m per mm");
+  // bottom zone
+  m["bottom"] = {{"first_peak", point(r.bottom_peak)},
+                 {"collapse", point(r.bottom_collapse)},
+                 {"next_loading", point(r.bottom_reload)}};
+  // top layer
+  m["top_layer_found"] = r.top_found;
+  m["top_layer_depth_mm"] = r.top_found ? 1e3 * top_depth : kNaN;
+  m["top_layer_floor_N_per_m"] = c.floor_factor * r.noise;
+  m["top_layer_depth_fit"] = fit(r.top_fit, "N/m per mm of depth");
+  m["top_layer_depth_fit_slope_N_per_mm"] = r.top_fit.slope * intruder_depth;
+  m["top_layer_fit_range_mm"] = {r.top_end > r.top_begin ? 1e3 * h[r.top_begin] : kNaN,
+                                 r.top_end > r.top_begin ? 1e3 * h[r.top_end - 1] : kNaN};
+  return m;
+}
+
+nlohmann::ordered_json sensitivity_table(const DragProfile& profile, const SpectrumScales& s, const SpectrumConfig& c,
+                                         const std::string& source) {
+  Json t = Json::object();
+  auto vary = [&](const char* name, const std::vector<double>& values, double SpectrumConfig::*field) {
+    for (const double v : values) {
+      SpectrumConfig cv = c;
+      cv.*field = v;
+      const SpectrumResult r = analyse(profile, s, cv, source);
+      const Json m = spectrum_metrics(r, s, cv, 1.0);
+      t[name].push_back({{"value", v},
+                         {"event_count", m["event_count"]},
+                         {"rupture_spacing_d", m["rupture_spacing_d"]},
+                         {"rupture_spacing_mean_d", m["rupture_spacing_mean_d"]},
+                         {"rupture_frequency_hz_at_1p2mm_s", m["rupture_frequency_hz_at_1p2mm_s"]},
+                         {"amplitude_slope_upper", m["amplitude_slope_upper"]},
+                         {"amplitude_fit_r2_upper", m["amplitude_fit_r2_upper"]},
+                         {"dominant_period_d", m["dominant_period_d"]},
+                         {"dominant_period_significant", m["dominant_period_significant"]},
+                         {"top_layer_height_mm", m["top_layer_height_mm"]},
+                         {"top_layer_depth_fit_r2", m["top_layer_depth_fit_r2"]}});
+    }
+  };
+  vary("drop_threshold", c.drop_thresholds, &SpectrumConfig::drop_threshold);
+  vary("floor_factor", c.floor_factors, &SpectrumConfig::floor_factor);
+  vary("trend_window_d", c.trend_windows_d, &SpectrumConfig::trend_window_d);
+  return t;
+}
+
+}  // namespace dem2d::analysis

@@ -85,6 +85,8 @@ void File::flush() const { check(H5Fflush(id(), H5F_SCOPE_GLOBAL), *this, "flush
 template <>
 hid_t native_type<double>() { return H5T_NATIVE_DOUBLE; }
 template <>
+hid_t native_type<float>() { return H5T_NATIVE_FLOAT; }
+template <>
 hid_t native_type<std::int32_t>() { return H5T_NATIVE_INT32; }
 template <>
 hid_t native_type<std::int64_t>() { return H5T_NATIVE_INT64; }
@@ -261,6 +263,8 @@ bool has_attr(const File& f, const std::string& object, const std::string& name)
   return H5Aexists(obj, name.c_str()) > 0;
 }
 
+template void write<float>(const File&, const std::string&, const std::vector<float>&, std::vector<hsize_t>);
+template std::vector<float> read<float>(const File&, const std::string&, std::vector<hsize_t>*);
 template void write<double>(const File&, const std::string&, const std::vector<double>&, std::vector<hsize_t>);
 template void write<std::int32_t>(const File&, const std::string&, const std::vector<std::int32_t>&, std::vector<hsize_t>);
 template void write<std::int64_t>(const File&, const std::string&, const std::vector<std::int64_t>&, std::vector<hsize_t>);

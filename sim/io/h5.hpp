@@ -84,6 +84,8 @@ double read_attr_double(const File& f, const std::string& object, const std::str
 std::int64_t read_attr_int(const File& f, const std::string& object, const std::string& name);
 bool has_attr(const File& f, const std::string& object, const std::string& name);
 
+extern template void write<float>(const File&, const std::string&, const std::vector<float>&, std::vector<hsize_t>);
+extern template std::vector<float> read<float>(const File&, const std::string&, std::vector<hsize_t>*);
 extern template void write<double>(const File&, const std::string&, const std::vector<double>&, std::vector<hsize_t>);
 extern template void write<std::int32_t>(const File&, const std::string&, const std::vector<std::int32_t>&, std::vector<hsize_t>);
 extern template void write<std::int64_t>(const File&, const std::string&, const std::vector<std::int64_t>&, std::vector<hsize_t>);

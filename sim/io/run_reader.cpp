@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 
 #include "io/run_file.hpp"
@@ -155,6 +156,26 @@ Snapshot RunReader::snapshot(std::size_t k) const {
       fail("snapshot " + std::to_string(k) + ": contact row " + std::to_string(first + r) + " (i = " +
            std::to_string(c.i[r]) + ", j = " + std::to_string(c.j[r]) + ") refers to no grain or body");
   return s;
+}
+
+double RunReader::displacement_window() const {
+  return h5::has_attr(file_, "/", "displacement_window") ? h5::read_attr_double(file_, "/", "displacement_window")
+                                                          : 0.0;
+}
+
+std::vector<Vec2> RunReader::displacement(std::size_t k) const {
+  if (k >= snapshots())
+    fail("snapshot " + std::to_string(k) + " requested, the file has " + std::to_string(snapshots()));
+  const std::size_t n = particles();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<Vec2> out(n, Vec2{nan, nan});
+  const std::string name = "snapshots/displacement";
+  if (!h5::exists(file_, name)) return out;
+  const std::vector<hsize_t> dims = h5::shape(file_, name), want = {snapshots(), n, 2};
+  if (dims != want) fail("dataset /" + name + " has shape " + show(dims) + ", expected " + show(want));
+  const std::vector<double> flat = read_rows<double>(file_, name, k, 1);
+  for (std::size_t i = 0; i < n; ++i) out[i] = {flat[2 * i], flat[2 * i + 1]};
+  return out;
 }
 
 Snapshot RunReader::last_snapshot() const {

@@ -84,6 +84,13 @@ class RunReader {
   // The last snapshot (the final state of the run); an error if there is none.
   Snapshot last_snapshot() const;
 
+  // PIV-like data (docs/run_file.md): the window of /snapshots/displacement (s;
+  // root attribute displacement_window, 0 if the file has none) and the grains'
+  // displacements over that window before snapshot k (m) [N]. All NaN where
+  // not recorded, including files written before displacements existed.
+  double displacement_window() const;
+  std::vector<Vec2> displacement(std::size_t k) const;
+
  private:
   [[noreturn]] void fail(const std::string& what) const;
 

@@ -1,1 +1,0 @@
-// Stage `cg` (issue 5): being written.

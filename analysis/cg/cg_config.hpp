@@ -1,0 +1,69 @@
+// Settings of the stage `cg` (data/cg.toml; every key is documented there and
+// in analysis/cg/README.md). Lengths in the file are in mm or in multiples of
+// the mean grain diameter d or of the kernel width w, as each key's name says.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace dem2d::analysis {
+
+// A problem with the stage's input: the run file's contents, the events file
+// or the configuration. The message names the file.
+struct CgError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct CgConfig {
+  // [kernel]
+  double w_over_d = 1.5;       // kernel width w / mean grain diameter
+  double cutoff_over_w = 4.0;  // cut-off radius / w
+  // [grid]
+  double spacing_mm = 0.4;     // node spacing
+  double height_mm = 0.0;      // grid height above the floor; 0: the bed's top at snapshot 0 + cut-off
+  double mask_fraction = 0.25; // nodes with phi < mask_fraction * phi_ref have no velocity (outside the bed)
+  int average_snapshots = 1;   // trailing average of rho, p over this many snapshots (1: none)
+  // [velocity]
+  std::string velocity = "piv";  // which velocity the metrics use: "piv" (displacement / window) or "instantaneous"
+  // [zones]
+  double immobile_below = 0.25;  // v* below: immobile (blue)
+  double dragged_above = 0.75;   // v* above: dragged (red); between: cone (green)
+  // [cone]
+  double level = 0.25;           // v* of the mobilised zone's edge
+  double fit_start_w = 0.0;      // first fitted row: the intruder's top face + fit_start_w * w
+  double fit_min_span_d = 2.0;   // an edge spanning less than this (in d) gives no angle
+  double seed_depth_d = 1.0;     // the mobilised zone grows from the nodes this deep above the intruder's top
+  // [wall]
+  double wall_band_d = 1.0;          // nodes closer than this to a wall's face form its band
+  double wall_min_mobile_d = 1.0;    // a wall is mobile if its band moves over at least this length
+  // [dilatancy]
+  double region_width_L = 1.0;       // region width / intruder length L, centred on the intruder
+  double region_offset_w = 2.0;      // region bottom: the intruder's top face + this * w
+  double region_height_d = 10.0;     // region height in d
+  double after_travel_d = 1.0;       // "just after the onset": first snapshot with this much travel (in d)
+  // [output]
+  std::vector<double> bands_mm = {0, 30, 60, 90, 120, 150};  // intruder-height bands for beta per band
+  double field_every_mm = 10.0;      // full fields every this much travel (0: none), plus the pre-rupture ones
+  int field_max_snapshots = 50;      // at most this many snapshots with full fields (evenly thinned)
+  double tip_window_width_mm = 32.0;   // intruder-frame window around the intruder, stored for every snapshot
+  double tip_window_height_mm = 16.0;
+  // [sensitivity]: each list is varied one at a time around the values above
+  std::vector<double> levels = {0.2, 0.25, 0.3};
+  std::vector<double> fit_starts_w = {0.0, 1.0};
+  std::vector<double> wall_bands_d = {1.0, 2.0};
+  std::vector<double> after_travels_d = {0.5, 1.0, 2.0};
+  std::vector<double> region_heights_d = {5.0, 10.0, 20.0};
+
+  bool operator==(const CgConfig&) const = default;
+};
+
+// Reads a config file; keys not given keep the defaults above. Unknown keys,
+// wrong types and values out of range are errors
+// (CgError "FILE:LINE:COL: key = value: must be ...").
+CgConfig load_cg_config(const std::string& path);
+
+// Checks the values' ranges (also for configs built in code); CgError naming `where`.
+void validate(const CgConfig& c, const std::string& where);
+
+}  // namespace dem2d::analysis

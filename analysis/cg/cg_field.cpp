@@ -1,0 +1,149 @@
+#include "cg/cg_field.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+namespace dem2d::analysis {
+
+namespace {
+
+std::string mm(double metres) {
+  std::ostringstream s;
+  s << metres * 1e3 << " mm";
+  return s.str();
+}
+
+}  // namespace
+
+Grid make_grid(double xmin, double xmax, double ymin, double ymax, double dx) {
+  if (!(dx > 0.0)) throw CgError("grid spacing " + mm(dx) + ": must be > 0");
+  const double width = xmax - xmin, height = ymax - ymin;
+  // (a whole number of spacings within rounding counts as whole)
+  const double nx = std::floor(width / dx * (1.0 + 1e-12)), ny = std::floor(height / dx * (1.0 + 1e-12));
+  if (nx < 1.0 || ny < 1.0)
+    throw CgError("grid spacing " + mm(dx) + " is larger than the domain (" + mm(width) + " x " + mm(height) +
+                  "): no node");
+  if (nx * ny > 1e8) throw CgError("grid of " + std::to_string(nx * ny) + " nodes: too many (spacing " + mm(dx) + ")");
+  Grid g;
+  g.dx = dx;
+  g.nx = static_cast<std::size_t>(nx);
+  g.ny = static_cast<std::size_t>(ny);
+  g.x0 = xmin + 0.5 * (width - (nx - 1.0) * dx);
+  g.y0 = ymin + 0.5 * (height - (ny - 1.0) * dx);
+  return g;
+}
+
+double Kernel::volume() const {
+  return 2.0 * std::numbers::pi * w * w * (1.0 - std::exp(-0.5 * cutoff * cutoff));
+}
+
+double Kernel::operator()(double r) const {
+  return r <= radius() ? std::exp(-r * r / (2.0 * w * w)) / volume() : 0.0;
+}
+
+Kernel make_kernel(double w, double cutoff_over_w) {
+  if (!(w > 0.0)) throw CgError("kernel width w = " + mm(w) + ": must be > 0");
+  if (!(cutoff_over_w > 0.0)) throw CgError("kernel cut-off " + std::to_string(cutoff_over_w) + " w: must be > 0");
+  return {w, cutoff_over_w};
+}
+
+Fields coarse_grain(const Grid& g, const Kernel& kernel, const Grains& grains) {
+  const std::size_t nodes = g.size(), sets = grains.velocities.size();
+  Fields f;
+  f.rho.assign(nodes, 0.0);
+  f.phi.assign(nodes, 0.0);
+  f.px.assign(sets, std::vector<double>(nodes, 0.0));
+  f.py.assign(sets, std::vector<double>(nodes, 0.0));
+  const double R = kernel.radius(), R2 = R * R, inv2w2 = 1.0 / (2.0 * kernel.w * kernel.w);
+  const double norm = 1.0 / kernel.volume();
+  const auto span = static_cast<std::size_t>(std::ceil(2.0 * R / g.dx)) + 2;
+  std::vector<double> gx(span), gy(span), c(2 + 2 * sets);
+  std::vector<double*> rows(c.size());
+
+  for (std::size_t p = 0; p < grains.position.size(); ++p) {
+    if (!grains.active[p]) continue;
+    const Vec2 r = grains.position[p];
+    // node ranges within R of the grain, clipped to the grid
+    const auto lo = [&](double v, double v0, std::size_t n) {
+      return static_cast<std::size_t>(std::clamp(std::ceil((v - R - v0) / g.dx), 0.0, static_cast<double>(n)));
+    };
+    const auto hi = [&](double v, double v0, std::size_t n) {  // one past the last
+      return static_cast<std::size_t>(std::clamp(std::floor((v + R - v0) / g.dx) + 1.0, 0.0, static_cast<double>(n)));
+    };
+    const std::size_t i0 = lo(r.x, g.x0, g.nx), i1 = hi(r.x, g.x0, g.nx);
+    const std::size_t j0 = lo(r.y, g.y0, g.ny), j1 = hi(r.y, g.y0, g.ny);
+    if (i0 >= i1 || j0 >= j1) continue;
+    for (std::size_t i = i0; i < i1; ++i) {
+      const double X = g.x(i) - r.x;
+      gx[i - i0] = std::exp(-X * X * inv2w2);
+    }
+    const double m = grains.mass[p], d = grains.diameter[p];
+    c[0] = m * norm;
+    c[1] = 0.25 * std::numbers::pi * d * d * norm;
+    for (std::size_t s = 0; s < sets; ++s) {
+      c[2 + 2 * s] = m * grains.velocities[s][p].x * norm;
+      c[3 + 2 * s] = m * grains.velocities[s][p].y * norm;
+    }
+    for (std::size_t j = j0; j < j1; ++j) {
+      const double Y = g.y(j) - r.y, room = R2 - Y * Y;
+      if (room < 0.0) continue;
+      // columns with X^2 <= R^2 - Y^2 (X = x_i - r.x)
+      const double half = std::sqrt(room);
+      const std::size_t a = std::max(i0, lo(r.x + R - half, g.x0, g.nx));
+      const std::size_t b = std::min(i1, hi(r.x - R + half, g.x0, g.nx));
+      if (a >= b) continue;
+      const double gyj = std::exp(-Y * Y * inv2w2);
+      const std::size_t row = g.at(0, j);
+      rows[0] = f.rho.data() + row;
+      rows[1] = f.phi.data() + row;
+      for (std::size_t s = 0; s < sets; ++s) {
+        rows[2 + 2 * s] = f.px[s].data() + row;
+        rows[3 + 2 * s] = f.py[s].data() + row;
+      }
+      const double* wx = gx.data() - i0;
+      for (std::size_t q = 0; q < c.size(); ++q) {
+        double* out = rows[q];
+        const double k = c[q] * gyj;
+        for (std::size_t i = a; i < b; ++i) out[i] += k * wx[i];
+      }
+    }
+  }
+  return f;
+}
+
+void accumulate(Fields& sum, const Fields& add) {
+  const auto plus = [](std::vector<double>& a, const std::vector<double>& b) {
+    for (std::size_t n = 0; n < a.size(); ++n) a[n] += b[n];
+  };
+  plus(sum.rho, add.rho);
+  plus(sum.phi, add.phi);
+  for (std::size_t s = 0; s < sum.px.size(); ++s) plus(sum.px[s], add.px[s]), plus(sum.py[s], add.py[s]);
+}
+
+void scale(Fields& f, double factor) {
+  const auto times = [factor](std::vector<double>& a) {
+    for (double& v : a) v *= factor;
+  };
+  times(f.rho);
+  times(f.phi);
+  for (auto& v : f.px) times(v);
+  for (auto& v : f.py) times(v);
+}
+
+Velocity velocity(const Fields& f, std::size_t set, double min_phi) {
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  Velocity v;
+  v.vx.assign(f.rho.size(), nan);
+  v.vy.assign(f.rho.size(), nan);
+  for (std::size_t n = 0; n < f.rho.size(); ++n)
+    if (f.phi[n] >= min_phi && f.rho[n] > 0.0) {
+      v.vx[n] = f.px[set][n] / f.rho[n];
+      v.vy[n] = f.py[set][n] / f.rho[n];
+    }
+  return v;
+}
+
+}  // namespace dem2d::analysis

@@ -1,0 +1,203 @@
+#include "cg/cg_measure.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <numeric>
+
+namespace dem2d::analysis {
+
+Intruder intruder_of(const Body& b) {
+  const double r = 0.5 * b.thickness;
+  Intruder in;
+  in.xc = 0.5 * (b.ax + b.bx);
+  in.yc = 0.5 * (b.ay + b.by);
+  in.left = std::min(b.ax, b.bx) - r;
+  in.right = std::max(b.ax, b.bx) + r;
+  in.top = std::max(b.ay, b.by) + r;
+  return in;
+}
+
+std::vector<double> speed_ratio(const Velocity& v, double frame_vx, double frame_vy, double v_ref) {
+  std::vector<double> s(v.vx.size());
+  for (std::size_t n = 0; n < s.size(); ++n) s[n] = std::hypot(v.vx[n] - frame_vx, v.vy[n] - frame_vy) / v_ref;
+  return s;
+}
+
+ZoneAreas zone_areas(const Grid& g, const std::vector<double>& vstar, double lo, double hi) {
+  ZoneAreas a;
+  const double cell = g.dx * g.dx;
+  for (const double v : vstar) {
+    if (std::isnan(v)) continue;
+    (v < lo ? a.immobile : v > hi ? a.dragged : a.cone) += cell;
+  }
+  return a;
+}
+
+std::vector<std::uint8_t> zone_from_intruder(const Grid& g, const std::vector<double>& vstar, double level,
+                                             const Intruder& in, double seed_depth) {
+  std::vector<std::uint8_t> zone(g.size(), 0);
+  std::vector<std::size_t> stack;
+  const auto push = [&](std::size_t n) {
+    if (!zone[n] && vstar[n] >= level) zone[n] = 1, stack.push_back(n);  // (NaN >= level is false)
+  };
+  for (std::size_t j = 0; j < g.ny; ++j) {
+    if (g.y(j) < in.top || g.y(j) > in.top + seed_depth) continue;
+    for (std::size_t i = 0; i < g.nx; ++i)
+      if (g.x(i) >= in.left && g.x(i) <= in.right) push(g.at(i, j));
+  }
+  while (!stack.empty()) {
+    const std::size_t n = stack.back();
+    stack.pop_back();
+    const std::size_t i = n % g.nx, j = n / g.nx;
+    if (i > 0) push(n - 1);
+    if (i + 1 < g.nx) push(n + 1);
+    if (j > 0) push(n - g.nx);
+    if (j + 1 < g.ny) push(n + g.nx);
+  }
+  return zone;
+}
+
+ZoneExtent zone_extent(const Grid& g, const std::vector<std::uint8_t>& zone, const Intruder& in) {
+  ZoneExtent e;
+  for (std::size_t n = 0; n < zone.size(); ++n) {
+    if (!zone[n]) continue;
+    e.area += g.dx * g.dx;
+    const double h = g.y(n / g.nx) - in.top;
+    e.height = std::isnan(e.height) ? h : std::max(e.height, h);
+  }
+  return e;
+}
+
+namespace {
+
+// Least-squares line x = a + b y through the points; fills slope, x at y0, rms.
+void fit_line(const std::vector<double>& ys, const std::vector<double>& xs, double outward, double y0,
+              double min_span, EdgeFit& e) {
+  e.points = static_cast<int>(ys.size());
+  if (ys.size() < 2 || ys.back() - ys.front() < min_span) return;
+  const double n = static_cast<double>(ys.size());
+  const double my = std::accumulate(ys.begin(), ys.end(), 0.0) / n;
+  const double mx = std::accumulate(xs.begin(), xs.end(), 0.0) / n;
+  double syy = 0.0, sxy = 0.0;
+  for (std::size_t k = 0; k < ys.size(); ++k) {
+    syy += (ys[k] - my) * (ys[k] - my);
+    sxy += (ys[k] - my) * (xs[k] - mx);
+  }
+  const double b = sxy / syy, a = mx - b * my;
+  double ss = 0.0;
+  for (std::size_t k = 0; k < ys.size(); ++k) ss += std::pow(xs[k] - (a + b * ys[k]), 2);
+  e.slope = b * outward;
+  e.x_at_y0 = a + b * y0;
+  e.rms = std::sqrt(ss / n);
+  e.beta_deg = std::atan2(1.0, e.slope) * 180.0 / std::numbers::pi;
+}
+
+}  // namespace
+
+double ConeFit::beta_deg() const {
+  const bool l = !std::isnan(left.beta_deg), r = !std::isnan(right.beta_deg);
+  return l && r ? 0.5 * (left.beta_deg + right.beta_deg) : l ? left.beta_deg : r ? right.beta_deg : kNaN;
+}
+
+double ConeFit::wall_y() const {
+  const bool l = left.meets_wall, r = right.meets_wall;
+  return l && r ? 0.5 * (left.wall_y + right.wall_y) : l ? left.wall_y : r ? right.wall_y : kNaN;
+}
+
+ConeFit fit_cone(const Grid& g, const std::vector<std::uint8_t>& zone, const Intruder& in, double y_start,
+                 double min_span) {
+  ConeFit fit;
+  std::vector<double> yl, xl, yr, xr;
+  bool open_l = true, open_r = true;
+  for (std::size_t j = 0; j < g.ny && (open_l || open_r); ++j) {
+    if (g.y(j) < y_start) continue;
+    std::size_t lo = g.nx, hi = 0;
+    for (std::size_t i = 0; i < g.nx; ++i)
+      if (zone[g.at(i, j)]) lo = std::min(lo, i), hi = std::max(hi, i);
+    if (lo == g.nx) break;  // the zone ended below this row
+    if (open_l) {
+      if (lo == 0) {
+        open_l = false, fit.left.meets_wall = true, fit.left.wall_y = g.y(j);
+      } else if (g.x(lo) >= in.xc) {
+        open_l = false;
+      } else {
+        yl.push_back(g.y(j)), xl.push_back(g.x(lo));
+      }
+    }
+    if (open_r) {
+      if (hi == g.nx - 1) {
+        open_r = false, fit.right.meets_wall = true, fit.right.wall_y = g.y(j);
+      } else if (g.x(hi) <= in.xc) {
+        open_r = false;
+      } else {
+        yr.push_back(g.y(j)), xr.push_back(g.x(hi));
+      }
+    }
+  }
+  fit_line(yl, xl, -1.0, y_start, min_span, fit.left);
+  fit_line(yr, xr, +1.0, y_start, min_span, fit.right);
+  return fit;
+}
+
+std::vector<double> wall_profile(const Grid& g, const std::vector<double>& vstar, double x_face, double band) {
+  std::vector<double> out(g.ny, kNaN);
+  for (std::size_t j = 0; j < g.ny; ++j) {
+    double sum = 0.0;
+    int n = 0;
+    for (std::size_t i = 0; i < g.nx; ++i) {
+      const double v = vstar[g.at(i, j)];
+      if (std::abs(g.x(i) - x_face) < band && !std::isnan(v)) sum += v, ++n;
+    }
+    if (n > 0) out[j] = sum / n;
+  }
+  return out;
+}
+
+double mobile_length(const Grid& g, const std::vector<double>& profile, double y_from, double level) {
+  double length = 0.0;
+  for (std::size_t j = 0; j < g.ny; ++j)
+    if (g.y(j) >= y_from && profile[j] >= level) length += g.dx;
+  return length;
+}
+
+double region_mean(const Grid& g, const std::vector<double>& field, double xmin, double xmax, double ymin,
+                   double ymax) {
+  double sum = 0.0;
+  int n = 0;
+  for (std::size_t j = 0; j < g.ny; ++j) {
+    if (g.y(j) < ymin || g.y(j) > ymax) continue;
+    for (std::size_t i = 0; i < g.nx; ++i) {
+      const double v = field[g.at(i, j)];
+      if (g.x(i) >= xmin && g.x(i) <= xmax && !std::isnan(v)) sum += v, ++n;
+    }
+  }
+  return n > 0 ? sum / n : kNaN;
+}
+
+StepFit step_down(const std::vector<double>& heights, const std::vector<bool>& mobile) {
+  std::vector<std::size_t> order(heights.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return heights[a] < heights[b]; });
+  const std::size_t n = order.size();
+  StepFit fit;
+  fit.count = static_cast<int>(n);
+  // errors(s): the s lowest are called mobile, the rest immobile
+  int errors = static_cast<int>(std::count(mobile.begin(), mobile.end(), true));  // s = 0: all called immobile
+  int best = errors;
+  std::vector<std::size_t> best_s = {0};
+  for (std::size_t s = 1; s <= n; ++s) {
+    errors += mobile[order[s - 1]] ? -1 : +1;
+    if (s < n && heights[order[s]] == heights[order[s - 1]]) continue;  // no split between equal heights
+    if (errors < best) best = errors, best_s.assign(1, s);
+    else if (errors == best) best_s.push_back(s);
+  }
+  fit.misclassified = best;
+  std::vector<double> splits;
+  for (const std::size_t s : best_s)
+    if (s > 0 && s < n) splits.push_back(0.5 * (heights[order[s - 1]] + heights[order[s]]));
+  if (!splits.empty()) fit.height = 0.5 * (splits.front() + splits.back());
+  return fit;
+}
+
+}  // namespace dem2d::analysis

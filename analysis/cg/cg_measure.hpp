@@ -1,0 +1,92 @@
+// Measurements on one snapshot's coarse-grained fields: the mobility zones of
+// v* = |V| / V_intruder, the cone's edges and angle, the walls' mobility, the
+// solid fraction in a region. Definitions and reasons: analysis/cg/README.md.
+// SI units (m, m/s, m^2); angles in degrees. A field value NaN means "no
+// velocity there" (outside the bed, see velocity() in cg_field.hpp).
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "cg/cg_field.hpp"
+
+namespace dem2d::analysis {
+
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// A horizontal sphero-line intruder.
+struct Intruder {
+  double xc = 0.0, yc = 0.0;       // centre of the segment (m)
+  double left = 0.0, right = 0.0;  // x of its tips (ends of the caps)
+  double top = 0.0;                // y of its top face
+  double length() const { return right - left; }
+};
+Intruder intruder_of(const Body& b);
+
+// v* = |V - V_frame| / v_ref per node, NaN where V is NaN.
+std::vector<double> speed_ratio(const Velocity& v, double frame_vx, double frame_vy, double v_ref);
+
+// Areas (m^2) of the nodes with v* < lo (immobile), lo <= v* <= hi (cone), v* > hi (dragged).
+struct ZoneAreas {
+  double immobile = 0.0, cone = 0.0, dragged = 0.0;
+};
+ZoneAreas zone_areas(const Grid& g, const std::vector<double>& vstar, double lo, double hi);
+
+// The zone grown from the intruder: nodes with v* >= level, 4-connected to a
+// seed, a node with v* >= level lying over the intruder (left <= x <= right,
+// top <= y <= top + seed_depth). 1 = in the zone.
+std::vector<std::uint8_t> zone_from_intruder(const Grid& g, const std::vector<double>& vstar, double level,
+                                             const Intruder& in, double seed_depth);
+
+// Area (m^2) of a zone and its highest node above the intruder's top face (m; NaN if empty).
+struct ZoneExtent {
+  double area = 0.0, height = kNaN;
+};
+ZoneExtent zone_extent(const Grid& g, const std::vector<std::uint8_t>& zone, const Intruder& in);
+
+// One edge of the mobilised zone, row by row from y_start upwards: the zone's
+// outermost node on that side of the intruder's centre, until the zone leaves
+// the row, reaches the grid's column next to the wall (meets_wall, at wall_y)
+// or crosses the centre. A least-squares line x = a + b y through these points
+// gives beta = atan2(1, b * outward) (degrees from the horizontal; 90 = vertical
+// edge; below 90 the zone widens upwards). NaN if the points span less than min_span.
+struct EdgeFit {
+  double beta_deg = kNaN;
+  double slope = kNaN;   // dx/dy, outward positive
+  double x_at_y0 = kNaN; // the fitted line's x at y_start (m)
+  double rms = kNaN;     // rms distance of the points from the line, along x (m)
+  int points = 0;
+  bool meets_wall = false;
+  double wall_y = kNaN;  // y of the first row where the zone reaches the wall column (m)
+};
+struct ConeFit {
+  EdgeFit left, right;
+  double beta_deg() const;    // mean of the sides that have one (NaN if none)
+  double wall_y() const;      // mean of the sides' wall_y that meet the wall (NaN if none)
+};
+ConeFit fit_cone(const Grid& g, const std::vector<std::uint8_t>& zone, const Intruder& in, double y_start,
+                 double min_span);
+
+// Mean v* over each row's nodes closer than `band` to the wall face x_face
+// (NaN nodes skipped; NaN for a row without any): [ny].
+std::vector<double> wall_profile(const Grid& g, const std::vector<double>& vstar, double x_face, double band);
+// Total height (m) of the rows at y >= y_from whose profile value is >= level.
+double mobile_length(const Grid& g, const std::vector<double>& profile, double y_from, double level);
+
+// Mean of `field` over the nodes inside the rectangle (NaN values skipped; NaN if none).
+double region_mean(const Grid& g, const std::vector<double>& field, double xmin, double xmax, double ymin,
+                   double ymax);
+
+// The height that best separates "mobile" observations (expected below it)
+// from "not mobile" ones (above): the split of the sorted heights with the
+// fewest misclassified observations (a mobile one above or an immobile one
+// below); ties: the middle of the optimal splits. height NaN if all
+// observations are in one class.
+struct StepFit {
+  double height = kNaN;
+  int misclassified = 0, count = 0;
+};
+StepFit step_down(const std::vector<double>& heights, const std::vector<bool>& mobile);
+
+}  // namespace dem2d::analysis

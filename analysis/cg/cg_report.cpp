@@ -1,0 +1,462 @@
+#include "cg/cg_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace dem2d::analysis {
+
+namespace {
+
+constexpr double kMm = 1e3;
+constexpr double kDeg = 180.0 / std::numbers::pi;
+using json = nlohmann::ordered_json;
+
+double mean_of(const std::vector<double>& v, std::size_t* count = nullptr) {
+  double s = 0.0;
+  std::size_t n = 0;
+  for (const double x : v)
+    if (!std::isnan(x)) s += x, ++n;
+  if (count) *count = n;
+  return n ? s / static_cast<double>(n) : kNaN;
+}
+
+double std_of(const std::vector<double>& v) {
+  std::size_t n = 0;
+  const double m = mean_of(v, &n);
+  if (n < 2) return kNaN;
+  double s = 0.0;
+  for (const double x : v)
+    if (!std::isnan(x)) s += (x - m) * (x - m);
+  return std::sqrt(s / static_cast<double>(n - 1));
+}
+
+// The cone over a selection of snapshots: the fitted angle; where the edges
+// meet the walls (above the intruder's centre) and the angle of the chord from
+// the tip to that point, atan(meet / half_gap); how far outside the tips the
+// fitted lines pass at the intruder's top face.
+struct BetaStats {
+  double mean = kNaN, sd = kNaN, left = kNaN, right = kNaN;
+  std::size_t count = 0;
+  double meet = kNaN, chord = kNaN, offset = kNaN;
+  std::size_t meet_count = 0;
+};
+
+BetaStats beta_stats(const std::vector<SnapshotMeasure>& ms, const std::vector<std::size_t>& sel, std::size_t src,
+                     std::size_t cone, double half_gap) {
+  std::vector<double> b, l, r, meet, chord, offset;
+  for (const std::size_t k : sel) {
+    const SourceMeasure& s = ms[k].src[src];
+    if (!s.valid) continue;
+    const ConeFit& c = s.cone[cone];
+    const Intruder& in = ms[k].intruder;
+    b.push_back(c.beta_deg());
+    l.push_back(c.left.beta_deg);
+    r.push_back(c.right.beta_deg);
+    meet.push_back(c.wall_y() - in.yc);
+    chord.push_back(std::atan2(meet.back(), half_gap) * kDeg);
+    offset.push_back(mean_of({in.left - c.left.x_at_y0, c.right.x_at_y0 - in.right}));
+  }
+  BetaStats st;
+  st.mean = mean_of(b, &st.count);
+  st.sd = std_of(b);
+  st.left = mean_of(l);
+  st.right = mean_of(r);
+  st.meet = mean_of(meet, &st.meet_count);
+  st.chord = mean_of(chord);
+  st.offset = mean_of(offset);
+  return st;
+}
+
+// Wall mobility lost: the intruder height separating loading snapshots whose
+// walls move (mean mobile length of the two walls >= min_length) from those whose walls do not.
+struct WallLoss {
+  StepFit fit;
+  double depth = kNaN, surface = kNaN;  // surface - height at the loss (m)
+  std::size_t mobile = 0;
+};
+
+WallLoss wall_loss(const std::vector<SnapshotMeasure>& ms, const std::vector<std::size_t>& sel, std::size_t src,
+                   std::size_t wall_index, double min_length) {
+  std::vector<double> h;
+  std::vector<bool> mob;
+  std::vector<std::size_t> used;
+  for (const std::size_t k : sel) {
+    const SnapshotMeasure& m = ms[k];
+    if (!m.src[src].valid || m.intruder.top - m.intruder.yc + m.height >= m.surface) continue;  // out of the bed
+    const double len = 0.5 * (m.src[src].wall_left[wall_index] + m.src[src].wall_right[wall_index]);
+    h.push_back(m.height);
+    mob.push_back(len >= min_length && len > 0.0);
+    used.push_back(k);
+  }
+  WallLoss w;
+  w.fit = step_down(h, mob);
+  w.mobile = static_cast<std::size_t>(std::count(mob.begin(), mob.end(), true));
+  if (!std::isnan(w.fit.height)) {
+    // the free surface of the loading snapshot nearest in height
+    std::size_t best = 0;
+    for (std::size_t q = 1; q < h.size(); ++q)
+      if (std::abs(h[q] - w.fit.height) < std::abs(h[best] - w.fit.height)) best = q;
+    w.surface = ms[used[best]].surface;
+    w.depth = w.surface - w.fit.height;
+  }
+  return w;
+}
+
+nlohmann::ordered_json nullable(double v) { return std::isnan(v) ? nlohmann::ordered_json() : nlohmann::ordered_json(v); }
+
+
+// The snapshots the cone and wall metrics use: the pre-rupture ones with events, else all.
+std::vector<std::size_t> selection(const StageRecord& r, bool all) {
+  std::vector<std::size_t> sel;
+  if (all || !r.have_events) {
+    for (std::size_t k = 0; k < r.ms.size(); ++k) sel.push_back(k);
+  } else {
+    for (const std::int64_t k : r.pre)
+      if (k >= 0) sel.push_back(static_cast<std::size_t>(k));
+  }
+  return sel;
+}
+
+double half_gap(const Setup& su) { return 0.5 * ((su.cell.right - su.cell.left) - su.start.length()); }
+
+}  // namespace
+
+std::int64_t first_after_travel(const std::vector<double>& heights, double travel) {
+  for (std::size_t k = 0; k < heights.size(); ++k)
+    if (heights[k] - heights[0] >= travel) return static_cast<std::int64_t>(k);
+  return -1;
+}
+
+json cg_metrics(const StageRecord& r) {
+  const Setup& su = r.setup;
+  const CgConfig& c = r.config;
+  const std::vector<SnapshotMeasure>& ms = r.ms;
+  const std::vector<double>& times = r.times;
+  const std::vector<double>& heights = r.heights;
+  const std::size_t S = ms.size(), primary = r.primary;
+  const std::vector<std::size_t> all = selection(r, true), sel = selection(r, false);
+  const std::size_t nstart = su.starts.size(), nband = su.bands.size();
+  const std::size_t cone0 = su.cone0(), wall0 = su.wall0();
+  const double gap = half_gap(su), dx = su.grid.dx;
+  const BetaStats beta = beta_stats(ms, sel, primary, cone0, gap);
+  const double hc_beta = gap * std::tan(beta.mean / kDeg);
+  const WallLoss wall = wall_loss(ms, sel, primary, wall0, c.wall_min_mobile_d * su.d);
+
+  // dilatancy: the region following the intruder, before (snapshot 0) and after `after_travel`
+  const auto dphi = [&](std::int64_t k, std::size_t h, bool follow) {
+    if (k < 0) return kNaN;
+    const auto& v0 = follow ? ms[0].phi_follow : ms[0].phi_fixed;
+    const auto& v1 = follow ? ms[static_cast<std::size_t>(k)].phi_follow : ms[static_cast<std::size_t>(k)].phi_fixed;
+    return v1[h] - v0[h];
+  };
+
+  json m;
+  m["cone_angle_deg"] = nullable(beta.mean);
+  m["wall_mobility_length_mm"] = nullable(wall.depth * kMm);
+  m["dilatancy_delta_phi"] = nullable(dphi(r.after, su.height0, true));
+  m["velocity_source"] = kSourceName[primary];
+  m["velocity_note"] =
+      primary == kPiv ? "every metric uses PIV-like velocities: each grain's displacement over the displacement_window "
+                        "before the snapshot divided by it; the instantaneous ones appear in the sensitivity tables"
+      : r.has_piv ? "every metric uses the instantaneous velocities (/snapshots/velocity), as configured"
+                : "the run file has no displacements (/snapshots/displacement absent or displacement_window = 0): "
+                  "every metric uses the instantaneous velocities (/snapshots/velocity), which carry the bed's ringing";
+  m["loading_selection"] = r.have_events ? "pre_rupture" : "all_snapshots";
+  m["loading_note"] =
+      r.have_events ? "cone and wall metrics over the snapshots just before each rupture: the last snapshot k with "
+                    "load_start_time <= t_k - displacement_window and t_k <= peak_time of each event"
+                  : "no --events file: cone and wall metrics over all snapshots (loading and slip frames mixed)";
+  m["events"] = r.have_events ? json(r.events.size()) : json();
+  m["events_with_snapshot"] = r.have_events ? sel.size() : 0;
+  m["cone_angle_sd_deg"] = nullable(beta.sd);
+  m["cone_angle_snapshots"] = beta.count;
+  m["cone_angle_left_deg"] = nullable(beta.left);
+  m["cone_angle_right_deg"] = nullable(beta.right);
+  m["cone_opening_angle_deg"] = nullable(180.0 - 2.0 * beta.mean);
+  m["cone_angle_all_snapshots_deg"] = nullable(beta_stats(ms, all, primary, cone0, gap).mean);
+  m["cone_wall_meet_above_intruder_mm"] = nullable(beta.meet * kMm);
+  m["cone_wall_meet_snapshots"] = beta.meet_count;
+  m["cone_angle_from_wall_meet_deg"] = nullable(beta.chord);
+  m["cone_edge_offset_at_intruder_mm"] = nullable(beta.offset * kMm);
+  m["wall_mobility_length_from_beta_mm"] = nullable(hc_beta * kMm);
+  m["wall_mobility_loss_height_mm"] = nullable(wall.fit.height * kMm);
+  m["wall_mobility_surface_mm"] = nullable(wall.surface * kMm);
+  m["wall_mobility_snapshots"] = wall.fit.count;
+  m["wall_mobility_mobile_snapshots"] = wall.mobile;
+  m["wall_mobility_misclassified"] = wall.fit.misclassified;
+  m["half_gap_mm"] = gap * kMm;
+  {
+    const std::size_t h0 = su.height0;
+    const std::int64_t k_after = r.after;
+    m["dilatancy_phi_before"] = nullable(ms[0].phi_follow[h0]);
+    m["dilatancy_phi_after"] = k_after >= 0 ? nullable(ms[static_cast<std::size_t>(k_after)].phi_follow[h0]) : json();
+    m["dilatancy_time_after_s"] = k_after >= 0 ? json(times[static_cast<std::size_t>(k_after)]) : json();
+    m["dilatancy_travel_after_mm"] =
+        k_after >= 0 ? json((heights[static_cast<std::size_t>(k_after)] - heights[0]) * kMm) : json();
+    m["dilatancy_region_mm"] = {c.region_width_L * su.start.length() * kMm, c.region_offset_w * su.kernel.w * kMm,
+                                su.heights[h0] * kMm};
+    if (r.have_events && r.events.size() > 0) {
+      // the first snapshot after the end of the first rupture's drop
+      const Events& events = r.events;
+      const auto first = std::min_element(events.peak.begin(), events.peak.end()) - events.peak.begin();
+      std::int64_t k_drop = -1;
+      for (std::size_t k = 0; k < S && k_drop < 0; ++k)
+        if (times[k] >= events.drop_end[static_cast<std::size_t>(first)]) k_drop = static_cast<std::int64_t>(k);
+      m["dilatancy_delta_phi_after_first_rupture"] = nullable(dphi(k_drop, h0, true));
+    }
+  }
+  // zones over the selected snapshots
+  {
+    std::vector<double> im, co, dr, red, mob;
+    for (const std::size_t k : sel) {
+      const SourceMeasure& s = ms[k].src[primary];
+      if (!s.valid) continue;
+      im.push_back(s.zones.immobile), co.push_back(s.zones.cone), dr.push_back(s.zones.dragged);
+      red.push_back(s.red.height), mob.push_back(s.mobile.area);
+    }
+    m["zone_area_immobile_mm2"] = nullable(mean_of(im) * kMm * kMm);
+    m["zone_area_cone_mm2"] = nullable(mean_of(co) * kMm * kMm);
+    m["zone_area_dragged_mm2"] = nullable(mean_of(dr) * kMm * kMm);
+    m["red_zone_extent_mm"] = nullable(mean_of(red) * kMm);
+    m["mobilised_zone_area_mm2"] = nullable(mean_of(mob) * kMm * kMm);
+  }
+  // per band of intruder height
+  {
+    json bands = json::array();
+    for (std::size_t b = 0; b + 1 < c.bands_mm.size(); ++b) {
+      std::vector<std::size_t> in_band;
+      std::vector<double> red, cone_area;
+      for (const std::size_t k : sel)
+        if (ms[k].height * kMm >= c.bands_mm[b] && ms[k].height * kMm < c.bands_mm[b + 1]) {
+          in_band.push_back(k);
+          if (ms[k].src[primary].valid)
+            red.push_back(ms[k].src[primary].red.height), cone_area.push_back(ms[k].src[primary].zones.cone);
+        }
+      const BetaStats bs = beta_stats(ms, in_band, primary, cone0, gap);
+      bands.push_back({{"height_mm", {c.bands_mm[b], c.bands_mm[b + 1]}},
+                       {"snapshots", in_band.size()},
+                       {"cone_angle_deg", nullable(bs.mean)},
+                       {"cone_angle_sd_deg", nullable(bs.sd)},
+                       {"cone_angle_snapshots", bs.count},
+                       {"red_zone_extent_mm", nullable(mean_of(red) * kMm)},
+                       {"zone_area_cone_mm2", nullable(mean_of(cone_area) * kMm * kMm)}});
+    }
+    m["by_height_band"] = bands;
+  }
+  // ringing: the median v* over the bed (most of it immobile) in the selected snapshots
+  for (const std::size_t set : {kInst, kPiv}) {
+    std::vector<double> med;
+    for (const std::size_t k : sel)
+      if (ms[k].src[set].valid) med.push_back(ms[k].src[set].median_vstar);
+    m[std::string("median_vstar_") + kSourceName[set]] = nullable(mean_of(med));
+  }
+  // sensitivity: one parameter at a time around the configured values
+  {
+    json beta_rows = json::array(), wall_rows = json::array(), dil_rows = json::array();
+    for (const std::size_t set : {kInst, kPiv}) {
+      if (set == kPiv && !r.has_piv) continue;
+      for (std::size_t l = 0; l < su.levels.size(); ++l)
+        for (std::size_t st = 0; st < nstart; ++st) {
+          if (l != su.level0 && st != su.start0) continue;
+          const BetaStats a = beta_stats(ms, sel, set, l * nstart + st, gap);
+          const BetaStats b = beta_stats(ms, all, set, l * nstart + st, gap);
+          beta_rows.push_back({{"velocity", kSourceName[set]},
+                               {"level", su.levels[l]},
+                               {"fit_start_w", su.starts[st] / su.kernel.w},
+                               {"cone_angle_deg", nullable(a.mean)},
+                               {"sd_deg", nullable(a.sd)},
+                               {"snapshots", a.count},
+                               {"cone_angle_all_snapshots_deg", nullable(b.mean)},
+                               {"cone_angle_from_wall_meet_deg", nullable(a.chord)},
+                               {"wall_meet_snapshots", a.meet_count},
+                               {"wall_mobility_length_from_beta_mm", nullable(gap * std::tan(a.mean / kDeg) * kMm)}});
+        }
+      for (std::size_t l = 0; l < su.levels.size(); ++l)
+        for (std::size_t b = 0; b < nband; ++b) {
+          if (l != su.level0 && b != su.band0) continue;
+          const WallLoss w = wall_loss(ms, sel, set, l * nband + b, c.wall_min_mobile_d * su.d);
+          wall_rows.push_back({{"velocity", kSourceName[set]},
+                               {"level", su.levels[l]},
+                               {"band_d", su.bands[b] / su.d},
+                               {"wall_mobility_length_mm", nullable(w.depth * kMm)},
+                               {"loss_height_mm", nullable(w.fit.height * kMm)},
+                               {"misclassified", w.fit.misclassified},
+                               {"snapshots", w.fit.count}});
+        }
+    }
+    for (const double t : c.after_travels_d)
+      for (std::size_t h = 0; h < su.heights.size(); ++h)
+        for (const bool follow : {true, false}) {
+          if ((t != c.after_travel_d && h != su.height0) || (!follow && (t != c.after_travel_d || h != su.height0)))
+            continue;
+          dil_rows.push_back({{"after_travel_d", t},
+                              {"region_height_d", su.heights[h] / su.d},
+                              {"region", follow ? "following the intruder" : "fixed at its start position"},
+                              {"delta_phi", nullable(dphi(first_after_travel(heights, t * su.d), h, follow))}});
+        }
+    m["sensitivity"] = {{"cone_angle", beta_rows}, {"wall_mobility", wall_rows}, {"dilatancy", dil_rows}};
+  }
+  m["grid"] = {{"nx", su.grid.nx},
+               {"ny", su.grid.ny},
+               {"spacing_mm", dx * kMm},
+               {"width_mm", (su.cell.right - su.cell.left) * kMm},
+               {"height_mm", static_cast<double>(su.grid.ny) * dx * kMm},
+               {"w_mm", su.kernel.w * kMm},
+               {"w_over_dx", su.kernel.w / dx},
+               {"cutoff_mm", su.kernel.radius() * kMm},
+               {"mean_diameter_mm", su.d * kMm},
+               {"phi_ref", su.phi_ref},
+               {"mask_phi", su.min_phi},
+               {"frame", "fixed grid (lab frame); intruder-frame velocities are V - V_intruder on the same nodes"}};
+  m["intruder_speed_mm_s"] = su.v_ref * kMm;
+  m["displacement_window_s"] = su.window;
+  m["snapshots"] = S;
+  m["snapshots_with_piv"] = static_cast<std::size_t>(std::count(r.piv_ok.begin(), r.piv_ok.end(), 1));
+  m["field_snapshots"] = r.fields_at.size();
+  m["cost"] = {{"seconds", r.seconds},
+               {"seconds_per_snapshot", r.seconds / static_cast<double>(S)},
+               {"coarse_graining_seconds_per_snapshot", r.cg_seconds / static_cast<double>(S)},
+               {"threads", r.threads}};
+  m["run_file"] = r.run_path;
+  m["events_file"] = r.events_path;
+  m["config_file"] = r.config_path;
+
+  return m;
+}
+
+std::vector<Dataset> cg_datasets(const StageRecord& r) {
+  const Setup& su = r.setup;
+  const std::vector<SnapshotMeasure>& ms = r.ms;
+  const std::size_t S = ms.size();
+  const double dx = su.grid.dx;
+  const std::size_t cone0 = su.cone0(), wall0 = su.wall0();
+  std::vector<Dataset> D;
+  const auto f64 = [&](std::string name, std::string unit, std::vector<double> v, std::vector<hsize_t> dims = {},
+                       std::string about = "") {
+    Dataset d{Dataset::Type::f64, std::move(name), std::move(unit), std::move(about), std::move(dims), {}, std::move(v), {}};
+    D.push_back(std::move(d));
+  };
+  const auto f32 = [&](std::string name, std::string unit, std::vector<float> v, std::vector<hsize_t> dims,
+                       std::string about = "") {
+    Dataset d{Dataset::Type::f32, std::move(name), std::move(unit), std::move(about), std::move(dims), std::move(v), {}, {}};
+    D.push_back(std::move(d));
+  };
+  const auto i64 = [&](std::string name, std::vector<std::int64_t> v, std::string about = "") {
+    Dataset d{Dataset::Type::i64, std::move(name), "", std::move(about), {}, {}, {}, std::move(v)};
+    D.push_back(std::move(d));
+  };
+  const auto per = [&](auto get) {
+    std::vector<double> v(S);
+    for (std::size_t k = 0; k < S; ++k) v[k] = get(ms[k]);
+    return v;
+  };
+  const Grid& g = su.grid;
+  std::vector<double> gx(g.nx), gy(g.ny);
+  for (std::size_t i = 0; i < g.nx; ++i) gx[i] = g.x(i);
+  for (std::size_t j = 0; j < g.ny; ++j) gy[j] = g.y(j);
+  const auto S_ = static_cast<hsize_t>(S), NX = static_cast<hsize_t>(g.nx), NY = static_cast<hsize_t>(g.ny);
+  f64("grid/x", "m", gx, {}, "node x (run-file frame)");
+  f64("grid/y", "m", gy, {}, "node y (run-file frame); the floor's face is at attribute floor_y");
+  f64("snapshots/time", "s", r.times);
+  f64("snapshots/intruder_height", "m", per([](const SnapshotMeasure& x) { return x.height; }), {},
+      "intruder centre above the floor's face");
+  f64("snapshots/surface_height", "m", per([](const SnapshotMeasure& x) { return x.surface; }), {},
+      "free surface above the floor: mean over columns ~d wide of the highest grain top");
+  f64("snapshots/phi_region", "-", per([&](const SnapshotMeasure& x) { return x.phi_follow[su.height0]; }), {},
+      "solid fraction in the dilatancy region following the intruder");
+  i64("snapshots/piv_valid", std::vector<std::int64_t>(r.piv_ok.begin(), r.piv_ok.end()),
+      "1 if the snapshot has PIV-like velocities (every active grain has a displacement)");
+  {
+    std::vector<std::int64_t> ev(S, -1);
+    for (std::size_t e = 0; e < r.pre.size(); ++e)
+      if (r.pre[e] >= 0) ev[static_cast<std::size_t>(r.pre[e])] = static_cast<std::int64_t>(e);
+    i64("snapshots/pre_rupture_event", ev, "event whose loading phase this snapshot ends, -1 if none");
+  }
+  for (const std::size_t set : {kInst, kPiv}) {
+    const std::string p = std::string("snapshots/") + kSourceName[set] + "/";
+    const auto src = [&](auto get) {
+      return per([&](const SnapshotMeasure& x) { return x.src[set].valid ? get(x.src[set]) : kNaN; });
+    };
+    f64(p + "area_immobile", "m^2", src([](const SourceMeasure& s) { return s.zones.immobile; }));
+    f64(p + "area_cone", "m^2", src([](const SourceMeasure& s) { return s.zones.cone; }));
+    f64(p + "area_dragged", "m^2", src([](const SourceMeasure& s) { return s.zones.dragged; }));
+    f64(p + "red_extent", "m", src([](const SourceMeasure& s) { return s.red.height; }), {},
+        "highest node of the dragged zone grown from the intruder, above its top face");
+    f64(p + "beta", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].beta_deg(); }));
+    f64(p + "beta_left", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].left.beta_deg; }));
+    f64(p + "beta_right", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].right.beta_deg; }));
+    f64(p + "wall_meet_y", "m", src([&](const SourceMeasure& s) { return s.cone[cone0].wall_y(); }), {},
+        "y where the cone's edge reaches the wall column (mean of the sides that do)");
+    f64(p + "wall_mobile_left", "m", src([&](const SourceMeasure& s) { return s.wall_left[wall0]; }));
+    f64(p + "wall_mobile_right", "m", src([&](const SourceMeasure& s) { return s.wall_right[wall0]; }));
+    f64(p + "median_vstar", "-", src([](const SourceMeasure& s) { return s.median_vstar; }));
+  }
+  const auto rows = [&](auto get) {
+    std::vector<float> v;
+    v.reserve(S * g.ny);
+    for (const SnapshotMeasure& x : ms) {
+      const std::vector<float>& row = get(x);
+      v.insert(v.end(), row.begin(), row.end());
+    }
+    return v;
+  };
+  f32("profiles/centre_vy_instantaneous", "m/s", rows([](const SnapshotMeasure& x) -> const auto& { return x.centre_vy[kInst]; }), {S_, NY},
+      "vertical velocity (lab frame) along the node column through the intruder's centre (attribute centre_x)");
+  f32("profiles/centre_vy_piv", "m/s", rows([](const SnapshotMeasure& x) -> const auto& { return x.centre_vy[kPiv]; }), {S_, NY});
+  f32("profiles/centre_phi", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.centre_phi; }), {S_, NY});
+  f32("profiles/wall_vstar_left", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_vstar[0]; }), {S_, NY},
+      "mean v* of the nodes within wall.band_d of the left wall, per row (velocity_source)");
+  f32("profiles/wall_vstar_right", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_vstar[1]; }), {S_, NY});
+  {
+    std::vector<double> tx(su.tip_nx), ty(su.tip_ny);
+    for (std::size_t a = 0; a < su.tip_nx; ++a) tx[a] = (static_cast<double>(a) - static_cast<double>(su.tip_nx / 2)) * dx;
+    for (std::size_t b = 0; b < su.tip_ny; ++b) ty[b] = (static_cast<double>(b) - static_cast<double>(su.tip_ny / 2)) * dx;
+    f64("tips/dx", "m", tx, {}, "node offsets from the intruder's centre (window snapped to the nearest node)");
+    f64("tips/dy", "m", ty);
+    const hsize_t TY = su.tip_ny, TX = su.tip_nx;
+    for (const std::size_t set : {kInst, kPiv})
+      for (int comp = 0; comp < 2; ++comp) {
+        std::vector<float> v;
+        for (const SnapshotMeasure& x : ms) v.insert(v.end(), x.tip[set][comp].begin(), x.tip[set][comp].end());
+        f32(std::string("tips/") + (comp ? "vy_" : "vx_") + kSourceName[set], "m/s", std::move(v), {S_, TY, TX},
+            "velocity in the intruder's frame (V - V_intruder) around the intruder");
+      }
+  }
+  {
+    const auto F = static_cast<hsize_t>(r.fields_at.size());
+    std::vector<std::int64_t> idx(r.fields_at.begin(), r.fields_at.end());
+    i64("fields/snapshot", idx, "snapshot index of each stored field");
+    std::vector<float> phi;
+    std::vector<float> v[2][2];
+    for (const std::size_t k : r.fields_at) {
+      phi.insert(phi.end(), ms[k].phi_field.begin(), ms[k].phi_field.end());
+      for (int set = 0; set < 2; ++set)
+        for (int comp = 0; comp < 2; ++comp) v[set][comp].insert(v[set][comp].end(), ms[k].v_field[set][comp].begin(), ms[k].v_field[set][comp].end());
+    }
+    f32("fields/phi", "-", std::move(phi), {F, NY, NX}, "solid fraction; the mass density is rho = grain_density (root attribute) * phi");
+    for (const std::size_t set : {kInst, kPiv})
+      for (int comp = 0; comp < 2; ++comp)
+        f32(std::string("fields/") + (comp ? "vy_" : "vx_") + kSourceName[set], "m/s", std::move(v[set][comp]),
+            {F, NY, NX}, "lab-frame velocity V = p/rho, NaN where phi < mask_phi");
+  }
+  if (r.have_events) {
+    f64("events/peak_time", "s", r.events.peak);
+    i64("events/pre_rupture_snapshot", r.pre, "the snapshot just before the rupture, -1 if none");
+  }
+  return D;
+}
+
+std::vector<std::pair<std::string, std::string>> cg_attributes(const StageRecord& r, const json& metrics) {
+  const Grid& g = r.setup.grid;
+  return {{"format", "dem2d-cg-1"},
+          {"run_file", r.run_path},
+          {"velocity_source", kSourceName[r.primary]},
+          {"metrics", metrics.dump()},
+          {"floor_y", std::to_string(r.setup.cell.floor)},
+          {"grain_density", std::to_string(r.setup.grain_density)},
+          {"centre_x", std::to_string(g.x(r.setup.centre_i))}};
+}
+
+
+}  // namespace dem2d::analysis

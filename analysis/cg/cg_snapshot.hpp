@@ -1,0 +1,70 @@
+// One snapshot in the stage `cg`: its coarse-grained fields measured (zones,
+// cone fits for every sensitivity value, wall mobility, the dilatancy region's
+// solid fraction) and what cg.h5 keeps of it (profiles, the intruder-frame
+// window, full fields). Definitions: analysis/cg/README.md.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "bed/bed_metrics.hpp"
+#include "cg/cg_config.hpp"
+#include "cg/cg_field.hpp"
+#include "cg/cg_measure.hpp"
+
+namespace dem2d::analysis {
+
+// The velocity sets: instantaneous (/snapshots/velocity) and PIV-like (displacement / window).
+inline constexpr std::size_t kInst = 0, kPiv = 1;
+inline constexpr const char* kSourceName[2] = {"instantaneous", "piv"};
+
+// Everything the measurement of a snapshot needs that does not change along the run.
+struct Setup {
+  Grid grid;
+  Kernel kernel;
+  Cell cell;
+  double d = 0.0;             // mean grain diameter (m)
+  double grain_density = 0.0; // kg/m^3: rho = grain_density * phi
+  double v_ref = 0.0;         // intruder speed (m/s)
+  double frame_vx = 0.0, frame_vy = 0.0;  // intruder velocity (m/s)
+  double phi_ref = 0.0;       // bulk solid fraction at snapshot 0
+  double min_phi = 0.0;       // nodes below have no velocity
+  double window = 0.0;        // PIV window (s)
+  Intruder start;             // the intruder at snapshot 0
+  std::size_t centre_i = 0;   // node column through the intruder's centre
+  std::size_t tip_nx = 0, tip_ny = 0;
+  std::vector<double> levels, starts, bands, heights;  // sensitivity values (v*, m, m, m)
+  std::size_t level0 = 0, start0 = 0, band0 = 0, height0 = 0;  // indices of the primary values
+  // SourceMeasure::cone is [level][start], wall_left/right [level][band]: the primary entries
+  std::size_t cone0() const { return level0 * starts.size() + start0; }
+  std::size_t wall0() const { return level0 * bands.size() + band0; }
+};
+
+// One velocity source of one snapshot.
+struct SourceMeasure {
+  bool valid = false;
+  ZoneAreas zones;
+  ZoneExtent red, mobile;                 // zones grown from the intruder (dragged; v* >= primary level)
+  std::vector<ConeFit> cone;              // [level][start]
+  std::vector<double> wall_left, wall_right;  // mobile length (m) [level][band]
+  double median_vstar = kNaN;
+};
+
+struct SnapshotMeasure {
+  double time = 0.0, height = 0.0, surface = 0.0;  // intruder centre and free surface above the floor (m)
+  Intruder intruder;
+  SourceMeasure src[2];                       // [kInst, kPiv]
+  std::vector<double> phi_follow, phi_fixed;  // [region height]
+  // per-snapshot profiles and the intruder-frame window (float32 for cg.h5)
+  std::vector<float> centre_vy[2], centre_phi, wall_vstar[2], tip[2][2];
+  // full fields (only for the selected snapshots)
+  std::vector<float> phi_field, v_field[2][2];
+};
+
+// Measures snapshot s (intruder `in`) on its (averaged) fields f; `piv`: the
+// PIV set of f is valid; `full_fields`: keep the 2D fields; `primary`: the set
+// whose wall profiles are kept.
+SnapshotMeasure measure_snapshot(const Setup& su, const CgConfig& c, const Fields& f, bool piv, const Snapshot& s,
+                                 const Intruder& in, bool full_fields, std::size_t primary);
+
+}  // namespace dem2d::analysis

@@ -1,0 +1,345 @@
+#include "cg/cg_stage.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <filesystem>
+#include <numbers>
+#include <set>
+
+#include "cg/cg_report.hpp"
+#include "common/output.hpp"
+#include "io/h5.hpp"
+#include "io/run_reader.hpp"
+
+namespace dem2d::analysis {
+
+namespace {
+
+constexpr double kMm = 1e3;
+
+std::string mm(double m) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.4g mm", m * kMm);
+  return b;
+}
+
+// The index of v in values, appending it if absent.
+std::size_t with(std::vector<double>& values, double v) {
+  const auto it = std::find(values.begin(), values.end(), v);
+  if (it != values.end()) return static_cast<std::size_t>(it - values.begin());
+  values.push_back(v);
+  return values.size() - 1;
+}
+
+const Body& intruder_body(const Snapshot& s, const Study& study, const std::string& path) {
+  const int b = s.find_body(study.intruder);
+  if (b < 0) throw CgError(path + ": no body named '" + study.intruder + "' (the intruder)");
+  return s.bodies[static_cast<std::size_t>(b)];
+}
+
+// The grains with their instantaneous velocities and, if given, a second set (PIV-like).
+Grains grains_of(const Snapshot& s, const std::vector<Vec2>* piv) {
+  Grains g{s.position, s.mass, s.diameter, s.active, {s.velocity}};
+  if (piv) g.velocities.emplace_back(*piv);
+  return g;
+}
+
+// PIV-like velocities displacement / window (ok = false and zeros if an active grain has none).
+struct PivVelocities {
+  bool ok = true;
+  std::vector<Vec2> v;
+};
+PivVelocities piv_velocities(const Snapshot& s, const std::vector<Vec2>& disp, double window) {
+  PivVelocities p{true, std::vector<Vec2>(disp.size())};
+  for (std::size_t i = 0; i < disp.size() && p.ok; ++i)
+    if (s.active[i]) {
+      p.ok = std::isfinite(disp[i].x) && std::isfinite(disp[i].y);
+      p.v[i] = {disp[i].x / window, disp[i].y / window};
+    }
+  if (!p.ok) p.v.assign(disp.size(), Vec2{});
+  return p;
+}
+
+// The snapshots whose full fields are stored: the pre-rupture ones, one every
+// `every` of travel, snapshot 0 and `extra`; evenly thinned to at most `max`.
+std::vector<std::size_t> field_snapshots(const std::vector<double>& heights, const std::vector<std::int64_t>& pre,
+                                         double every, std::size_t max, std::size_t extra) {
+  std::set<std::size_t> chosen = {0, extra};
+  for (const std::int64_t k : pre)
+    if (k >= 0) chosen.insert(static_cast<std::size_t>(k));
+  if (every > 0.0) {
+    double next = heights.front();
+    for (std::size_t k = 0; k < heights.size(); ++k)
+      if (heights[k] >= next) chosen.insert(k), next = heights[k] + every;
+  }
+  std::vector<std::size_t> all(chosen.begin(), chosen.end());
+  if (all.size() <= max) return all;
+  std::vector<std::size_t> out;
+  for (std::size_t q = 0; q < max; ++q)
+    out.push_back(all[static_cast<std::size_t>(std::llround(static_cast<double>(q) * static_cast<double>(all.size() - 1) /
+                                                            static_cast<double>(std::max<std::size_t>(max - 1, 1))))]);
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+// Everything about the run that does not change along it, from snapshot 0:
+// the cell, d, the intruder and its velocity, kernel, grid, phi_ref, the
+// sensitivity values.
+Setup make_setup(const RunReader& run, const Snapshot& s0, const CgInput& in) {
+  const CgConfig& c = in.config;
+  const std::string& path = run.path();
+  Setup su;
+  BedConfig names;
+  names.left = in.study.left, names.right = in.study.right, names.floor = in.study.floor;
+  names.intruder = in.study.intruder;
+  try {
+    su.cell = find_cell(s0, names);
+    su.d = mean_active_diameter(s0);
+    su.grain_density = s0.mass.empty() ? 0.0 : s0.mass[0] / (std::numbers::pi * s0.diameter[0] * s0.diameter[0] / 4.0);
+  } catch (const BedError& e) {
+    throw CgError(path + ": " + e.what());
+  }
+  su.start = intruder_of(intruder_body(s0, in.study, path));
+  {
+    const std::vector<std::string> bn = h5::read_strings(run.file(), "bodies/name");
+    const std::vector<double> bv = h5::read<double>(run.file(), "bodies/velocity");
+    const auto b = static_cast<std::size_t>(std::find(bn.begin(), bn.end(), in.study.intruder) - bn.begin());
+    su.frame_vx = bv.at(2 * b), su.frame_vy = bv.at(2 * b + 1);
+    su.v_ref = std::hypot(su.frame_vx, su.frame_vy);
+    if (!(su.v_ref > 0.0)) throw CgError(path + ": the intruder '" + in.study.intruder + "' does not move (/bodies/velocity = 0): no v* = |V|/V_intruder");
+  }
+  // the kernel and the grid: the settings applied to this run's grains and cell
+  const double dx = c.spacing_mm / kMm;
+  double height = 0.0;
+  try {
+    su.kernel = make_kernel(c.w_over_d * su.d, c.cutoff_over_w);
+    double top = su.cell.floor;
+    for (std::size_t i = 0; i < s0.size(); ++i)
+      if (s0.active[i]) top = std::max(top, s0.position[i].y + 0.5 * s0.diameter[i]);
+    height = c.height_mm > 0.0 ? c.height_mm / kMm : std::ceil((top - su.cell.floor + su.kernel.radius()) / dx) * dx;
+    su.grid = make_grid(su.cell.left, su.cell.right, su.cell.floor, su.cell.floor + height, dx);
+  } catch (const CgError& e) {
+    throw CgError((in.config_path.empty() ? std::string("config") : in.config_path) + " with " + path + ": " + e.what());
+  }
+  su.window = run.displacement_window();
+  su.centre_i = static_cast<std::size_t>(
+      std::clamp(std::round((su.start.xc - su.grid.x0) / dx), 0.0, static_cast<double>(su.grid.nx - 1)));
+  su.tip_nx = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(c.tip_window_width_mm / kMm / dx)));
+  su.tip_ny = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(c.tip_window_height_mm / kMm / dx)));
+  su.levels = c.levels, su.level0 = with(su.levels, c.level);
+  for (const double v : c.fit_starts_w) su.starts.push_back(v * su.kernel.w);
+  su.start0 = with(su.starts, c.fit_start_w * su.kernel.w);
+  for (const double v : c.wall_bands_d) su.bands.push_back(v * su.d);
+  su.band0 = with(su.bands, c.wall_band_d * su.d);
+  for (const double v : c.region_heights_d) su.heights.push_back(v * su.d);
+  su.height0 = with(su.heights, c.region_height_d * su.d);
+
+  // reference solid fraction: the bulk of the bed at snapshot 0, cut-off radius from every boundary
+  {
+    const Fields f0 = coarse_grain(su.grid, su.kernel, grains_of(s0, nullptr));
+    Region bulk;
+    try {
+      bulk = bulk_region(su.cell, bed_surface(s0, su.cell, su.d).height, su.kernel.radius());
+    } catch (const BedError& e) {
+      throw CgError(path + ": the bed is too small for the kernel (cut-off " + mm(su.kernel.radius()) + "): " + e.what());
+    }
+    double sum = 0.0;
+    std::size_t n = 0;
+    for (std::size_t j = 0; j < su.grid.ny; ++j)
+      for (std::size_t i = 0; i < su.grid.nx; ++i)
+        if (bulk.contains(su.grid.x(i), su.grid.y(j))) sum += f0.phi[su.grid.at(i, j)], ++n;
+    if (n == 0) throw CgError(path + ": no grid node in the bulk of the bed at snapshot 0 (grid too coarse)");
+    su.phi_ref = sum / static_cast<double>(n);
+    su.min_phi = c.mask_fraction * su.phi_ref;
+  }
+
+  return su;
+}
+
+// Every snapshot, in batches: read serially (HDF5), coarse-grained and measured
+// in parallel. Each snapshot's result depends on its own data only (and, with
+// averaging, on the previous snapshots' fields, summed serially): the same for
+// any thread count.
+struct Measured {
+  std::vector<SnapshotMeasure> ms;
+  std::vector<std::uint8_t> piv_ok;  // the snapshot has PIV-like velocities
+  double cg_seconds = 0.0;           // wall time in coarse_grain
+};
+
+Measured measure_all(const RunReader& run, const Setup& su, const CgInput& in, bool has_piv, std::size_t primary,
+                     const std::vector<std::size_t>& fields_at, int threads) {
+  const CgConfig& c = in.config;
+  const std::string& path = run.path();
+  const std::size_t S = run.snapshots();
+  Measured out{std::vector<SnapshotMeasure>(S), std::vector<std::uint8_t>(S, 0), 0.0};
+  const std::size_t batch = static_cast<std::size_t>(std::max(1, 2 * threads));
+  std::deque<Fields> history;  // raw fields of the previous snapshots (trailing average)
+    for (std::size_t k0 = 0; k0 < S; k0 += batch) {
+    const std::size_t k1 = std::min(S, k0 + batch);
+    std::vector<Snapshot> snaps;
+    std::vector<PivVelocities> piv;
+    for (std::size_t k = k0; k < k1; ++k) {
+      snaps.push_back(run.snapshot(k));
+      piv.push_back(has_piv ? piv_velocities(snaps.back(), run.displacement(k), su.window) : PivVelocities{false, {}});
+    }
+    std::vector<Fields> raw(k1 - k0);
+    const auto t0 = std::chrono::steady_clock::now();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (std::size_t q = 0; q < raw.size(); ++q)
+      raw[q] = coarse_grain(su.grid, su.kernel, grains_of(snaps[q], has_piv ? &piv[q].v : nullptr));
+    out.cg_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // trailing averages (serial: they depend on the previous snapshots)
+    std::vector<Fields> avg(raw.size());
+    std::vector<std::uint8_t> avg_piv(raw.size());
+    for (std::size_t q = 0; q < raw.size(); ++q) {
+      out.piv_ok[k0 + q] = piv[q].ok ? 1 : 0;
+      history.push_back(std::move(raw[q]));
+      if (history.size() > static_cast<std::size_t>(c.average_snapshots)) history.pop_front();
+      avg[q] = history.front();
+      for (std::size_t h = 1; h < history.size(); ++h) accumulate(avg[q], history[h]);
+      scale(avg[q], 1.0 / static_cast<double>(history.size()));
+      bool ok = true;
+      for (std::size_t h = 0; h < history.size(); ++h) ok = ok && out.piv_ok[k0 + q - h];
+      avg_piv[q] = ok ? 1 : 0;
+    }
+    std::vector<std::string> errors(raw.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (std::size_t q = 0; q < raw.size(); ++q) {
+      const std::size_t k = k0 + q;
+      const bool full = std::binary_search(fields_at.begin(), fields_at.end(), k);
+      try {
+        out.ms[k] = measure_snapshot(su, c, avg[q], avg_piv[q] != 0, snaps[q],
+                                 intruder_of(intruder_body(snaps[q], in.study, path)), full, primary);
+      } catch (const std::exception& e) {
+        errors[q] = e.what();
+      }
+    }
+    for (const std::string& e : errors)
+      if (!e.empty()) throw CgError(e);
+  }
+  return out;
+}
+
+}  // namespace
+
+Events read_events(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw CgError(path + ": no such file (the events file of the spectrum stage)");
+  Events e;
+  try {
+    const h5::File f = h5::File::open_read(path);
+    const std::pair<const char*, std::vector<double>*> cols[] = {{"events/load_start_time", &e.load_start},
+                                                                 {"events/peak_time", &e.peak},
+                                                                 {"events/peak_height", &e.peak_height},
+                                                                 {"events/drop_end_time", &e.drop_end}};
+    for (const auto& [name, col] : cols) {
+      if (!h5::exists(f, name)) throw CgError(path + ": dataset /" + name + " is missing (spectrum events file)");
+      *col = h5::read<double>(f, name);
+    }
+    for (const auto& [name, col] : cols)
+      if (col->size() != e.peak.size())
+        throw CgError(path + ": /" + name + " has " + std::to_string(col->size()) + " rows, /events/peak_time has " +
+                      std::to_string(e.peak.size()));
+    for (std::size_t k = 0; k < e.size(); ++k)
+      if (!std::isfinite(e.load_start[k]) || !std::isfinite(e.peak[k]) || e.load_start[k] > e.peak[k])
+        throw CgError(path + ": event " + std::to_string(k) + ": load_start_time " + std::to_string(e.load_start[k]) +
+                      " s and peak_time " + std::to_string(e.peak[k]) + " s are not finite with load_start <= peak");
+  } catch (const CgError&) {
+    throw;
+  } catch (const std::exception& x) {
+    const std::string what = x.what();
+    throw CgError(what.rfind(path, 0) == 0 ? what : path + ": " + what);
+  }
+  return e;
+}
+
+std::vector<std::int64_t> pre_rupture_snapshots(const std::vector<double>& times, const Events& events,
+                                                double window) {
+  std::vector<std::int64_t> out;
+  for (std::size_t e = 0; e < events.size(); ++e) {
+    std::int64_t best = -1;
+    for (std::size_t k = 0; k < times.size(); ++k)
+      if (times[k] - window >= events.load_start[e] && times[k] <= events.peak[e]) best = static_cast<std::int64_t>(k);
+    out.push_back(best);
+  }
+  return out;
+}
+
+CgResult compute_cg(const CgInput& in) {
+  const CgConfig& c = in.config;
+  validate(c, in.config_path.empty() ? "config" : in.config_path);
+  const auto t_start = std::chrono::steady_clock::now();
+  const RunReader run(in.run_path);
+  const std::string& path = run.path();
+  if (run.snapshots() == 0) throw CgError(path + ": the run file has no snapshots");
+  const std::size_t S = run.snapshots();
+  const std::vector<double>& times = run.snapshot_times();
+
+  const Snapshot s0 = run.snapshot(0);
+  Setup su = make_setup(run, s0, in);
+
+  // ---- what is selected: loading phases, full fields ----
+  const bool has_piv = su.window > 0.0 && h5::exists(run.file(), "snapshots/displacement");
+  const std::size_t primary = c.velocity == "piv" && has_piv ? kPiv : kInst;
+  std::vector<double> heights(S);
+  {
+    const std::vector<double> ends = h5::read<double>(run.file(), "snapshots/body_ends");  // [S, B, 4]
+    const auto b = static_cast<std::size_t>(s0.find_body(in.study.intruder));
+    const std::size_t nb = s0.bodies.size();
+    for (std::size_t k = 0; k < S; ++k)
+      heights[k] = 0.5 * (ends[(k * nb + b) * 4 + 1] + ends[(k * nb + b) * 4 + 3]) - su.cell.floor;
+  }
+  const bool have_events = !in.events_path.empty();
+  Events events;
+  std::vector<std::int64_t> pre;
+  if (have_events) {
+    events = read_events(in.events_path);
+    pre = pre_rupture_snapshots(times, events, has_piv ? su.window : 0.0);
+  }
+  const std::int64_t after = first_after_travel(heights, c.after_travel_d * su.d);
+  const std::vector<std::size_t> fields_at =
+      field_snapshots(heights, pre, c.field_every_mm / kMm, static_cast<std::size_t>(c.field_max_snapshots),
+                      after >= 0 ? static_cast<std::size_t>(after) : 0);
+
+  const int threads = in.threads > 0 ? in.threads : omp_get_max_threads();
+  Measured m = measure_all(run, su, in, has_piv, primary, fields_at, threads);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+
+  StageRecord rec{std::move(su), c, std::move(m.ms), times, std::move(heights), std::move(m.piv_ok), has_piv, primary,
+                  have_events, std::move(events), std::move(pre), after, fields_at, seconds, m.cg_seconds, threads,
+                  path, in.events_path, in.config_path};
+  CgResult r;
+  r.metrics = {{"cg", cg_metrics(rec)}};
+  r.datasets = cg_datasets(rec);
+  r.attributes = cg_attributes(rec, r.metrics);
+  return r;
+}
+
+void write_cg(const CgResult& r, const std::string& out_dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  const std::string h5_path = (fs::path(out_dir) / "cg.h5").string(), tmp = h5_path + ".tmp";
+  {
+    const h5::File f = h5::File::create(tmp);
+    for (const Dataset& d : r.datasets) {
+      const std::string name = "/" + d.name;
+      switch (d.type) {
+        case Dataset::Type::f32: h5::write(f, name, d.f32, d.dims); break;
+        case Dataset::Type::f64: h5::write(f, name, d.f64, d.dims); break;
+        case Dataset::Type::i64: h5::write(f, name, d.i64, d.dims); break;
+      }
+      if (!d.unit.empty()) h5::write_attr(f, name, "unit", d.unit);
+      if (!d.about.empty()) h5::write_attr(f, name, "about", d.about);
+    }
+    for (const auto& [k, v] : r.attributes) h5::write_attr(f, "/", k, v);
+  }
+  fs::rename(tmp, h5_path, ec);
+  if (ec) throw std::runtime_error(h5_path + ": cannot rename " + tmp + " to it (" + ec.message() + ")");
+  write_file_atomic((fs::path(out_dir) / "metrics.json").string(), r.metrics.dump(2) + "\n");
+}
+
+}  // namespace dem2d::analysis

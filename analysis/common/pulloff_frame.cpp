@@ -1,0 +1,137 @@
+#include "common/pulloff_frame.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "bed/bed_metrics.hpp"
+
+namespace dem2d::analysis {
+
+const char* partner_name(Partner p) {
+  switch (p) {
+    case Partner::grain: return "grain";
+    case Partner::left: return "left";
+    case Partner::right: return "right";
+    case Partner::floor: return "floor";
+    case Partner::intruder: return "intruder";
+    case Partner::other: return "other";
+  }
+  return "?";
+}
+
+double PulloffGeometry::segment_length() const { return std::hypot(b.x - a.x, b.y - a.y); }
+
+double PulloffGeometry::axial(Vec2 p) const {
+  const double len = segment_length();
+  if (len == 0.0) return 0.0;
+  const double ux = (b.x - a.x) / len, uy = (b.y - a.y) / len;
+  return (p.x - 0.5 * (a.x + b.x)) * ux + (p.y - 0.5 * (a.y + b.y)) * uy;
+}
+
+PulloffGeometry pulloff_geometry(const Snapshot& s, const Study& study) {
+  // The walls' inner faces as bed_metrics finds them.
+  BedConfig names;
+  names.left = study.left, names.right = study.right, names.floor = study.floor, names.intruder = study.intruder;
+  Cell cell;
+  try {
+    cell = find_cell(s, names);
+  } catch (const BedError& e) {
+    throw StageError(std::string(e.what()) + " (names: data/study.toml [bodies])");
+  }
+  if (!cell.intruder) {
+    std::string bodies;
+    for (const Body& b : s.bodies) bodies += (bodies.empty() ? "" : ", ") + b.name;
+    throw StageError("no body named '" + study.intruder + "' (the intruder, data/study.toml [bodies]); the bodies are: " +
+                     (bodies.empty() ? "none" : bodies));
+  }
+  PulloffGeometry g;
+  g.left = s.find_body(study.left);
+  g.right = s.find_body(study.right);
+  g.floor = s.find_body(study.floor);
+  g.intruder = s.find_body(study.intruder);
+  g.x_left = cell.left;
+  g.x_right = cell.right;
+  g.y_floor = cell.floor;
+  g.a = {cell.intruder->ax, cell.intruder->ay};
+  g.b = {cell.intruder->bx, cell.intruder->by};
+  g.cap_radius = cell.intruder->radius;
+  return g;
+}
+
+std::vector<Partner> classify_contacts(const Snapshot& s, const PulloffGeometry& g) {
+  std::vector<Partner> out(s.contacts.size(), Partner::grain);
+  for (std::size_t c = 0; c < out.size(); ++c) {
+    const std::int32_t j = s.contacts.j[c];
+    if (j >= 0) continue;
+    const int b = -1 - j;
+    out[c] = b == g.left       ? Partner::left
+             : b == g.right    ? Partner::right
+             : b == g.floor    ? Partner::floor
+             : b == g.intruder ? Partner::intruder
+                               : Partner::other;
+  }
+  return out;
+}
+
+Vec2 contact_point(const Snapshot& s, std::size_t c) {
+  const auto i = static_cast<std::size_t>(s.contacts.i[c]);
+  const double reach = 0.5 * s.diameter[i] - 0.5 * s.contacts.overlap[c];
+  return {s.position[i].x - s.contacts.nx[c] * reach, s.position[i].y - s.contacts.ny[c] * reach};
+}
+
+double mean_diameter(const Snapshot& s) {
+  try {
+    return mean_active_diameter(s);
+  } catch (const BedError& e) {
+    throw StageError(e.what());
+  }
+}
+
+double bed_height(const Snapshot& s, const PulloffGeometry& g) {
+  Cell cell;
+  cell.left = g.x_left;
+  cell.right = g.x_right;
+  cell.floor = g.y_floor;
+  return bed_surface(s, cell, mean_diameter(s)).height;
+}
+
+std::size_t HeightBins::index(double height) const {
+  return height > 0.0 ? static_cast<std::size_t>(std::floor(height / width)) : 0;
+}
+
+BinnedMean binned_mean(const HeightBins& bins, const std::vector<double>& heights, const std::vector<double>& values) {
+  BinnedMean out;
+  std::vector<double> sum;
+  for (std::size_t k = 0; k < heights.size() && k < values.size(); ++k) {
+    if (std::isnan(values[k])) continue;
+    const std::size_t b = bins.index(heights[k]);
+    if (b >= sum.size()) sum.resize(b + 1, 0.0), out.count.resize(b + 1, 0);
+    sum[b] += values[k];
+    ++out.count[b];
+  }
+  out.mean.resize(sum.size());
+  for (std::size_t b = 0; b < sum.size(); ++b)
+    out.mean[b] = out.count[b] > 0 ? sum[b] / static_cast<double>(out.count[b]) : std::numeric_limits<double>::quiet_NaN();
+  return out;
+}
+
+double mean_in_band(const std::vector<double>& heights, const std::vector<double>& values, double lo, double hi,
+                    std::int64_t* used) {
+  double sum = 0.0;
+  std::int64_t n = 0;
+  for (std::size_t k = 0; k < heights.size() && k < values.size(); ++k)
+    if (heights[k] >= lo && heights[k] < hi && !std::isnan(values[k])) sum += values[k], ++n;
+  if (used) *used = n;
+  return n > 0 ? sum / static_cast<double>(n) : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::vector<std::size_t> every_kth(std::size_t snapshots, std::size_t every) {
+  std::vector<std::size_t> out;
+  if (snapshots == 0) return out;
+  for (std::size_t k = 0; k < snapshots; k += std::max<std::size_t>(every, 1)) out.push_back(k);
+  if (out.back() != snapshots - 1) out.push_back(snapshots - 1);
+  return out;
+}
+
+}  // namespace dem2d::analysis

@@ -1,0 +1,46 @@
+// A stage's HDF5 output, collected in memory and written at the end under a
+// temporary name, then renamed (it exists only when complete). Each dataset
+// is 1-D and carries the attributes `units` and `description`.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace dem2d::analysis {
+
+class H5Output {
+ public:
+  using Column = std::variant<std::vector<double>, std::vector<std::int64_t>, std::vector<std::int32_t>,
+                              std::vector<std::uint8_t>>;
+  struct Dataset {
+    std::string name, units, description;
+    Column data;
+  };
+
+  void add(std::string name, Column data, std::string units, std::string description) {
+    datasets_.push_back({std::move(name), std::move(units), std::move(description), std::move(data)});
+  }
+  // A string attribute on the root group.
+  void note(std::string name, std::string value) { notes_.emplace_back(std::move(name), std::move(value)); }
+  const std::vector<Dataset>& datasets() const { return datasets_; }
+
+  // Writes path + ".tmp" and renames it to path; std::runtime_error naming the file on failure.
+  void write(const std::string& path) const;
+
+ private:
+  std::vector<Dataset> datasets_;
+  std::vector<std::pair<std::string, std::string>> notes_;
+};
+
+// NaN and infinities become JSON null (nlohmann would write null anyway, but
+// explicitly so that metrics are never silently a number).
+nlohmann::ordered_json number_or_null(double v);
+
+// A number as printf's %g writes it ("0.8", "1e-06"), for names and messages.
+std::string format_number(double v);
+
+}  // namespace dem2d::analysis

@@ -1,0 +1,149 @@
+// Stage `spectrum` (issue 4): the drag on the intruder against its height,
+// split into a slow trend and fluctuations; the fluctuations' power spectrum
+// in the travel domain (Welch, FFTW); the loading/rupture events; the bottom
+// zone's first peak and the top layer where the fluctuations vanish.
+// Definitions and their reasons: analysis/spectrum/README.md.
+//
+// Everything here works on a DragProfile in memory (no files), so that it can
+// be tested on synthetic signals. Units: SI (m, s, N/m) unless a name says
+// otherwise; "_d" means in units of d, the mean grain diameter, as a length
+// of travel; wavenumbers are in cycles per d.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <cstddef>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "pulloff/drag_profile.hpp"
+#include "spectrum/spectrum_config.hpp"
+
+namespace dem2d::analysis {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// ---- building blocks ----------------------------------------------------
+
+// Median of x over the window [k - h, k + h] shrunk symmetrically at the
+// ends (h' = min(h, k, n-1-k)): a monotone signal is returned unchanged.
+std::vector<double> running_median(const std::vector<double>& x, std::size_t half_width);
+// Root mean square over the same symmetric windows.
+std::vector<double> running_rms(const std::vector<double>& x, std::size_t half_width);
+// Robust noise level of x[begin, end): 1.4826 MAD(first differences) / sqrt(2),
+// the standard deviation of white noise that would give those differences.
+double noise_level(const std::vector<double>& x, std::size_t begin, std::size_t end);
+
+struct LinearFit {
+  double slope = kNaN, intercept = kNaN, r2 = kNaN;  // y = intercept + slope x
+  std::size_t points = 0;                            // NaN results below 3 points
+};
+LinearFit linear_fit(const std::vector<double>& x, const std::vector<double>& y);
+
+// One-sided power spectral density by Welch's method: segments of
+// segment_samples with the given overlap, each windowed after removing its
+// mean; |FFT|^2 averaged. Wavenumbers (cycles per d) from 1/segment up to
+// Nyquist (the zero bin is left out); power in (unit of x)^2 per (cycle per d),
+// so that sum(power) * dk = variance.
+struct Psd {
+  std::vector<double> wavenumber, power;
+  std::size_t segments = 0, segment_samples = 0;
+  double dof = 0.0;  // equivalent degrees of freedom of one bin (chi-square), overlap included
+};
+Psd welch_psd(const std::vector<double>& x, double samples_per_d, std::size_t segment_samples, double overlap,
+              const std::string& window);
+
+// The dominant period: among the bins with wavelength in [min_period_d,
+// max_period_d], the one whose power stands highest above a power law fitted
+// to the PSD over that range (log-log least squares, corrected for the mean of
+// log chi-square), refined by a parabola through ln(excess) at it and its
+// neighbours. Significant when that excess exceeds the chi-square quantile
+// that pure noise with that background exceeds in any of the M bins with
+// probability false_alarm, and the bin is not at the range's edge (there it
+// need not be a local maximum).
+struct DominantPeak {
+  bool found = false;  // false when the range holds fewer than 3 bins
+  double period_d = kNaN, wavenumber = kNaN;
+  double peak_to_background = kNaN, threshold = kNaN;  // excess ratio and its significance threshold
+  double peak_to_median = kNaN;                        // peak power / median power of the range
+  double background_exponent = kNaN;                   // the background is P ~ k^exponent
+  double half_width_d = kNaN;   // half the width (in wavelength) where the excess is above half its peak
+  double quality = kNaN;        // wavenumber / full width at half maximum (in wavenumber)
+  bool significant = false, at_edge = false;
+  std::size_t bins = 0;
+};
+DominantPeak dominant_peak(const Psd& psd, double min_period_d, double max_period_d, double false_alarm);
+
+// Alternating extrema of x from `begin` on with hysteresis delta: a peak is
+// confirmed when x falls more than delta below it, a trough when x rises more
+// than delta above it. A last trough not yet confirmed by a rise is kept.
+struct Pivot {
+  std::size_t index;
+  bool peak;
+};
+std::vector<Pivot> zigzag(const std::vector<double>& x, double delta, std::size_t begin = 0);
+
+// Loading/rupture events of the fluctuation f: every zigzag peak -> trough
+// leg (hysteresis delta) in which f falls by more than delta within `window`
+// samples somewhere. Indices into f.
+struct Event {
+  std::size_t load_start, peak, drop_end;
+};
+std::vector<Event> detect_events(const std::vector<double>& f, double delta, std::size_t window);
+
+// ---- the analysis of one pull-off ----------------------------------------
+
+struct SpectrumScales {
+  double d = 0.003;              // m, the unit of travel (mean grain diameter)
+  double bed_height = 0.150;     // m, H_bed
+  double paper_speed = 0.0012;   // m/s, V of the study
+};
+
+struct Band {
+  std::string name;
+  double low = 0.0, high = 0.0;     // m, heights [low, high)
+  std::size_t begin = 0, end = 0;   // rows
+  Psd psd;
+  DominantPeak peak;
+};
+
+struct SpectrumResult {
+  DragProfile profile;           // as analysed (a shorter last row dropped)
+  std::size_t rows_dropped = 0;
+  double height_step = 0.0;      // m, median
+  double step_deviation = 0.0;   // largest relative deviation of a height step from the median
+  double speed = 0.0;            // m/s, dH/dt
+  std::vector<double> trend, fluctuation, envelope;  // N/m
+  double noise = 0.0;            // N/m, sigma of the fluctuation in the second part
+  double drop_delta = 0.0;       // N/m, drop_threshold x sigma
+  Band second_part;              // [bottom_top, upper_top) H_bed: the loading/rupture regime
+  std::vector<Band> bands;       // bottom, middle, upper, top_layer
+  std::vector<Event> events;     // over the whole profile
+  std::vector<double> spacing_d; // consecutive peaks both in the second part (d)
+  LinearFit amplitude_fit;       // event drop (N/m) against peak height (mm), upper part
+  LinearFit envelope_fit;        // envelope (N/m) against height (mm), upper part
+  // bottom zone: rows of the first high peak, the collapse and the next peak (npos if none)
+  std::size_t bottom_peak = npos, bottom_collapse = npos, bottom_reload = npos;
+  // top layer
+  bool top_found = false;        // false when the envelope is still above the floor at the end
+  double top_height = kNaN;      // m
+  std::size_t top_begin = 0, top_end = 0;  // rows of the depth fit
+  LinearFit top_fit;             // drag (N/m) against depth H_bed - H (mm)
+  static constexpr std::size_t npos = static_cast<std::size_t>(-1);
+};
+
+// Checks the profile (non-empty, finite, height increasing with uniform steps,
+// long enough) and analyses it. Errors are SpectrumErrors starting with `source`.
+SpectrumResult analyse(const DragProfile& profile, const SpectrumScales& scales, const SpectrumConfig& config,
+                       const std::string& source);
+
+// The "spectrum" metrics (without the sensitivity table). Lengths in mm, travel in d.
+nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& c,
+                                        double intruder_depth);
+
+// The key numbers again with one setting changed at a time (config.sensitivity).
+nlohmann::ordered_json sensitivity_table(const DragProfile& profile, const SpectrumScales& scales,
+                                         const SpectrumConfig& config, const std::string& source);
+
+}  // namespace dem2d::analysis

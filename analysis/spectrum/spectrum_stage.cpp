@@ -1,0 +1,203 @@
+#include "spectrum/spectrum_stage.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <numeric>
+#include <stdexcept>
+
+#include "common/output.hpp"
+#include "io/h5.hpp"
+#include "io/run_reader.hpp"
+#include "pulloff/drag_profile.hpp"
+
+namespace dem2d::analysis {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& path, const std::string& what) { throw SpectrumError(path + ": " + what); }
+
+std::size_t body_index(const RunReader& run, const std::string& name) {
+  const auto names = h5::read_strings(run.file(), "bodies/name");
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it == names.end()) fail(run.path(), "the run has no body named '" + name + "'");
+  return static_cast<std::size_t>(it - names.begin());
+}
+
+// Height at which the intruder left the bed by the run's own stop criterion
+// ([stop] body_free: no grain touching it connects to the walls, for
+// free_time seconds): the height at end_time - free_time. NaN if the run
+// did not stop that way.
+double exit_height(const RunReader& run, const DragProfile& p) {
+  const h5::File& f = run.file();
+  if (h5::read_attr_string(f, "/", "stop_reason").find("free of the bed") == std::string::npos) return kNaN;
+  double free_time = kNaN;
+  try {
+    const toml::table scene = toml::parse(h5::read_attr_string(f, "/", "scene_text"));
+    free_time = scene["stop"]["free_time"].value_or(kNaN);
+  } catch (const toml::parse_error&) {
+    return kNaN;
+  }
+  const double t = h5::read_attr_double(f, "/", "end_time") - free_time;
+  if (!(t >= p.time.front() && t <= p.time.back())) return kNaN;
+  const auto k = static_cast<std::size_t>(std::lower_bound(p.time.begin(), p.time.end(), t) - p.time.begin());
+  if (k == 0) return p.height.front();
+  const double a = (t - p.time[k - 1]) / (p.time[k] - p.time[k - 1]);
+  return p.height[k - 1] + a * (p.height[k] - p.height[k - 1]);
+}
+
+double fill_bed_height(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) fail(path, "no such file (--fill-metrics)");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    fail(path, std::string("not a JSON file: ") + e.what());
+  }
+  const auto* v = j.contains("fill") ? &j["fill"] : nullptr;
+  if (!v || !v->contains("bed_height_mm") || !(*v)["bed_height_mm"].is_number())
+    fail(path, "no number fill.bed_height_mm (the fill stage's metrics, bed_metrics)");
+  return 1e-3 * (*v)["bed_height_mm"].get<double>();
+}
+
+void put(const h5::File& f, const std::string& name, const std::vector<double>& v, const char* unit) {
+  h5::write(f, name, v);
+  h5::write_attr(f, name, "unit", std::string(unit));
+}
+
+void write_psd(const h5::File& f, const std::string& group, const Band& b, const SpectrumScales& s, double speed) {
+  std::vector<double> wavelength, f_paper, f_run;
+  for (const double k : b.psd.wavenumber) {
+    wavelength.push_back(1.0 / k);
+    f_paper.push_back(k * s.paper_speed / s.d);
+    f_run.push_back(k * speed / s.d);
+  }
+  put(f, group + "/wavenumber_per_d", b.psd.wavenumber, "cycles per d of travel");
+  put(f, group + "/wavelength_d", wavelength, "d of travel");
+  put(f, group + "/frequency_hz_at_paper_v", f_paper, "Hz");
+  put(f, group + "/frequency_hz_at_run_v", f_run, "Hz");
+  put(f, group + "/power", b.psd.power, "(N/m)^2 per (cycle per d)");
+  h5::write_attr(f, group, "low_m", b.low);
+  h5::write_attr(f, group, "high_m", b.high);
+  h5::write_attr(f, group, "segments", static_cast<std::int64_t>(b.psd.segments));
+  h5::write_attr(f, group, "dof", b.psd.dof);
+  h5::write_attr(f, group, "dominant_period_d", b.peak.period_d);
+  h5::write_attr(f, group, "peak_to_background", b.peak.peak_to_background);
+  h5::write_attr(f, group, "significance_threshold", b.peak.threshold);
+  h5::write_attr(f, group, "significant", static_cast<std::int64_t>(b.peak.significant));
+}
+
+void write_h5(const std::string& path, const SpectrumStage& st) {
+  const SpectrumResult& r = st.result;
+  const DragProfile& p = r.profile;
+  const h5::File f = h5::File::create(path);
+  h5::write_attr(f, "/", "format", std::string("dem2d-spectrum-1"));
+  h5::write_attr(f, "/", "run_file", st.metrics["spectrum"]["run_file"].get<std::string>());
+  h5::write_attr(f, "/", "bed_height_m", st.scales.bed_height);
+  h5::write_attr(f, "/", "mean_diameter_m", st.scales.d);
+  put(f, "profile/time", p.time, "s");
+  put(f, "profile/height", p.height, "m");
+  put(f, "profile/drag", p.drag, "N/m");
+  put(f, "profile/trend", r.trend, "N/m");
+  put(f, "profile/fluctuation", r.fluctuation, "N/m");
+  put(f, "profile/envelope", r.envelope, "N/m");
+  write_psd(f, "psd", r.second_part, st.scales, r.speed);
+  for (const Band& b : r.bands) write_psd(f, "psd/bands/" + b.name, b, st.scales, r.speed);
+  // /events: a contract with the stages cg and network (names, units).
+  std::vector<double> load_start_time, peak_time, peak_height, peak_drag, drop_end_time, drop, duration,
+      load_start_height, drop_end_height;
+  for (const Event& e : r.events) {
+    load_start_time.push_back(p.time[e.load_start]);
+    peak_time.push_back(p.time[e.peak]);
+    peak_height.push_back(p.height[e.peak]);
+    peak_drag.push_back(p.drag[e.peak]);
+    drop_end_time.push_back(p.time[e.drop_end]);
+    drop.push_back(p.drag[e.peak] - p.drag[e.drop_end]);
+    duration.push_back(p.time[e.peak] - p.time[e.load_start]);
+    load_start_height.push_back(p.height[e.load_start]);
+    drop_end_height.push_back(p.height[e.drop_end]);
+  }
+  put(f, "events/load_start_time", load_start_time, "s");
+  put(f, "events/peak_time", peak_time, "s");
+  put(f, "events/peak_height", peak_height, "m");
+  put(f, "events/peak_drag", peak_drag, "N/m");
+  put(f, "events/drop_end_time", drop_end_time, "s");
+  put(f, "events/drop", drop, "N/m");
+  put(f, "events/duration", duration, "s");
+  put(f, "events/load_start_height", load_start_height, "m");
+  put(f, "events/drop_end_height", drop_end_height, "m");
+  h5::write_attr(f, "events", "drop_delta_N_per_m", r.drop_delta);
+  // /top_layer: drag against depth and its linear fit
+  std::vector<double> depth, height, drag, fit;
+  for (std::size_t k = r.top_begin; k < r.top_end; ++k) {
+    height.push_back(p.height[k]);
+    depth.push_back(st.scales.bed_height - p.height[k]);
+    drag.push_back(p.drag[k]);
+    fit.push_back(r.top_fit.intercept + r.top_fit.slope * 1e3 * depth.back());
+  }
+  put(f, "top_layer/depth", depth, "m");
+  put(f, "top_layer/height", height, "m");
+  put(f, "top_layer/drag", drag, "N/m");
+  put(f, "top_layer/fit_drag", fit, "N/m");
+  h5::write_attr(f, "top_layer", "top_layer_height_m", r.top_height);
+  h5::write_attr(f, "top_layer", "slope_N_per_m_per_mm", r.top_fit.slope);
+  h5::write_attr(f, "top_layer", "intercept_N_per_m", r.top_fit.intercept);
+  h5::write_attr(f, "top_layer", "r2", r.top_fit.r2);
+}
+
+}  // namespace
+
+SpectrumStage compute_spectrum_stage(const SpectrumInputs& in, const SpectrumConfig& config, const Study& study) {
+  const RunReader run(in.run);
+  const DragProfile profile = read_drag_profile(run, study);
+  const auto diameter = h5::read<double>(run.file(), "particles/diameter");
+  if (diameter.empty()) fail(in.run, "the run has no particles");
+  const auto velocity = h5::read<double>(run.file(), "bodies/velocity");  // [B, 2]
+  const double body_speed = velocity.at(2 * body_index(run, study.intruder) + 1);
+
+  SpectrumStage st;
+  st.intruder_depth = study.intruder_depth;
+  st.scales.d = std::accumulate(diameter.begin(), diameter.end(), 0.0) / static_cast<double>(diameter.size());
+  st.scales.paper_speed = study.pull_speed;
+  const double exit = exit_height(run, profile);
+  const bool from_fill = !in.fill_metrics.empty();
+  st.scales.bed_height = from_fill ? fill_bed_height(in.fill_metrics) : exit;
+  if (!(st.scales.bed_height > 0.0))
+    fail(in.run, "cannot tell the bed height: the run did not stop on the intruder leaving the bed "
+                 "([stop] body_free); give --fill-metrics");
+  st.result = analyse(profile, st.scales, config, in.run);
+
+  nlohmann::ordered_json m;
+  m["run_file"] = in.run;
+  m["config_file"] = in.config;
+  m["study_file"] = in.study;
+  m["fill_metrics_file"] = from_fill ? nlohmann::ordered_json(in.fill_metrics) : nlohmann::ordered_json(nullptr);
+  m["bed_height_source"] = from_fill ? "fill metrics: fill.bed_height_mm" : "exit of the intruder (run's stop criterion)";
+  m["exit_height_mm"] = 1e3 * exit;
+  m["body_speed_mm_s"] = 1e3 * body_speed;
+  m.update(spectrum_metrics(st.result, st.scales, config, study.intruder_depth));
+  m["sensitivity"] = sensitivity_table(profile, st.scales, config, in.run);
+  st.metrics = {{"spectrum", m}};
+  return st;
+}
+
+void write_spectrum_outputs(const std::string& dir, const SpectrumStage& stage) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  const fs::path h5_path = fs::path(dir) / "spectrum.h5", tmp = fs::path(dir) / "spectrum.h5.tmp";
+  try {
+    write_h5(tmp.string(), stage);
+  } catch (const std::exception& e) {
+    fs::remove(tmp, ec);
+    throw std::runtime_error(std::string(e.what()) + " (cannot write " + h5_path.string() + ")");
+  }
+  fs::rename(tmp, h5_path, ec);
+  if (ec) throw std::runtime_error(h5_path.string() + ": cannot rename from .tmp: " + ec.message());
+  write_file_atomic((fs::path(dir) / "metrics.json").string(), stage.metrics.dump(2) + "\n");
+}
+
+}  // namespace dem2d::analysis

@@ -1,0 +1,251 @@
+// Stage `spectrum`: its computations on synthetic drag profiles with known
+// answers, its configuration, and the whole stage on the quick pull-off run.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numeric>
+#include <random>
+
+#include "io/h5.hpp"
+#include "spectrum/spectrum.hpp"
+#include "spectrum/spectrum_stage.hpp"
+#include "temp_dir.hpp"
+
+namespace dem2d::analysis {
+namespace {
+
+constexpr double kD = 0.003;            // m, mean diameter
+constexpr double kStep = kD / 125.0;    // m per row, as the study's series (0.02 s at 1.2 mm/s)
+constexpr double kV = 0.0012;           // m/s
+
+const SpectrumScales kScales{kD, 0.150, kV};
+
+// A pull-off from 1 mm to 150 mm: drag(H) from `shape`, plus Gaussian noise.
+DragProfile synthetic(const std::function<double(double)>& shape, double noise, unsigned seed = 1,
+                      double top = 0.150) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> gauss(0.0, noise);
+  DragProfile p;
+  for (double h = 0.001; h <= top; h += kStep) {
+    p.height.push_back(h);
+    p.time.push_back((h - 0.001) / kV);
+    p.drag.push_back(shape(h) + gauss(rng));
+  }
+  return p;
+}
+
+double trend(double h) { return 40.0 * std::exp(-h / 0.05) + 5.0 * (0.150 - h) / 0.150; }
+
+// Loading ramps of amplitude `a` ended by a drop within one sample, period `period` (m), up to `stop` (m).
+std::function<double(double)> sawtooth(double period, double a, double stop = 1.0) {
+  return [=](double h) { return trend(h) + (h < stop ? a * std::fmod(h, period) / period : 0.0); };
+}
+
+TEST(SpectrumBlocks, RunningMedianKeepsAMonotoneSignalAndRemovesSpikes) {
+  std::vector<double> x(50);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sqrt(static_cast<double>(i));
+  EXPECT_EQ(running_median(x, 7), x);
+  x[20] += 100.0;
+  EXPECT_NEAR(running_median(x, 3)[20], std::sqrt(20.0), 0.3);
+}
+
+TEST(SpectrumBlocks, WelchPsdIntegratesToTheVarianceAndNoiseLevelIsSigma) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> gauss(0.0, 2.0);
+  std::vector<double> x(20000);
+  for (double& v : x) v = gauss(rng);
+  const Psd p = welch_psd(x, 125.0, 1000, 0.5, "hann");
+  const double dk = p.wavenumber[1] - p.wavenumber[0];
+  EXPECT_NEAR(std::accumulate(p.power.begin(), p.power.end(), 0.0) * dk, 4.0, 0.1);
+  EXPECT_EQ(p.segments, 39u);
+  EXPECT_NEAR(p.dof, 36.0 * 39 * 39 / (19.0 * 39 - 1), 0.5);  // Welch's Hann, 50 % overlap
+  EXPECT_NEAR(noise_level(x, 0, x.size()), 2.0, 0.05);
+}
+
+TEST(SpectrumBlocks, ZigzagAlternatesWithHysteresis) {
+  const std::vector<double> x{0, 1, 5, 4.5, 5.2, 1, 1.5, 0.5, 4, 3};
+  const auto piv = zigzag(x, 2.0);
+  ASSERT_EQ(piv.size(), 3u);  // the last rise to 4 is no peak: 4 -> 3 is not a fall of 2
+  EXPECT_TRUE(!piv[0].peak && piv[0].index == 0);
+  EXPECT_TRUE(piv[1].peak && piv[1].index == 4);
+  EXPECT_TRUE(!piv[2].peak && piv[2].index == 7);
+}
+
+TEST(Spectrum, SawtoothOnADecayingTrendGivesItsPeriodAndEvents) {
+  const double period = 0.5 * kD;
+  const SpectrumResult r = analyse(synthetic(sawtooth(period, 10.0), 0.2), kScales, {}, "synthetic");
+  const DominantPeak& k = r.second_part.peak;
+  EXPECT_TRUE(k.significant);
+  EXPECT_NEAR(k.period_d, 0.5, 0.01) << "within 2 %";
+  const double drops = std::floor(0.150 / period) - std::floor(0.001 / period);
+  EXPECT_NEAR(static_cast<double>(r.events.size()), drops, 0.02 * drops);
+  ASSERT_FALSE(r.spacing_d.empty());
+  for (const double s : r.spacing_d) EXPECT_NEAR(s, 0.5, 0.05);
+  for (const Event& e : r.events) {
+    EXPECT_LT(e.load_start, e.peak);
+    EXPECT_LT(e.peak, e.drop_end);
+    EXPECT_NEAR(r.profile.drag[e.peak] - r.profile.drag[e.drop_end], 10.0, 1.5);
+  }
+  EXPECT_NEAR(r.noise, 0.2, 0.03);
+}
+
+TEST(Spectrum, PureNoiseHasNoSignificantPeriod) {
+  // false_alarm = 0.01 per spectrum: 20 noise records should give at most one false detection
+  int significant = 0;
+  for (unsigned seed = 1; seed <= 20; ++seed) {
+    const SpectrumResult r = analyse(synthetic(trend, 1.0, seed), kScales, {}, "noise");
+    significant += r.second_part.peak.significant;
+    EXPECT_LE(r.events.size(), 1u) << "seed " << seed;  // false drops are rare at 7 sigma
+    EXPECT_LT(r.second_part.peak.peak_to_background, 2.0 * r.second_part.peak.threshold);
+  }
+  EXPECT_LE(significant, 1);
+}
+
+TEST(Spectrum, TopLayerStartsWhereTheFluctuationsStop) {
+  const double period = 0.5 * kD, stop = 0.105;
+  const SpectrumResult r = analyse(synthetic(sawtooth(period, 10.0, stop), 0.2), kScales, {}, "synthetic");
+  ASSERT_TRUE(r.top_found);
+  EXPECT_NEAR(r.top_height, stop, period);
+  // there the drag follows the (nearly linear) trend
+  EXPECT_GT(r.top_fit.r2, 0.9);
+  EXPECT_GT(r.top_fit.slope, 0.0);  // grows with depth
+}
+
+TEST(Spectrum, BottomZoneFindsPeakCollapseAndReload) {
+  // a high peak at 3 mm, a collapse to 5 N/m at 6 mm, a reload to 30 N/m at 10 mm, a relaxation to 5 N/m
+  // at 16 mm, then small ramps
+  auto shape = [](double h) {
+    const double mm = 1e3 * h;
+    if (mm < 3) return 10 + 30 * mm;
+    if (mm < 6) return 100 - 95 * (mm - 3) / 3;
+    if (mm < 10) return 5 + 25 * (mm - 6) / 4;
+    return 5 + 25 * std::max(0.0, 1 - (mm - 10) / 6) + 2 * std::fmod(mm, 1.5) / 1.5;
+  };
+  const SpectrumResult r = analyse(synthetic(shape, 0.05), kScales, {}, "synthetic");
+  ASSERT_NE(r.bottom_collapse, SpectrumResult::npos);
+  ASSERT_NE(r.bottom_reload, SpectrumResult::npos);
+  EXPECT_NEAR(r.profile.height[r.bottom_peak], 0.003, 0.0002);
+  EXPECT_NEAR(r.profile.height[r.bottom_collapse], 0.006, 0.0002);
+  EXPECT_NEAR(r.profile.height[r.bottom_reload], 0.010, 0.0002);
+}
+
+void expect_error(const DragProfile& p, const std::string& what) {
+  try {
+    analyse(p, kScales, {}, "in.h5");
+    ADD_FAILURE() << "no error, expected: " << what;
+  } catch (const SpectrumError& e) {
+    EXPECT_NE(std::string(e.what()).find("in.h5: "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+  }
+}
+
+TEST(Spectrum, BadProfilesAreClearErrors) {
+  expect_error({}, "the drag profile is empty");
+  DragProfile p = synthetic(sawtooth(0.0015, 10.0), 0.2);
+  auto first_rows = [&p](std::size_t n) {
+    DragProfile s = p;
+    for (auto* c : {&s.time, &s.height, &s.drag}) c->resize(n);
+    return s;
+  };
+  expect_error(first_rows(5), "too short: 5 rows");
+  expect_error(first_rows(p.time.size() / 10), "too short");  // 16 mm: the loading/rupture part holds 0.5 mm
+  DragProfile nan = p;
+  nan.drag[100] = std::nan("");
+  expect_error(nan, "row 100 is not finite");
+  DragProfile back = p;
+  std::swap(back.height[200], back.height[201]);
+  expect_error(back, "does not increase at row 201");
+  DragProfile jump = p;
+  for (std::size_t k = 300; k < jump.height.size(); ++k) jump.height[k] += 0.5 * kStep;
+  expect_error(jump, "not uniform in height");
+}
+
+TEST(Spectrum, AShorterLastRowIsDropped) {
+  DragProfile p = synthetic(sawtooth(0.0015, 10.0), 0.2);
+  p.height.back() = p.height[p.height.size() - 2] + 0.4 * kStep;
+  p.time.back() = p.time[p.time.size() - 2] + 0.4 * kStep / kV;
+  const SpectrumResult r = analyse(p, kScales, {}, "synthetic");
+  EXPECT_EQ(r.rows_dropped, 1u);
+  EXPECT_EQ(r.profile.height.size(), p.height.size() - 1);
+}
+
+TEST(SpectrumConfigFile, TheShippedConfigHoldsTheDefaults) {
+  const SpectrumConfig c = load_spectrum_config(DEM2D_DATA_DIR "/spectrum.toml"), d;
+  EXPECT_EQ(c.trend_window_d, d.trend_window_d);
+  EXPECT_EQ(c.segment_d, d.segment_d);
+  EXPECT_EQ(c.drop_threshold, d.drop_threshold);
+  EXPECT_EQ(c.floor_factor, d.floor_factor);
+  EXPECT_EQ(c.upper_top, d.upper_top);
+  EXPECT_EQ(c.window, d.window);
+  EXPECT_EQ(c.drop_thresholds, d.drop_thresholds);
+}
+
+TEST(SpectrumConfigFile, UnknownKeysAndBadValuesNameFileKeyAndValue) {
+  const test::TempDir dir;
+  auto error = [&](const std::string& text) {
+    const std::string path = dir.file("c.toml", text);
+    try {
+      load_spectrum_config(path);
+    } catch (const SpectrumError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error("[events]\ndrop_treshold = 4\n").find("c.toml:2:1: unknown key 'events.drop_treshold' = 4"),
+            std::string::npos);
+  EXPECT_NE(error("[psd]\noverlap = 1.5\n").find("c.toml:2:11: psd.overlap = 1.5: must be in [0, 1)"),
+            std::string::npos);
+  const std::string window = error("[psd]\nwindow = \"kaiser\"\n");
+  EXPECT_NE(window.find("c.toml:2:10: psd.window = "), std::string::npos) << window;
+  EXPECT_NE(window.find("kaiser"), std::string::npos) << window;
+  EXPECT_NE(error("[colour]\nx = 1\n").find("unknown section [colour]"), std::string::npos);
+  EXPECT_NE(error("[bands]\nmiddle_top = 0.8\n").find("bottom_top < middle_top < upper_top"), std::string::npos);
+  EXPECT_NE(error("[sensitivity]\nfloor_factors = [1, -2]\n").find("sensitivity.floor_factors[] = -2"),
+            std::string::npos);
+  EXPECT_EQ(load_spectrum_config(dir.file("ok.toml", "[events]\ndrop_threshold = 4\n")).drop_threshold, 4.0);
+}
+
+TEST(SpectrumStage, QuickRunGivesTheOutputsAndTheEventsContract) {
+  const std::string run = DEM2D_RESULTS_DIR "/quick/pulloff/run.h5";
+  if (!std::filesystem::exists(run)) GTEST_SKIP() << run << " does not exist (make the quick study first)";
+  const test::TempDir dir;
+  const SpectrumInputs in{run, DEM2D_DATA_DIR "/spectrum.toml", DEM2D_DATA_DIR "/study.toml", ""};
+  const SpectrumStage st = compute_spectrum_stage(in, load_spectrum_config(in.config), load_study(in.study));
+  const std::string out = dir.sub("out").string();
+  write_spectrum_outputs(out, st);
+  ASSERT_TRUE(std::filesystem::exists(out + "/metrics.json"));
+  ASSERT_FALSE(std::filesystem::exists(out + "/spectrum.h5.tmp"));
+  const auto& m = st.metrics.at("spectrum");
+  for (const char* key : {"bottom_peak_height_mm", "amplitude_slope_upper", "amplitude_fit_r2_upper",
+                          "rupture_spacing_d", "rupture_frequency_hz_at_1p2mm_s", "top_layer_height_mm",
+                          "top_layer_depth_fit_r2", "sensitivity"})
+    EXPECT_TRUE(m.contains(key)) << key;
+  EXPECT_EQ(m["sensitivity"]["drop_threshold"].size(), 5u);
+
+  const h5::File f = h5::File::open_read(out + "/spectrum.h5");
+  const hsize_t rows = h5::shape(f, "profile/height")[0];
+  for (const char* name : {"time", "drag", "trend", "fluctuation", "envelope"})
+    EXPECT_EQ(h5::shape(f, std::string("profile/") + name)[0], rows) << name;
+  const std::size_t events = st.result.events.size();
+  EXPECT_GT(events, 0u);
+  for (const char* name :
+       {"load_start_time", "peak_time", "peak_height", "peak_drag", "drop_end_time", "drop", "duration"})
+    EXPECT_EQ(h5::shape(f, std::string("events/") + name), std::vector<hsize_t>{events}) << name;
+  const auto start = h5::read<double>(f, "events/load_start_time"), peak = h5::read<double>(f, "events/peak_time"),
+             end = h5::read<double>(f, "events/drop_end_time"), drop = h5::read<double>(f, "events/drop");
+  for (std::size_t e = 0; e < events; ++e) {
+    EXPECT_LT(start[e], peak[e]);
+    EXPECT_LT(peak[e], end[e]);
+    EXPECT_GT(drop[e], 0.0);
+    if (e > 0) {
+      EXPECT_LE(end[e - 1], start[e]);
+    }
+  }
+  for (const char* name : {"psd/wavelength_d", "psd/frequency_hz_at_paper_v", "psd/power",
+                           "psd/bands/upper/power", "top_layer/depth", "top_layer/drag", "top_layer/fit_drag"})
+    EXPECT_TRUE(h5::exists(f, name)) << name;
+}
+
+}  // namespace
+}  // namespace dem2d::analysis
