@@ -6,7 +6,10 @@
 #   make test       unit + physics tests (optimised build), then the quick
 #                   tests again under AddressSanitizer + UBSan
 #   make bench      ns per particle-step on the standard settled bed
-#   make reproduce  the study, PRESET=default (or paper), into results/<preset>/
+#   make reproduce  the study, PRESET=default (or paper), into results/<preset>/: every stage,
+#                   metrics.json, the tolerance tests (check.json), figures/, report.md
+#   make check      the tolerance tests: results/<preset>/metrics.json against data/paper_targets.toml
+#   make test-pipeline  the whole pipeline on the small test scene (PRESET=quick), its outputs checked
 #   make fill       stage: hopper filling, bed metrics   (results/<preset>/fill/)
 #   make pulloff    stage: intruder pull-off, drag      (results/<preset>/pulloff/)
 #   make pulloff-slice  the first 5 mm of the pull-off only: the preset's cost (results/<preset>/pulloff_5mm/)
@@ -14,6 +17,7 @@
 #   make cg         stage: coarse-grained fields, mobility zones, cone angle (results/<preset>/cg/)
 #   make network    stage: force network, percolation, keystones             (results/<preset>/network/)
 #   make friction   stage: friction mobilisation                             (results/<preset>/friction/)
+#   make metrics figures report   the merged metrics, the figures, the report of results/<preset>/
 #   make clean      remove build/ (results/ stays)
 
 SHELL := /bin/bash
@@ -27,10 +31,23 @@ SPECTRUM := $(BUILD)/analysis/spectrum
 CG := $(BUILD)/analysis/cg
 NETWORK := $(BUILD)/analysis/network
 FRICTION := $(BUILD)/analysis/friction
+CHECK := $(BUILD)/tests/paper_targets/check_paper_targets
+PYTHON := /usr/bin/python3
+REPORT_SCRIPTS := pipeline/report
 
 PRESET ?= default
-PRESET_FILE := pipeline/presets/$(PRESET).toml
 RESULTS := results/$(PRESET)
+ifeq ($(PRESET),quick)
+# the pipeline's end-to-end test: the small scenes of the tests, as they are
+FILL_SCENE := tests/scenes/quick_fill.toml
+PULLOFF_SCENE := tests/scenes/quick_pulloff.toml
+PRESET_FILE :=
+else
+FILL_SCENE := pipeline/fill.toml
+PULLOFF_SCENE := pipeline/pulloff.toml
+PRESET_FILE := pipeline/presets/$(PRESET).toml
+endif
+OVERLAY := $(if $(PRESET_FILE),--overlay $(PRESET_FILE))
 THREADS ?= $(JOBS)
 
 DEBIAN_PACKAGES := g++ cmake make pkg-config git \
@@ -39,8 +56,8 @@ DEBIAN_PACKAGES := g++ cmake make pkg-config git \
   python3-h5py python3-numpy python3-matplotlib
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: deps build test test-release test-sanitize bench reproduce fill pulloff pulloff-slice spectrum cg \
-  network friction clean FORCE
+.PHONY: deps build test test-release test-sanitize test-pipeline bench reproduce check fill pulloff \
+  pulloff-slice spectrum cg network friction metrics figures report clean FORCE
 
 deps:
 	@missing=$$(for p in $(DEBIAN_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done); \
@@ -59,7 +76,7 @@ build: deps $(BUILD)/CMakeCache.txt
 $(SANITIZE_BUILD)/CMakeCache.txt: | deps
 	cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDEM2D_SANITIZE=ON
 
-test: test-release test-sanitize
+test: test-release test-sanitize test-pipeline
 
 test-release: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
@@ -68,6 +85,12 @@ test-sanitize: deps $(SANITIZE_BUILD)/CMakeCache.txt
 	cmake --build $(SANITIZE_BUILD) -j $(JOBS)
 	cd $(SANITIZE_BUILD) && ctest --output-on-failure -j $(JOBS) -L quick
 
+# The whole pipeline on the small scene (into results/quick/), then its
+# outputs and the Makefile's staleness rules checked.
+test-pipeline: build
+	$(MAKE) --no-print-directory reproduce PRESET=quick THREADS=$(THREADS)
+	tests/pipeline_test.sh results/quick
+
 bench: build
 	$(DEM2D) bench
 
@@ -75,62 +98,103 @@ bench: build
 # The programs are always asked to build (a no-op when up to date); a stage
 # reruns only when its inputs or its program actually changed. An interrupted
 # simulation stage resumes from its checkpoint when rerun.
-$(DEM2D) $(BED_METRICS) $(PULLOFF_METRICS) $(SPECTRUM) $(CG) $(NETWORK) $(FRICTION): FORCE | $(BUILD)/CMakeCache.txt
+$(DEM2D) $(BED_METRICS) $(PULLOFF_METRICS) $(SPECTRUM) $(CG) $(NETWORK) $(FRICTION) $(CHECK): FORCE | $(BUILD)/CMakeCache.txt
 	@cmake --build $(BUILD) -j $(JOBS) --target $(notdir $@) > $(BUILD)/$(notdir $@).build.log || \
 	  (cat $(BUILD)/$(notdir $@).build.log; exit 1)
 
+ifneq ($(PRESET),quick)
 ifeq ($(wildcard $(PRESET_FILE)),)
-$(error PRESET=$(PRESET): there is no $(PRESET_FILE); use PRESET=default or PRESET=paper)
+$(error PRESET=$(PRESET): there is no $(PRESET_FILE); use PRESET=default, paper or quick)
+endif
 endif
 
-$(RESULTS)/fill/run.h5: pipeline/fill.toml $(PRESET_FILE) $(DEM2D)
-	$(DEM2D) run pipeline/fill.toml --overlay $(PRESET_FILE) --out $(@D) --threads $(THREADS)
+# $(call timed,COMMAND): runs COMMAND, then records its wall time beside the
+# target ($(@D)/timing.json, read into the cost table of the report). When it
+# fails, says how to remake a missing or corrupt input.
+timed = echo '$(strip $(1))' && t0=$$(date +%s.%N) && \
+  { $(1) || { echo "make: $(@D) failed. If the message above names a missing or corrupt input file, delete it and run \`make reproduce PRESET=$(PRESET)\`, which remakes it." >&2; exit 1; }; } && awk -v t0=$$t0 -v t1=$$(date +%s.%N) \
+  'BEGIN { printf "{\"wall_seconds\": %.3f}\n", t1 - t0 }' > $(@D)/timing.json.tmp && \
+  mv $(@D)/timing.json.tmp $(@D)/timing.json
+
+$(RESULTS)/fill/run.h5: $(FILL_SCENE) $(PRESET_FILE) $(DEM2D)
+	$(DEM2D) run $(FILL_SCENE) $(OVERLAY) --out $(@D) --threads $(THREADS)
 
 $(RESULTS)/fill/metrics.json: $(RESULTS)/fill/run.h5 data/bed_metrics.toml $(BED_METRICS)
 	$(BED_METRICS) $< --out $@
 
-$(RESULTS)/pulloff/run.h5: pipeline/pulloff.toml $(PRESET_FILE) $(RESULTS)/fill/run.h5 $(DEM2D)
-	$(DEM2D) run pipeline/pulloff.toml --overlay $(PRESET_FILE) --initial $(RESULTS)/fill/run.h5 \
+$(RESULTS)/pulloff/run.h5: $(PULLOFF_SCENE) $(PRESET_FILE) $(RESULTS)/fill/run.h5 $(DEM2D)
+	$(DEM2D) run $(PULLOFF_SCENE) $(OVERLAY) --initial $(RESULTS)/fill/run.h5 \
 	  --out $(@D) --threads $(THREADS)
 
 $(RESULTS)/pulloff/metrics.json: $(RESULTS)/pulloff/run.h5 data/study.toml $(PULLOFF_METRICS)
 	$(PULLOFF_METRICS) $< --out $@ --csv $(@D)/drag.csv
 
-$(RESULTS)/pulloff_5mm/run.h5: pipeline/pulloff.toml $(PRESET_FILE) pipeline/slice_5mm.toml $(RESULTS)/fill/run.h5 $(DEM2D)
-	$(DEM2D) run pipeline/pulloff.toml --overlay $(PRESET_FILE) --overlay pipeline/slice_5mm.toml \
-	  --initial $(RESULTS)/fill/run.h5 --out $(@D) --threads $(THREADS)
+# The slice starts from the bed of preset BED_FROM (default: the same preset):
+# `make pulloff-slice PRESET=paper BED_FROM=default` measures the paper's cost
+# without its 1.7e8-step fill.
+BED_FROM ?= $(PRESET)
+SLICE_DIR := $(RESULTS)/pulloff_5mm$(if $(filter-out $(PRESET),$(BED_FROM)),_on_$(BED_FROM)_bed)
+$(SLICE_DIR)/run.h5: $(PULLOFF_SCENE) $(PRESET_FILE) pipeline/slice_5mm.toml results/$(BED_FROM)/fill/run.h5 $(DEM2D)
+	$(DEM2D) run $(PULLOFF_SCENE) $(OVERLAY) --overlay pipeline/slice_5mm.toml \
+	  --initial results/$(BED_FROM)/fill/run.h5 --out $(@D) --threads $(THREADS)
 
-$(RESULTS)/pulloff_5mm/metrics.json: $(RESULTS)/pulloff_5mm/run.h5 data/study.toml $(PULLOFF_METRICS)
+$(SLICE_DIR)/metrics.json: $(SLICE_DIR)/run.h5 data/study.toml $(PULLOFF_METRICS)
 	$(PULLOFF_METRICS) $< --out $@ --csv $(@D)/drag.csv
 
 PULLOFF_RUN := $(RESULTS)/pulloff/run.h5
 
 $(RESULTS)/spectrum/metrics.json: $(PULLOFF_RUN) $(RESULTS)/fill/metrics.json data/spectrum.toml data/study.toml \
                                   $(SPECTRUM)
-	$(SPECTRUM) $< --out $(@D) --fill-metrics $(RESULTS)/fill/metrics.json
+	@$(call timed,$(SPECTRUM) $< --out $(@D) --fill-metrics $(RESULTS)/fill/metrics.json)
 
 $(RESULTS)/cg/metrics.json: $(PULLOFF_RUN) $(RESULTS)/spectrum/metrics.json data/cg.toml data/study.toml $(CG)
-	$(CG) $< --out $(@D) --events $(RESULTS)/spectrum/spectrum.h5 --threads $(THREADS)
+	@$(call timed,$(CG) $< --out $(@D) --events $(RESULTS)/spectrum/spectrum.h5 --threads $(THREADS))
 
 $(RESULTS)/network/metrics.json: $(PULLOFF_RUN) $(RESULTS)/spectrum/metrics.json data/network.toml data/study.toml \
                                  $(NETWORK)
-	$(NETWORK) $< --out $(@D) --events $(RESULTS)/spectrum/spectrum.h5 \
-	  --spectrum-metrics $(RESULTS)/spectrum/metrics.json
+	@$(call timed,$(NETWORK) $< --out $(@D) --events $(RESULTS)/spectrum/spectrum.h5 \
+	  --spectrum-metrics $(RESULTS)/spectrum/metrics.json)
 
 $(RESULTS)/friction/metrics.json: $(PULLOFF_RUN) data/friction.toml data/study.toml $(FRICTION)
-	$(FRICTION) $< --out $(@D)
+	@$(call timed,$(FRICTION) $< --out $(@D))
+
+# --- metrics, tolerance tests, figures, report -------------------------------
+STAGE_METRICS := $(foreach s,fill pulloff spectrum cg network friction,$(RESULTS)/$(s)/metrics.json)
+
+$(RESULTS)/metrics.json: $(STAGE_METRICS) $(REPORT_SCRIPTS)/merge_metrics.py $(REPORT_SCRIPTS)/files.py
+	$(PYTHON) $(REPORT_SCRIPTS)/merge_metrics.py $(RESULTS) $(PRESET)
+
+# The tolerance tests' verdicts for the report: misses do not stop the
+# reproduction (`make check` fails on them); a broken check program does.
+$(RESULTS)/check.json: $(RESULTS)/metrics.json data/paper_targets.toml $(CHECK)
+	@$(CHECK) $< data/paper_targets.toml --gtest_output=json:$@.tmp > $(RESULTS)/check.log 2>&1; rc=$$?; \
+	  if [ $$rc -le 1 ] && [ -s $@.tmp ]; then mv $@.tmp $@; grep -E '^\[  (PASSED|FAILED)  \] [0-9]+ test' $(RESULTS)/check.log; \
+	  else cat $(RESULTS)/check.log; exit 1; fi
+
+$(RESULTS)/figures/index.json: $(STAGE_METRICS) $(wildcard $(REPORT_SCRIPTS)/*.py)
+	$(PYTHON) $(REPORT_SCRIPTS)/figures.py $(RESULTS)
+
+$(RESULTS)/report.md: $(RESULTS)/metrics.json $(RESULTS)/check.json $(RESULTS)/figures/index.json \
+                      $(REPORT_SCRIPTS)/report.py $(REPORT_SCRIPTS)/deviations.toml
+	$(PYTHON) $(REPORT_SCRIPTS)/report.py $(RESULTS) $(PRESET)
 
 fill: $(RESULTS)/fill/metrics.json
 pulloff: $(RESULTS)/pulloff/metrics.json
-pulloff-slice: $(RESULTS)/pulloff_5mm/metrics.json
+pulloff-slice: $(SLICE_DIR)/metrics.json
 spectrum: $(RESULTS)/spectrum/metrics.json
 cg: $(RESULTS)/cg/metrics.json
 network: $(RESULTS)/network/metrics.json
 friction: $(RESULTS)/friction/metrics.json
+metrics: $(RESULTS)/metrics.json
+figures: $(RESULTS)/figures/index.json
+report: $(RESULTS)/report.md
 
-reproduce: fill pulloff spectrum cg network friction
-	@echo "make reproduce: the stages of $(RESULTS) are up to date."
-	@echo "Not implemented yet: the merged metrics.json, tolerance tests, figures and report (issue 7)."
+# Every paper target, one GoogleTest test each; fails on any miss.
+check: $(RESULTS)/metrics.json $(CHECK)
+	$(CHECK) $< data/paper_targets.toml
+
+reproduce: $(RESULTS)/report.md
+	@echo "make reproduce: $(RESULTS) is up to date; the report is $(RESULTS)/report.md"
 
 clean:
 	rm -rf build

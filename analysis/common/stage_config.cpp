@@ -84,6 +84,14 @@ void StageConfig::numbers(std::string_view key, std::vector<double>& out, double
   out = std::move(v);
 }
 
+void StageConfig::text(std::string_view key, std::string& out, std::string_view meaning) {
+  const toml::node* n = take(key);
+  if (!n) return;
+  const auto* s = n->as_string();
+  if (!s || s->get().empty()) fail(*n, key, "wrong type, expected a non-empty string (" + std::string(meaning) + ")");
+  out = s->get();
+}
+
 void StageConfig::choice(std::string_view key, std::string& out, const std::vector<std::string>& allowed,
                          std::string_view meaning) {
   const toml::node* n = take(key);

@@ -1,0 +1,76 @@
+#!/usr/bin/python3
+"""Merges the stages' metrics into one file, with the run's cost.
+
+    /usr/bin/python3 pipeline/report/merge_metrics.py RESULTS_DIR PRESET
+
+Reads RESULTS_DIR/<stage>/metrics.json (each {"<stage>": {...}}) for every
+stage, the engine's own timing of the two simulations (run.h5 attributes:
+wall time, steps, threads) and the Makefile's timing of the analysis stages
+(RESULTS_DIR/<stage>/timing.json), and writes RESULTS_DIR/metrics.json:
+
+    {"preset": ..., "fill": {...}, "pulloff": {...}, "spectrum": {...}, "cg": {...},
+     "network": {...}, "friction": {...},
+     "cost": {"<stage>": {"wall_seconds": ..., ...}, "total_wall_seconds": ...}}
+
+A missing or unreadable input stops with a message naming the file and the
+make target that writes it (exit code 2).
+"""
+import json
+import sys
+from pathlib import Path
+
+from files import fail, read_json, write_atomic
+
+STAGES = ["fill", "pulloff", "spectrum", "cg", "network", "friction"]
+SIMULATIONS = ["fill", "pulloff"]
+
+
+def simulation_cost(run_file: Path, preset: str, stage: str) -> dict:
+    import h5py  # Debian's python3-h5py
+
+    try:
+        with h5py.File(run_file, "r") as f:
+            a = f.attrs
+            steps, n, wall = int(a["steps"]), int(a["n_particles"]), float(a["wall_seconds"])
+            cost = {"wall_seconds": wall, "steps": steps, "particles": n, "threads": int(a["threads"]),
+                    "simulated_seconds": float(a["end_time"]), "time_step_s": float(a["dt"])}
+    except (OSError, KeyError) as e:
+        fail(f"{run_file}: cannot read the run's cost ({e}): run `make {stage} PRESET={preset}`")
+    if steps > 0 and wall > 0:
+        cost["ns_per_particle_step"] = wall * 1e9 / (steps * n)
+        cost["particle_steps_per_second"] = steps * n / wall
+    return cost
+
+
+def code_version(run_file: Path) -> str:
+    import h5py
+
+    with h5py.File(run_file, "r") as f:
+        v = f.attrs["code_version"]
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
+def main() -> None:
+    if len(sys.argv) != 3:
+        fail("usage: merge_metrics.py RESULTS_DIR PRESET")
+    results, preset = Path(sys.argv[1]), sys.argv[2]
+    merged = {"preset": preset, "code_version": ""}
+    cost = {}
+    for stage in STAGES:
+        metrics = read_json(results / stage / "metrics.json", f"make {stage} PRESET={preset}")
+        if stage not in metrics:
+            fail(f"{results / stage / 'metrics.json'}: no \"{stage}\" object: rerun `make {stage} PRESET={preset}`")
+        merged[stage] = metrics[stage]
+        if stage in SIMULATIONS:
+            cost[stage] = simulation_cost(results / stage / "run.h5", preset, stage)
+        else:
+            cost[stage] = read_json(results / stage / "timing.json", f"make {stage} PRESET={preset}")
+    merged["code_version"] = code_version(results / "pulloff" / "run.h5")
+    cost["total_wall_seconds"] = sum(c["wall_seconds"] for c in cost.values())
+    merged["cost"] = cost
+    write_atomic(results / "metrics.json", json.dumps(merged, indent=2) + "\n")
+    print(f"merge_metrics: {len(STAGES)} stages -> {results / 'metrics.json'}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,165 @@
+#!/usr/bin/python3
+"""Writes the reproduction report of one preset's results.
+
+    /usr/bin/python3 pipeline/report/report.py RESULTS_DIR PRESET
+
+Reads RESULTS_DIR/metrics.json (merge_metrics.py), RESULTS_DIR/check.json
+(the tolerance tests' GoogleTest JSON output: one test per paper target, with
+our value, the paper's and the verdict as properties), RESULTS_DIR/figures/
+index.json (figures.py) and pipeline/report/deviations.toml; writes
+RESULTS_DIR/report.md.
+"""
+import sys
+import tomllib
+from pathlib import Path
+
+from files import fail, read_json, write_atomic
+
+HERE = Path(__file__).resolve().parent
+
+
+def utf8(value):
+    """GoogleTest's JSON writer escapes each byte of a UTF-8 string as its own code point."""
+    if not isinstance(value, str):
+        return value
+    try:
+        return value.encode("latin-1").decode("utf-8")
+    except (UnicodeEncodeError, UnicodeDecodeError):
+        return value
+
+
+def targets_table(check: dict) -> tuple[list[str], list[dict]]:
+    rows = [{k: utf8(v) for k, v in t.items()} for suite in check.get("testsuites", []) for t in suite.get("testsuite", [])]
+    if not rows:
+        fail("check.json lists no targets: rerun `make reproduce`")
+    lines = ["| result | metric | what | paper | ours | verdict |", "|---|---|---|---|---|---|"]
+    for t in rows:
+        verdict = "pass" if t.get("verdict") == "pass" else "**FAIL**"
+        lines.append(f"| {t.get('result', t['classname'])} | `{t.get('metric', t['name'])}` | {t.get('what', '')} "
+                     f"| {t.get('paper', '')} | {t.get('ours', 'missing')} | {verdict} |")
+    return lines, rows
+
+
+def deviations(preset: str, failed: list[dict]) -> list[str]:
+    with open(HERE / "deviations.toml", "rb") as f:
+        d = tomllib.load(f)
+    lines = ["### Method", "", "| what | paper | ours | why |", "|---|---|---|---|"]
+    for dev in d.get("deviation", []):
+        if preset in dev["presets"]:
+            lines.append(f"| {dev['what']} | {dev['paper']} | {dev['ours']} | {dev['reason']} |")
+    lines += ["", "### Results outside the paper's tolerance", ""]
+    reasons = {m["metric"]: m["reason"] for m in d.get("miss", [])}
+    if not failed:
+        lines.append("None: every target passes.")
+    for t in failed:
+        metric = t.get("metric", t["name"])
+        why = reasons.get(metric, "not analysed yet")
+        lines.append(f"- **{t.get('result', '')} `{metric}`** = {t.get('ours', 'missing')} (paper {t.get('paper', '')}; "
+                     f"source: {t.get('source', '')}; tolerance: {t.get('why', '')}). Why: {why}.")
+    return lines
+
+
+def cost_table(cost: dict) -> list[str]:
+    lines = ["| stage | wall time (s) | steps | particle-steps/s | ns per particle-step | threads |",
+             "|---|---|---|---|---|---|"]
+    for stage, c in cost.items():
+        if not isinstance(c, dict):
+            continue
+        if "steps" in c:
+            sim = [str(c["steps"]), f"{c['particle_steps_per_second']:.3g}", f"{c['ns_per_particle_step']:.1f}",
+                   str(c["threads"])]
+        else:
+            sim = ["", "", "", ""]
+        lines.append(f"| {stage} | {c['wall_seconds']:.1f} | " + " | ".join(sim) + " |")
+    lines.append(f"| **total** | {cost['total_wall_seconds']:.1f} | | | | |")
+    return lines
+
+
+def figures(index: list[dict]) -> list[str]:
+    lines = []
+    for fig in index:
+        lines += [f"### {fig.get('figure', '')}: {fig['title']}", "", f"![{fig['title']}](figures/{fig['file']})", "",
+                  fig["caption"], ""]
+    return lines
+
+
+def sensitivity(metrics: dict) -> list[str]:
+    """Each stage's tables of how its numbers move with its thresholds."""
+    lines = []
+    for stage in ["spectrum", "cg", "network", "friction"]:
+        for name, rows in metrics.get(stage, {}).get("sensitivity", {}).items():
+            if not isinstance(rows, list) or not rows or not isinstance(rows[0], dict):
+                continue
+            keys = [k for k in rows[0] if not isinstance(rows[0][k], (dict, list))]
+            lines += [f"**{stage}: {name}**", "", "| " + " | ".join(keys) + " |", "|" + "---|" * len(keys)]
+            for r in rows:
+                lines.append("| " + " | ".join(fmt(r.get(k)) for k in keys) + " |")
+            lines.append("")
+    return lines
+
+
+def fmt(v) -> str:
+    if v is None:
+        return "—"
+    if isinstance(v, float):
+        return f"{v:.4g}"
+    return str(v)
+
+
+def main() -> None:
+    if len(sys.argv) != 3:
+        fail("usage: report.py RESULTS_DIR PRESET")
+    results, preset = Path(sys.argv[1]), sys.argv[2]
+    again = f"make reproduce PRESET={preset}"
+    metrics = read_json(results / "metrics.json", again)
+    check = read_json(results / "check.json", again)
+    index = read_json(results / "figures" / "index.json", again)
+    table, rows = targets_table(check)
+    failed = [t for t in rows if t.get("verdict") != "pass"]
+    run = metrics["pulloff"]
+    text = [
+        f"# Reproduction report: intruder pull-off, preset `{preset}`",
+        "",
+        "A 2D DEM reproduction of the pull-off of a horizontal bar from a bed of glass disks "
+        "(the study in `../shared/paper/`; parameters decoded in its SPEC.md). Written by `make reproduce "
+        f"PRESET={preset}` from the files beside it; code version {metrics.get('code_version', 'unknown')}.",
+        "",
+        f"**{len(rows) - len(failed)} of {len(rows)} paper targets pass** "
+        f"({len(failed)} fail). Pull-off: {run['travel_mm']:.1f} mm of travel, "
+        f"drag peak {run['drag_max_N_per_m']:.0f} N/m ({run['drag_max_N']:.2f} N × W) at H = "
+        f"{run['height_at_drag_max_mm']:.1f} mm.",
+        "",
+        "## Metrics against the paper",
+        "",
+        "Targets, tolerances and their sources: `data/paper_targets.toml`; `make check PRESET="
+        f"{preset}` runs the same comparisons as GoogleTest tests.",
+        "",
+        *table,
+        "",
+        "## Deviations from the paper",
+        "",
+        *deviations(preset, failed),
+        "",
+        "## Cost",
+        "",
+        "Wall time of each stage on this machine (`timing.json` in each stage's folder); for the simulations, "
+        "the engine's own count of steps.",
+        "",
+        *cost_table(metrics["cost"]),
+        "",
+        "## Figures",
+        "",
+        *figures(index),
+        "## How the numbers move with the definitions' thresholds",
+        "",
+        "Every threshold was fixed before the results were seen; these tables show how each number moves when "
+        "its threshold moves (definitions: `analysis/<stage>/README.md`).",
+        "",
+        *sensitivity(metrics),
+    ]
+    write_atomic(results / "report.md", "\n".join(text) + "\n")
+    print(f"report: {len(rows) - len(failed)}/{len(rows)} targets pass -> {results / 'report.md'}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,133 @@
+// The tolerance tests' own logic: the targets file, metric lookup, verdicts.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "common/pulloff_frame.hpp"  // StageError
+#include "paper_targets.hpp"
+#include "temp_dir.hpp"
+
+namespace dem2d::check {
+namespace {
+
+const std::string kTargets = std::string(DEM2D_DATA_DIR) + "/paper_targets.toml";
+
+Target within(const std::string& metric, double paper, double tol) {
+  Target t;
+  t.result = "R0";
+  t.metric = metric;
+  t.kind = Target::Kind::Within;
+  t.value = paper;
+  t.tolerance = tol;
+  return t;
+}
+
+TEST(PaperTargets, TheStudysFileNamesEveryNumberedResultAndSpecsMetrics) {
+  const std::vector<Target> targets = load_targets(kTargets);
+  std::set<std::string> results, metrics;
+  for (const Target& t : targets) {
+    results.insert(t.result);
+    metrics.insert(t.metric);
+  }
+  for (const char* r : {"R1", "R2", "R3", "R4", "R5", "R6", "R7", "R8", "R9", "R10", "R11"})
+    EXPECT_TRUE(results.count(r)) << r;
+  // The metric names SPEC's table gives for R1-R11.
+  for (const char* m :
+       {"fill.solid_fraction", "fill.bed_height_mm", "spectrum.bottom_peak_height_mm", "spectrum.amplitude_slope_upper",
+        "spectrum.amplitude_fit_r2_upper", "spectrum.rupture_spacing_d", "spectrum.rupture_frequency_hz_at_1p2mm_s",
+        "spectrum.top_layer_height_mm", "spectrum.top_layer_depth_fit_r2", "network.percolation_loss_height_mm",
+        "network.top_layer_anisotropy", "cg.cone_angle_deg", "cg.wall_mobility_length_mm", "friction.slip_fraction",
+        "friction.mean_mu_star_lower", "friction.mean_mu_star_upper", "network.keystone_explained_fraction",
+        "network.percolating_fraction_below_top_layer", "cg.dilatancy_delta_phi"})
+    EXPECT_TRUE(metrics.count(m)) << m;
+}
+
+TEST(PaperTargets, LookupFollowsDottedPathsAndRefusesWhatIsNotAFiniteNumber) {
+  const auto m = nlohmann::json::parse(R"({"fill": {"solid_fraction": 0.83, "note": "x", "none": null,
+                                           "bottom": {"peak": {"drag": 12.5}}}})");
+  EXPECT_EQ(lookup(m, "fill.solid_fraction"), 0.83);
+  EXPECT_EQ(lookup(m, "fill.bottom.peak.drag"), 12.5);
+  EXPECT_FALSE(lookup(m, "fill.note"));
+  EXPECT_FALSE(lookup(m, "fill.none"));
+  EXPECT_FALSE(lookup(m, "fill.missing"));
+  EXPECT_FALSE(lookup(m, "fill"));
+  EXPECT_FALSE(lookup(m, "fill.solid_fraction.x"));
+}
+
+TEST(PaperTargets, WithinToleranceIsInclusiveAndMissingFails) {
+  // binary-exact numbers: 0.75 is exactly 0.5 + 0.25
+  const auto m = nlohmann::json::parse(R"({"a": {"x": 0.75, "y": 0.7501, "w": 0.2499, "z": null}})");
+  EXPECT_TRUE(evaluate(within("a.x", 0.5, 0.25), m).pass);
+  EXPECT_FALSE(evaluate(within("a.y", 0.5, 0.25), m).pass);
+  EXPECT_FALSE(evaluate(within("a.w", 0.5, 0.25), m).pass);
+  const Verdict missing = evaluate(within("a.z", 0.5, 0.25), m);
+  EXPECT_FALSE(missing.pass);
+  EXPECT_FALSE(missing.ours);
+  EXPECT_NE(missing.message.find("missing"), std::string::npos) << missing.message;
+}
+
+TEST(PaperTargets, BoundsAreStrictAndAMetricCanBeTheBound) {
+  const auto m = nlohmann::json::parse(R"({"s": {"lower": 0.4, "upper": 0.34, "slip": 0.2}})");
+  Target t = within("s.slip", 0, 0);
+  t.kind = Target::Kind::Below;
+  t.value = 0.2;
+  EXPECT_FALSE(evaluate(t, m).pass);
+  t.value = 0.21;
+  EXPECT_TRUE(evaluate(t, m).pass);
+  t.kind = Target::Kind::Above;
+  EXPECT_FALSE(evaluate(t, m).pass);
+  t.value = 0.19;
+  EXPECT_TRUE(evaluate(t, m).pass);
+  Target shape = within("s.lower", 0, 0);
+  shape.kind = Target::Kind::AboveMetric;
+  shape.other_metric = "s.upper";
+  EXPECT_TRUE(evaluate(shape, m).pass);
+  shape.other_metric = "s.absent";
+  EXPECT_FALSE(evaluate(shape, m).pass);
+  shape.metric = "s.upper";
+  shape.other_metric = "s.lower";
+  EXPECT_FALSE(evaluate(shape, m).pass);
+}
+
+std::string load_error(const std::string& text) {
+  test::TempDir dir("paper_targets");
+  const std::string path = dir.file("t.toml", text);
+  try {
+    load_targets(path);
+  } catch (const analysis::StageError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+constexpr const char* kHead = "[[target]]\nresult = \"R1\"\nmetric = \"fill.x\"\nwhat = \"w\"\nsource = \"s\"\nwhy = \"y\"\n";
+
+TEST(PaperTargets, BadTargetFilesGetErrorsNamingFileKeyAndValue) {
+  EXPECT_EQ(load_error(std::string(kHead) + "paper = 1.0\ntolerance = 0.1\n"), "(no error)");
+  const std::string two = load_error(std::string(kHead) + "below = 1.0\nabove = 0.0\n");
+  EXPECT_NE(two.find("exactly one comparison"), std::string::npos) << two;
+  const std::string no_tol = load_error(std::string(kHead) + "paper = 1.0\n");
+  EXPECT_NE(no_tol.find("needs a tolerance"), std::string::npos) << no_tol;
+  const std::string negative = load_error(std::string(kHead) + "paper = 1.0\ntolerance = -0.1\n");
+  EXPECT_NE(negative.find("t.toml:8:"), std::string::npos) << negative;
+  EXPECT_NE(negative.find("tolerance = -0.1"), std::string::npos) << negative;
+  const std::string unknown = load_error(std::string(kHead) + "below = 1.0\ntolerence = 0.1\n");
+  EXPECT_NE(unknown.find("unknown key 'tolerence'"), std::string::npos) << unknown;
+  const std::string type = load_error(std::string(kHead) + "below = \"small\"\n");
+  EXPECT_NE(type.find("t.toml:7:9: below = 'small': wrong type"), std::string::npos) << type;
+  EXPECT_NE(load_error("x = 1\n").find("[[target]]"), std::string::npos);
+  EXPECT_NE(load_error("[[target\n").find("t.toml:1"), std::string::npos);
+}
+
+TEST(PaperTargets, MissingFilesSayWhatToRun) {
+  EXPECT_THROW(load_targets("/no/such/targets.toml"), analysis::StageError);
+  try {
+    load_metrics("/no/such/metrics.json");
+    FAIL();
+  } catch (const analysis::StageError& e) {
+    EXPECT_NE(std::string(e.what()).find("make reproduce"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace dem2d::check

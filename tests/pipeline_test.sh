@@ -1,0 +1,80 @@
+#!/usr/bin/env bash
+# The pipeline end to end, after `make reproduce PRESET=quick` (make
+# test-pipeline): every output exists and is complete, a second `make
+# reproduce` reruns nothing, a changed stage setting reruns only that stage
+# and what depends on it, and missing inputs get messages naming the file and
+# what to run.  Usage: tests/pipeline_test.sh results/quick  (from the repo root)
+set -uo pipefail
+R=$1
+PY=/usr/bin/python3
+WORK=$(mktemp -d)
+trap 'rm -rf "$WORK"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+# --- outputs -----------------------------------------------------------------
+$PY - "$R" <<'PYEOF' || fail "outputs of $R"
+import json, sys, tomllib
+from pathlib import Path
+r = Path(sys.argv[1])
+m = json.load(open(r / "metrics.json"))
+for stage in ["fill", "pulloff", "spectrum", "cg", "network", "friction"]:
+    assert isinstance(m.get(stage), dict) and m[stage], f"metrics.json: no {stage}"
+    assert m["cost"][stage]["wall_seconds"] > 0, f"cost of {stage}"
+assert m["cost"]["pulloff"]["ns_per_particle_step"] > 0
+targets = tomllib.load(open("data/paper_targets.toml", "rb"))["target"]
+tests = [t for s in json.load(open(r / "check.json"))["testsuites"] for t in s["testsuite"]]
+assert len(tests) == len(targets), f"check.json: {len(tests)} tests for {len(targets)} targets"
+assert all(t["verdict"] in ("pass", "fail") and t["metric"] for t in tests)
+index = json.load(open(r / "figures" / "index.json"))
+assert len(index) >= 10, f"{len(index)} figures"
+report = (r / "report.md").read_text()
+for fig in index:
+    png = (r / "figures" / fig["file"]).read_bytes()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 5000, fig["file"]
+    assert f"figures/{fig['file']}" in report, f"report.md misses {fig['file']}"
+    assert fig["caption"] and fig["title"]
+for heading in ["## Metrics against the paper", "## Deviations from the paper", "## Cost", "## Figures"]:
+    assert heading in report, heading
+for t in tests:
+    assert f"`{t['metric']}`" in report, t["metric"]
+print(f"pipeline outputs: {len(m)} metric groups, {len(tests)} targets, {len(index)} figures, report.md complete")
+PYEOF
+
+# --- staleness: nothing reruns; a stage's setting reruns that stage and what follows
+ran() { grep -E "dem2d run|analysis/[a-z_]+ |report/[a-z_]+\.py|check_paper_targets" "$1" | sed 's/ .*//' | sort -u; }
+make --no-print-directory reproduce PRESET=quick >"$WORK/again" 2>&1 || fail "second make reproduce: $(cat "$WORK/again")"
+[ -z "$(ran "$WORK/again")" ] || fail "a second make reproduce reran: $(ran "$WORK/again")"
+make --no-print-directory reproduce PRESET=quick -W data/friction.toml >"$WORK/friction" 2>&1 ||
+  fail "make reproduce after a friction setting changed: $(cat "$WORK/friction")"
+grep -q "analysis/friction " "$WORK/friction" || fail "friction did not rerun"
+grep -q "report.py" "$WORK/friction" || fail "the report was not rewritten"
+grep -qE "dem2d run|analysis/(spectrum|cg|network|bed_metrics|pulloff_metrics) " "$WORK/friction" &&
+  fail "a changed friction setting reran other stages: $(ran "$WORK/friction")"
+
+# --- missing or corrupt inputs: the message names the file and what to run
+Q=$WORK/quick  # a results folder named after its preset, as results/quick is
+mkdir -p "$Q"
+expect_msg() {  # expect_msg PATTERN -- command...: exit code 2 and PATTERN in stderr
+  local pattern=$1; shift 2
+  "$@" >"$WORK/out" 2>"$WORK/err"; local rc=$?
+  [ "$rc" -eq 2 ] || fail "$* exited $rc, expected 2"
+  grep -q -- "$pattern" "$WORK/err" || fail "$*: no '$pattern' in: $(cat "$WORK/err")"
+}
+expect_msg "quick/metrics.json: no such file: run \`make reproduce PRESET=quick\`" -- \
+  $PY pipeline/report/report.py "$Q" quick
+expect_msg "quick/fill/metrics.json: no such file: run \`make fill PRESET=quick\`" -- \
+  $PY pipeline/report/merge_metrics.py "$Q" quick
+expect_msg "quick/fill/metrics.json missing: run \`make fill PRESET=quick\`" -- $PY pipeline/report/figures.py "$Q"
+echo '{"fill": ' >"$Q/metrics.json"
+expect_msg "quick/metrics.json: not valid JSON" -- build/release/tests/paper_targets/check_paper_targets \
+  "$Q/metrics.json" data/paper_targets.toml
+cp -r "$R/fill" "$R/pulloff" "$Q/" && printf 'not an HDF5 file' >"$Q/pulloff/run.h5"
+make --no-print-directory "$Q/spectrum/metrics.json" PRESET=quick RESULTS="$Q" >"$WORK/out" 2>"$WORK/err" &&
+  fail "make spectrum on a corrupt run file succeeded"
+grep -q "quick/pulloff/run.h5: cannot open as HDF5" "$WORK/err" || fail "corrupt run file not named: $(cat "$WORK/err")"
+grep -q "delete it and run \`make reproduce PRESET=quick\`" "$WORK/err" || fail "no remedy given: $(cat "$WORK/err")"
+[ -e "$Q/spectrum/metrics.json" ] && fail "a failed stage left metrics behind"
+
+[ "$failures" -eq 0 ] && echo "pipeline_test: all checks passed" || echo "pipeline_test: $failures failed"
+[ "$failures" -eq 0 ]
