@@ -171,7 +171,8 @@ $(RESULTS)/check.json: $(RESULTS)/metrics.json data/paper_targets.toml $(CHECK)
 	  if [ $$rc -le 1 ] && [ -s $@.tmp ]; then mv $@.tmp $@; grep -E '^\[  (PASSED|FAILED)  \] [0-9]+ test' $(RESULTS)/check.log; \
 	  else cat $(RESULTS)/check.log; exit 1; fi
 
-$(RESULTS)/figures/index.json: $(STAGE_METRICS) $(wildcard $(REPORT_SCRIPTS)/*.py)
+FIGURE_SCRIPTS := $(filter-out %/report.py %/merge_metrics.py,$(wildcard $(REPORT_SCRIPTS)/*.py))
+$(RESULTS)/figures/index.json: $(STAGE_METRICS) data/study.toml $(FIGURE_SCRIPTS)
 	$(PYTHON) $(REPORT_SCRIPTS)/figures.py $(RESULTS)
 
 $(RESULTS)/report.md: $(RESULTS)/metrics.json $(RESULTS)/check.json $(RESULTS)/figures/index.json \
