@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "bed/bed_metrics.hpp"
+#include "core/version.hpp"
 #include "common/output.hpp"
 #include "io/run_reader.hpp"
 #include "io/run_file.hpp"
@@ -312,7 +313,7 @@ TEST(BedMetricsConfig, KeysAreReadAndBadOnesRejectedWithTheirPlace) {
 
 RunInfo run_info() {
   RunInfo info;
-  info.code_version = DEM2D_VERSION;
+  info.code_version = code_version();
   return info;
 }
 

@@ -13,6 +13,7 @@
 
 #include <unistd.h>
 
+#include "core/version.hpp"
 #include "engine/diagnostics.hpp"
 #include "io/h5.hpp"
 #include "io/run_file.hpp"
@@ -129,7 +130,7 @@ RunInfo run_info() {
   RunInfo info;
   info.scene_text = "# scene built in code\n";
   info.scene_path = "test.toml";
-  info.code_version = DEM2D_VERSION;
+  info.code_version = code_version();
   return info;
 }
 
@@ -422,7 +423,7 @@ TEST(RunFile, RecordsMatchTheSystem) {
   EXPECT_EQ(h5::read_attr_string(f, "/", "format"), "dem2d-run-1");
   EXPECT_EQ(h5::read_attr_string(f, "/", "scene_text"), run_info().scene_text);
   EXPECT_EQ(h5::read_attr_string(f, "/", "scene_path"), "test.toml");
-  EXPECT_EQ(h5::read_attr_string(f, "/", "code_version"), DEM2D_VERSION);
+  EXPECT_EQ(h5::read_attr_string(f, "/", "code_version"), code_version());
   EXPECT_EQ(h5::read_attr_string(f, "/", "stop_reason"), "duration");
   EXPECT_EQ(h5::read_attr_string(f, "/", "effects"),
             "gravity,normal_damping,friction,rolling_resistance,walls,moving_bodies");

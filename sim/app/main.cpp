@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/version.hpp"
 #include "app/bench.hpp"
 #include "run/run.hpp"
 #include "scene/scene_toml.hpp"
@@ -58,7 +59,7 @@ int cmd_run(const std::string& path, const dem2d::SceneSources& extra, dem2d::Ru
 
 int main(int argc, char** argv) {
   CLI::App app{"dem2d: 2D discrete element simulation of frictional disks and sphero-lines"};
-  app.set_version_flag("--version", std::string(DEM2D_VERSION));
+  app.set_version_flag("--version", dem2d::code_version());
   app.require_subcommand(1);
 
   std::string scene_path;

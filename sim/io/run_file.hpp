@@ -20,7 +20,7 @@ namespace dem2d {
 
 // Header data, written as root attributes.
 struct RunInfo {
-  std::string scene_text, scene_path, code_version;  // code_version: DEM2D_VERSION
+  std::string scene_text, scene_path, code_version;  // code_version: core/version.hpp
   int threads = 1;
   std::string initial_run;         // run file the grains came from ("" if none)
   std::vector<double> jam_times;   // times (s) the hopper outlet was found jammed and tapped

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/version.hpp"
 #include "io/h5.hpp"
 #include "io/run_file.hpp"
 
@@ -82,7 +83,7 @@ void write_checkpoint(const std::string& path, const System& sys, const RunProgr
     const h5::File f = h5::File::create(tmp);
     h5::write_attr(f, "/", "format", std::string(kFormat));
     h5::write_attr(f, "/", "scene_text", scene_text);
-    h5::write_attr(f, "/", "code_version", std::string(DEM2D_VERSION));
+    h5::write_attr(f, "/", "code_version", code_version());
     h5::write_attr(f, "/", "step", sys.step);
     h5::write_attr(f, "/", "next_series", pr.next_series);
     h5::write_attr(f, "/", "next_snapshot", pr.next_snapshot);

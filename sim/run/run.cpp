@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/version.hpp"
 #include "engine/diagnostics.hpp"
 #include "engine/system.hpp"
 #include "io/run_file.hpp"
@@ -232,7 +233,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   RunInfo info;
   info.scene_text = scene.text;
   info.scene_path = scene.path;
-  info.code_version = std::string(DEM2D_VERSION);
+  info.code_version = code_version();
   info.threads = sys.threads;
   info.initial_run = scene.initial_run;
   info.jam_times = jam.state().jam_times;

@@ -1,0 +1,19 @@
+#include "core/version.hpp"
+
+#include <fstream>
+#include <sstream>
+
+namespace dem2d {
+
+const std::string& code_version() {
+  static const std::string version = [] {
+    std::ifstream in(DEM2D_VERSION_FILE);
+    std::ostringstream git;
+    if (in) git << in.rdbuf();
+    const std::string g = git.str();
+    return std::string(DEM2D_PROJECT_VERSION) + "+" + (g.empty() ? "unknown" : g);
+  }();
+  return version;
+}
+
+}  // namespace dem2d
