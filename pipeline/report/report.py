@@ -32,11 +32,11 @@ def targets_table(check: dict) -> tuple[list[str], list[dict]]:
     rows = [{k: utf8(v) for k, v in t.items()} for suite in check.get("testsuites", []) for t in suite.get("testsuite", [])]
     if not rows:
         fail("check.json lists no targets: rerun `make reproduce`")
-    lines = ["| result | metric | what | paper | ours | verdict |", "|---|---|---|---|---|---|"]
+    lines = ["| result | metric | what | paper | tolerance | ours | verdict |", "|---|---|---|---|---|---|---|"]
     for t in rows:
         verdict = "pass" if t.get("verdict") == "pass" else "**FAIL**"
         lines.append(f"| {t.get('result', t['classname'])} | `{t.get('metric', t['name'])}` | {t.get('what', '')} "
-                     f"| {t.get('paper', '')} | {t.get('ours', 'missing')} | {verdict} |")
+                     f"| {t.get('paper', '')} | {t.get('tolerance', '')} | {t.get('ours', 'missing')} | {verdict} |")
     return lines, rows
 
 
@@ -54,8 +54,8 @@ def deviations(preset: str, failed: list[dict]) -> list[str]:
     for t in failed:
         metric = t.get("metric", t["name"])
         why = reasons.get(metric, "not analysed yet")
-        lines.append(f"- **{t.get('result', '')} `{metric}`** = {t.get('ours', 'missing')} (paper {t.get('paper', '')}; "
-                     f"source: {t.get('source', '')}; tolerance: {t.get('why', '')}). Why: {why}.")
+        lines.append(f"- **{t.get('result', '')} `{metric}`** = {t.get('ours', 'missing')} (paper {t.get('paper', '')} {t.get('tolerance', '')}; "
+                     f"source: {t.get('source', '')}; why this tolerance: {t.get('why', '')}). Why we miss: {why}.")
     return lines
 
 

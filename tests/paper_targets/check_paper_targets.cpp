@@ -26,7 +26,8 @@ class TargetTest : public testing::Test {
     RecordProperty("metric", t_.metric);
     RecordProperty("what", t_.what);
     RecordProperty("ours", v.ours ? dem2d::analysis::format_number(*v.ours) : "missing");
-    RecordProperty("paper", v.expected);
+    RecordProperty("paper", v.paper);
+    RecordProperty("tolerance", v.tolerance);
     RecordProperty("source", t_.source);
     RecordProperty("why", t_.why);
     RecordProperty("verdict", v.pass ? "pass" : "fail");

@@ -108,20 +108,25 @@ Verdict evaluate(const Target& t, const nlohmann::json& metrics) {
   std::optional<double> other;
   switch (t.kind) {
     case Target::Kind::Within:
-      v.expected = format_number(t.value) + " ± " + format_number(t.tolerance);
+      v.paper = format_number(t.value);
+      v.tolerance = "± " + format_number(t.tolerance);
+      v.expected = v.paper + " " + v.tolerance;
       v.pass = v.ours && std::abs(*v.ours - t.value) <= t.tolerance;
       break;
     case Target::Kind::Below:
-      v.expected = "< " + format_number(t.value);
+      v.expected = v.paper = "< " + format_number(t.value);
+      v.tolerance = "a bound";
       v.pass = v.ours && *v.ours < t.value;
       break;
     case Target::Kind::Above:
-      v.expected = "> " + format_number(t.value);
+      v.expected = v.paper = "> " + format_number(t.value);
+      v.tolerance = "a bound";
       v.pass = v.ours && *v.ours > t.value;
       break;
     case Target::Kind::AboveMetric:
       other = lookup(metrics, t.other_metric);
-      v.expected = "> " + t.other_metric + (other ? " (= " + format_number(*other) + ")" : " (missing)");
+      v.expected = v.paper = "> " + t.other_metric + (other ? " (= " + format_number(*other) + ")" : " (missing)");
+      v.tolerance = "a shape";
       v.pass = v.ours && other && *v.ours > *other;
       break;
   }

@@ -37,6 +37,7 @@ struct Verdict {
   bool pass = false;
   std::optional<double> ours;   // absent: the metric is missing, null or not a number
   std::string expected;         // "0.82 ± 0.02", "< 0.2", "> spectrum.x (= 3.1)"
+  std::string paper, tolerance; // expected in two parts: ("0.82", "± 0.02"), ("< 0.2", "a bound"), ("> spectrum.x (= 3.1)", "a shape")
   std::string message;          // one line for the failure report
 };
 Verdict evaluate(const Target& t, const nlohmann::json& metrics);

@@ -57,7 +57,10 @@ TEST(PaperTargets, LookupFollowsDottedPathsAndRefusesWhatIsNotAFiniteNumber) {
 TEST(PaperTargets, WithinToleranceIsInclusiveAndMissingFails) {
   // binary-exact numbers: 0.75 is exactly 0.5 + 0.25
   const auto m = nlohmann::json::parse(R"({"a": {"x": 0.75, "y": 0.7501, "w": 0.2499, "z": null}})");
-  EXPECT_TRUE(evaluate(within("a.x", 0.5, 0.25), m).pass);
+  const Verdict edge = evaluate(within("a.x", 0.5, 0.25), m);
+  EXPECT_TRUE(edge.pass);
+  EXPECT_EQ(edge.paper, "0.5");
+  EXPECT_EQ(edge.tolerance, "± 0.25");
   EXPECT_FALSE(evaluate(within("a.y", 0.5, 0.25), m).pass);
   EXPECT_FALSE(evaluate(within("a.w", 0.5, 0.25), m).pass);
   const Verdict missing = evaluate(within("a.z", 0.5, 0.25), m);
