@@ -88,6 +88,7 @@ const std::vector<Key>& keys() {
       list("output", "bands_mm", &CgConfig::bands_mm),
       num("output", "field_every_mm", &CgConfig::field_every_mm),
       integer("output", "field_max_snapshots", &CgConfig::field_max_snapshots),
+      integer("output", "field_follow_snapshots", &CgConfig::field_follow_snapshots),
       num("output", "tip_window_width_mm", &CgConfig::tip_window_width_mm),
       num("output", "tip_window_height_mm", &CgConfig::tip_window_height_mm),
       list("sensitivity", "levels", &CgConfig::levels),
@@ -134,6 +135,9 @@ void check_ranges(const CgConfig& c, const std::function<std::string(const std::
   check(c.region_height_d > 0.0, "dilatancy.region_height_d", c.region_height_d, "must be > 0 (in d)");
   check(c.after_travel_d > 0.0, "dilatancy.after_travel_d", c.after_travel_d, "must be > 0 (in d)");
   check(c.field_every_mm >= 0.0, "output.field_every_mm", c.field_every_mm, "must be >= 0 (mm; 0: none)");
+  check(c.field_max_snapshots >= 0, "output.field_max_snapshots", c.field_max_snapshots, "must be >= 0");
+  check(c.field_follow_snapshots >= 0, "output.field_follow_snapshots", c.field_follow_snapshots,
+        "must be >= 0 (snapshots after each pre-rupture one)");
   check(c.tip_window_width_mm > 0.0, "output.tip_window_width_mm", c.tip_window_width_mm, "must be > 0 (mm)");
   check(c.tip_window_height_mm > 0.0, "output.tip_window_height_mm", c.tip_window_height_mm, "must be > 0 (mm)");
   for (std::size_t k = 1; k < c.bands_mm.size(); ++k)

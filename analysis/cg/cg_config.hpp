@@ -45,7 +45,8 @@ struct CgConfig {
   // [output]
   std::vector<double> bands_mm = {0, 30, 60, 90, 120, 150};  // intruder-height bands for beta per band
   double field_every_mm = 10.0;      // full fields every this much travel (0: none), plus the pre-rupture ones
-  int field_max_snapshots = 50;      // at most this many snapshots with full fields (evenly thinned)
+  int field_max_snapshots = 60;      // at most this many snapshots with full fields (events evenly thinned)
+  int field_follow_snapshots = 2;    // with each pre-rupture snapshot, the fields of this many after it
   double tip_window_width_mm = 32.0;   // intruder-frame window around the intruder, stored for every snapshot
   double tip_window_height_mm = 16.0;
   // [sensitivity]: each list is varied one at a time around the values above

@@ -64,26 +64,30 @@ PivVelocities piv_velocities(const Snapshot& s, const std::vector<Vec2>& disp, d
   return p;
 }
 
-// The snapshots whose full fields are stored: the pre-rupture ones, one every
-// `every` of travel, snapshot 0 and `extra`; evenly thinned to at most `max`.
+// The snapshots whose full fields are stored: snapshot 0, `extra` and one
+// every `every` of travel, always; then, for pre-rupture snapshots, that
+// snapshot and the `follow` after it (the drop and the reloading: paper
+// Figs. 8 and 11), for as many events, evenly spread, as keep the total
+// within `max`.
 std::vector<std::size_t> field_snapshots(const std::vector<double>& heights, const std::vector<std::int64_t>& pre,
-                                         double every, std::size_t max, std::size_t extra) {
+                                         double every, std::size_t max, std::size_t extra, std::size_t follow) {
   std::set<std::size_t> chosen = {0, extra};
-  for (const std::int64_t k : pre)
-    if (k >= 0) chosen.insert(static_cast<std::size_t>(k));
   if (every > 0.0) {
     double next = heights.front();
     for (std::size_t k = 0; k < heights.size(); ++k)
       if (heights[k] >= next) chosen.insert(k), next = heights[k] + every;
   }
-  std::vector<std::size_t> all(chosen.begin(), chosen.end());
-  if (all.size() <= max) return all;
-  std::vector<std::size_t> out;
-  for (std::size_t q = 0; q < max; ++q)
-    out.push_back(all[static_cast<std::size_t>(std::llround(static_cast<double>(q) * static_cast<double>(all.size() - 1) /
-                                                            static_cast<double>(std::max<std::size_t>(max - 1, 1))))]);
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-  return out;
+  std::vector<std::size_t> starts;
+  for (const std::int64_t k : pre)
+    if (k >= 0 && (starts.empty() || starts.back() != static_cast<std::size_t>(k))) starts.push_back(static_cast<std::size_t>(k));
+  const std::size_t room = max > chosen.size() ? (max - chosen.size()) / (follow + 1) : 0;
+  const std::size_t n = std::min(room, starts.size());
+  for (std::size_t q = 0; q < n; ++q) {
+    const std::size_t i = n == 1 ? 0 : static_cast<std::size_t>(std::llround(static_cast<double>(q) * static_cast<double>(starts.size() - 1) /
+                                                                           static_cast<double>(n - 1)));
+    for (std::size_t f = 0; f <= follow && starts[i] + f < heights.size(); ++f) chosen.insert(starts[i] + f);
+  }
+  return {chosen.begin(), chosen.end()};
 }
 
 // Everything about the run that does not change along it, from snapshot 0:
@@ -302,7 +306,8 @@ CgResult compute_cg(const CgInput& in) {
   const std::int64_t after = first_after_travel(heights, c.after_travel_d * su.d);
   const std::vector<std::size_t> fields_at =
       field_snapshots(heights, pre, c.field_every_mm / kMm, static_cast<std::size_t>(c.field_max_snapshots),
-                      after >= 0 ? static_cast<std::size_t>(after) : 0);
+                      after >= 0 ? static_cast<std::size_t>(after) : 0,
+                      static_cast<std::size_t>(c.field_follow_snapshots));
 
   const int threads = in.threads > 0 ? in.threads : omp_get_max_threads();
   Measured m = measure_all(run, su, in, has_piv, primary, fields_at, threads);

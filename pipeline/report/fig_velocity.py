@@ -68,7 +68,8 @@ def vstar_zones(inp, cg, run, ev):
         where[-1] += f"; the stored field nearest to the top layer lies below it (top layer from {top:.1f} mm)"
     caption = (f"Mobility zones of v* = |V|/V (lab frame) at {len(panels)} intruder heights: {'; '.join(where)}. "
                f"Velocities: {cg.describe()}; from cg/cg.h5 /fields, which stores full fields only for "
-               f"{len(cg.fields)} snapshots (pre-rupture ones and one every 10 mm, evenly thinned), so each "
+               f"{len(cg.fields)} snapshots (one every 10 mm, and pre-rupture ones with the two after them for events "
+               "spread over the run), so each "
                "panel is the stored snapshot nearest to its aimed height; white: masked (φ below the mask).")
     return fig, caption
 
