@@ -3,8 +3,8 @@
 #
 #   make deps       install the Debian packages the project needs (apt-get)
 #   make build      optimised build: build/release/sim/dem2d
-#   make test       unit + physics tests (optimised build), then the quick
-#                   tests again under AddressSanitizer + UBSan
+#   make test       unit + physics tests (optimised build), the quick tests again
+#                   under AddressSanitizer + UBSan, then make test-pipeline
 #   make bench      ns per particle-step on the standard settled bed
 #   make reproduce  the study, PRESET=default (or paper), into results/<preset>/: every stage,
 #                   metrics.json, the tolerance tests (check.json), figures/, report.md
@@ -12,7 +12,8 @@
 #   make test-pipeline  the whole pipeline on the small test scene (PRESET=quick), its outputs checked
 #   make fill       stage: hopper filling, bed metrics   (results/<preset>/fill/)
 #   make pulloff    stage: intruder pull-off, drag      (results/<preset>/pulloff/)
-#   make pulloff-slice  the first 5 mm of the pull-off only: the preset's cost (results/<preset>/pulloff_5mm/)
+#   make pulloff-slice  the first 5 mm of the pull-off only: the preset's cost (results/<preset>/pulloff_5mm/;
+#                   BED_FROM=<preset> starts it from another preset's bed)
 #   make spectrum   stage: drag spectrum, loading/rupture events, top layer  (results/<preset>/spectrum/)
 #   make cg         stage: coarse-grained fields, mobility zones, cone angle (results/<preset>/cg/)
 #   make network    stage: force network, percolation, keystones             (results/<preset>/network/)
