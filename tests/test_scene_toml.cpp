@@ -15,6 +15,7 @@
 
 #include "scene/generators.hpp"
 #include "scene/scene_toml.hpp"
+#include "temp_dir.hpp"
 
 namespace dem2d::test {
 namespace {
@@ -495,6 +496,55 @@ TEST(SceneTomlErrors, GeneratorRegionTooSmall) {
       edit(kValid, "[-0.04, 0.05]]", "[-0.04]]"),
       {"generator[0].region[3] = [-0.04]", "must be an array [x, y] (polygon vertex in m, finite)"},
       57);
+}
+
+// Overlays (presets, sweep settings) merged over a scene file.
+Scene with_overlays(const TempDir& dir, std::initializer_list<std::string_view> overlays) {
+  SceneSources extra;
+  int n = 0;
+  for (std::string_view o : overlays) {
+    std::string name = "o";
+    name += std::to_string(n++);
+    name += ".toml";
+    extra.overlays.push_back(dir.file(name, std::string(o)));
+  }
+  return load_scene(dir.file("scene.toml", std::string(kValid)), extra);
+}
+
+TEST(SceneOverlays, TablesMergeKeyByKeyAndOtherValuesReplace) {
+  TempDir dir;
+  const Scene s = with_overlays(dir, {"[contact]\nkn = 3e6\n[gravity]\ng = [0, -1.62]\n", "[contact]\nfriction = 0.3\n"});
+  EXPECT_EQ(s.particle_particle.kn, 3e6);        // first overlay
+  EXPECT_EQ(s.particle_particle.friction, 0.3);  // second overlay
+  EXPECT_EQ(s.particle_particle.kt, 9.6e5);      // the scene's, kept
+  EXPECT_EQ(s.gy, -1.62);                        // an array replaces
+  EXPECT_NE(s.text.find("o0.toml + "), std::string::npos) << "the stored text names the overlays";
+}
+
+TEST(SceneOverlays, NamedBodiesMergeByNameAndNewNamesAreAdded) {
+  TempDir dir;
+  const Scene s = with_overlays(dir, {"[[body]]\nname = \"intruder\"\nvelocity = [0, 2.4e-3]\n"
+                                      "[[body]]\nname = \"lid\"\na = [-0.05, 0.19]\nb = [0.05, 0.19]\nthickness = 2e-3\n"});
+  ASSERT_EQ(s.bodies.size(), 3u);
+  EXPECT_EQ(s.bodies[0].name, "floor");
+  EXPECT_EQ(s.bodies[0].ay, -1e-3);   // untouched
+  EXPECT_EQ(s.bodies[1].name, "intruder");
+  EXPECT_EQ(s.bodies[1].vy, 2.4e-3);  // merged
+  EXPECT_EQ(s.bodies[1].ax, -5e-3);   // its other keys kept
+  EXPECT_EQ(s.bodies[2].name, "lid");
+}
+
+TEST(SceneOverlays, UnnamedArraysOfTablesReplaceAndErrorsNameTheOverlay) {
+  TempDir dir;
+  const Scene s = with_overlays(dir, {"[[particle]]\nx = 0.02\ny = 0.12\nd = 3e-3\n"});
+  EXPECT_EQ(s.particles.size(), 1u + 50u) << "one explicit particle replaces the two, plus the generator's 50";
+  try {
+    with_overlays(dir, {"[contact]\nkn = -1\n"});
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("o0.toml:2:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("contact.kn = -1"), std::string::npos) << e.what();
+  }
 }
 
 TEST(SceneTomlErrors, UnreadableFile) {

@@ -777,14 +777,44 @@ std::string read_text(const std::string& path, const char* what) {
   return text;
 }
 
-// Overlay tables merge key by key; anything else replaces.
-void merge_into(toml::table& base, const toml::table& over) {
-  for (auto&& [key, value] : over) {
-    toml::table* sub = base.get_as<toml::table>(key);
-    if (sub && value.is_table())
-      merge_into(*sub, *value.as_table());
+// An array of tables each with a string `name` (e.g. [[body]]).
+bool named_tables(const toml::node& n) {
+  const toml::array* a = n.as_array();
+  if (!a || a->empty() || !a->is_array_of_tables()) return false;
+  for (const toml::node& e : *a)
+    if (!e.as_table()->get_as<std::string>("name")) return false;
+  return true;
+}
+
+// Overlay tables merge key by key; arrays of named tables merge element by
+// element by name (an unknown name is appended); anything else replaces.
+// Nodes are moved, not copied: a copy would lose its source (file, line),
+// and error messages name the overlay a key came from.
+void merge_into(toml::table& base, toml::table&& over);
+
+void merge_by_name(toml::array& base, toml::array&& over) {
+  for (toml::node& e : over) {
+    toml::table& t = *e.as_table();
+    const std::string name = t.get_as<std::string>("name")->get();
+    toml::table* match = nullptr;
+    for (toml::node& b : base)
+      if (b.as_table()->get_as<std::string>("name")->get() == name) match = b.as_table();
+    if (match)
+      merge_into(*match, std::move(t));
     else
-      base.insert_or_assign(key, value);
+      base.push_back(std::move(t));
+  }
+}
+
+void merge_into(toml::table& base, toml::table&& over) {
+  for (auto&& [key, value] : over) {
+    toml::node* old = base.get(key);
+    if (old && old->is_table() && value.is_table())
+      merge_into(*old->as_table(), std::move(*value.as_table()));
+    else if (old && named_tables(*old) && named_tables(value))
+      merge_by_name(*old->as_array(), std::move(*value.as_array()));
+    else
+      value.visit([&base, &key](auto&& v) { base.insert_or_assign(key, std::move(v)); });
   }
 }
 
