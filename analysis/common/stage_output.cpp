@@ -36,6 +36,10 @@ void H5Output::write(const std::string& path) const {
 
 nlohmann::ordered_json number_or_null(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr; }
 
+nlohmann::ordered_json fraction_or_null(std::int64_t num, std::int64_t den) {
+  return den > 0 ? nlohmann::ordered_json(static_cast<double>(num) / static_cast<double>(den)) : nullptr;
+}
+
 std::string format_number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", v);

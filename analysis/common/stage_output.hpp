@@ -21,6 +21,14 @@ class H5Output {
     Column data;
   };
 
+  H5Output() = default;
+  // A stage's file: notes `stage`, `run_file` and `definitions` (analysis/<stage>/README.md).
+  H5Output(const std::string& stage, const std::string& run_file) {
+    note("stage", stage);
+    note("run_file", run_file);
+    note("definitions", "analysis/" + stage + "/README.md");
+  }
+
   void add(std::string name, Column data, std::string units, std::string description) {
     datasets_.push_back({std::move(name), std::move(units), std::move(description), std::move(data)});
   }
@@ -39,6 +47,8 @@ class H5Output {
 // NaN and infinities become JSON null (nlohmann would write null anyway, but
 // explicitly so that metrics are never silently a number).
 nlohmann::ordered_json number_or_null(double v);
+// num / den, or null when den is 0 (a fraction of nothing).
+nlohmann::ordered_json fraction_or_null(std::int64_t num, std::int64_t den);
 
 // A number as printf's %g writes it ("0.8", "1e-06"), for names and messages.
 std::string format_number(double v);

@@ -207,13 +207,12 @@ FrictionResult run_friction(const std::string& run_path, const std::string& conf
       rows += snap[k].rows, zero += snap[k].zero_fn, used += snap[k].all.count;
       slipping += snap[k].slipping[0], flagged += snap[k].sliding_flag;
     }
-    const auto frac = [](std::int64_t a, std::int64_t b) { return b > 0 ? json(static_cast<double>(a) / static_cast<double>(b)) : json(nullptr); };
     m["slip_fraction_max"] = number_or_null(mx);
-    m["slip_fraction_pooled"] = frac(slipping, used);
-    m["sliding_flag_fraction_pooled"] = frac(flagged, used);
+    m["slip_fraction_pooled"] = fraction_or_null(slipping, used);
+    m["sliding_flag_fraction_pooled"] = fraction_or_null(flagged, used);
     m["contact_rows"] = rows;
     m["contacts_zero_fn_excluded"] = zero;
-    m["zero_fn_fraction"] = frac(zero, rows);
+    m["zero_fn_fraction"] = fraction_or_null(zero, rows);
   }
 
   const double lower_top = cfg.lower_band_top * hc;
@@ -264,10 +263,8 @@ FrictionResult run_friction(const std::string& run_path, const std::string& conf
 
   FrictionResult r;
   r.metrics = {{"friction", m}};
+  r.h5 = H5Output("friction", run.path());
   H5Output& h = r.h5;
-  h.note("stage", "friction");
-  h.note("run_file", run.path());
-  h.note("definitions", "analysis/friction/README.md");
   h.add("snapshots/time", time, "s", "snapshot time");
   h.add("snapshots/height", height, "m", "intruder centre above the floor's inner face");
   std::vector<std::int64_t> counted, zero;

@@ -399,7 +399,7 @@ NetworkResult run_network(const NetworkInputs& in, const NetworkConfig& cfg, con
   std::int64_t with_keys = 0, in_bed = 0;
   for (std::size_t k = 0; k < S; ++k)
     if (t.height[k] < bed0) ++in_bed, with_keys += !t.keystones[k].keystones(cfg.keystone_share).empty();
-  m["snapshots_with_keystones_fraction"] = in_bed > 0 ? json(static_cast<double>(with_keys) / static_cast<double>(in_bed)) : json(nullptr);
+  m["snapshots_with_keystones_fraction"] = fraction_or_null(with_keys, in_bed);
   EventSummary ev;
   if (events.empty() && in.events.empty()) {
     m["keystone_explained_fraction"] = nullptr;
@@ -413,8 +413,7 @@ NetworkResult run_network(const NetworkInputs& in, const NetworkConfig& cfg, con
     m["events_explained"] = ev.explained;
     m["events_explained_ending_below_intruder_centre"] = ev.explained_below;
     m["events_any_intruder_grain_displaced"] = ev.any_touching;
-    m["any_intruder_grain_displaced_fraction"] =
-        ev.resolved > 0 ? json(static_cast<double>(ev.any_touching) / static_cast<double>(ev.resolved)) : json(nullptr);
+    m["any_intruder_grain_displaced_fraction"] = fraction_or_null(ev.any_touching, ev.resolved);
     std::int64_t perc_peak = 0, perc_lost = 0;
     for (const EventCheck& c : ev.checks) {
       if (!c.window.resolved) continue;
@@ -494,10 +493,8 @@ NetworkResult run_network(const NetworkInputs& in, const NetworkConfig& cfg, con
   r.metrics = {{"network", m}};
 
   // network.h5
+  r.h5 = H5Output("network", run.path());
   H5Output& h = r.h5;
-  h.note("stage", "network");
-  h.note("run_file", run.path());
-  h.note("definitions", "analysis/network/README.md");
   h.add("snapshots/time", t.time, "s", "snapshot time");
   h.add("snapshots/height", t.height, "m", "intruder centre above the floor's inner face");
   h.add("snapshots/mean_fn", t.mean_fn, "N/m", "mean normal force over the contacts with fn > 0");

@@ -25,7 +25,8 @@ STAGES = ["fill", "pulloff", "spectrum", "cg", "network", "friction"]
 SIMULATIONS = ["fill", "pulloff"]
 
 
-def simulation_cost(run_file: Path, preset: str, stage: str) -> dict:
+def simulation_cost(run_file: Path, preset: str, stage: str) -> tuple[dict, str]:
+    """The run's cost (engine wall time, steps, ...) and the code version that ran it."""
     import h5py  # Debian's python3-h5py
 
     try:
@@ -34,27 +35,20 @@ def simulation_cost(run_file: Path, preset: str, stage: str) -> dict:
             steps, n, wall = int(a["steps"]), int(a["n_particles"]), float(a["wall_seconds"])
             cost = {"wall_seconds": wall, "steps": steps, "particles": n, "threads": int(a["threads"]),
                     "simulated_seconds": float(a["end_time"]), "time_step_s": float(a["dt"])}
+            version = a["code_version"]
     except (OSError, KeyError) as e:
         fail(f"{run_file}: cannot read the run's cost ({e}): run `make {stage} PRESET={preset}`")
     if steps > 0 and wall > 0:
         cost["ns_per_particle_step"] = wall * 1e9 / (steps * n)
         cost["particle_steps_per_second"] = steps * n / wall
-    return cost
-
-
-def code_version(run_file: Path) -> str:
-    import h5py
-
-    with h5py.File(run_file, "r") as f:
-        v = f.attrs["code_version"]
-    return v.decode() if isinstance(v, bytes) else str(v)
+    return cost, version.decode() if isinstance(version, bytes) else str(version)
 
 
 def main() -> None:
     if len(sys.argv) != 3:
         fail("usage: merge_metrics.py RESULTS_DIR PRESET")
     results, preset = Path(sys.argv[1]), sys.argv[2]
-    merged = {"preset": preset, "code_version": ""}
+    merged = {"preset": preset, "code_version": ""}  # the pull-off's, filled in below
     cost = {}
     for stage in STAGES:
         metrics = read_json(results / stage / "metrics.json", f"make {stage} PRESET={preset}")
@@ -62,10 +56,9 @@ def main() -> None:
             fail(f"{results / stage / 'metrics.json'}: no \"{stage}\" object: rerun `make {stage} PRESET={preset}`")
         merged[stage] = metrics[stage]
         if stage in SIMULATIONS:
-            cost[stage] = simulation_cost(results / stage / "run.h5", preset, stage)
+            cost[stage], merged["code_version"] = simulation_cost(results / stage / "run.h5", preset, stage)
         else:
             cost[stage] = read_json(results / stage / "timing.json", f"make {stage} PRESET={preset}")
-    merged["code_version"] = code_version(results / "pulloff" / "run.h5")
     cost["total_wall_seconds"] = sum(c["wall_seconds"] for c in cost.values())
     merged["cost"] = cost
     write_atomic(results / "metrics.json", json.dumps(merged, indent=2) + "\n")
