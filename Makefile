@@ -6,7 +6,7 @@
 #   make test       unit + physics tests (optimised build), the quick tests again
 #                   under AddressSanitizer + UBSan, then make test-pipeline
 #   make bench      ns per particle-step on the standard settled bed
-#   make reproduce  the study, PRESET=default (or paper), into results/<preset>/: every stage,
+#   make reproduce  the study, PRESET=default (or fast, paper), into results/<preset>/: every stage,
 #                   metrics.json, the tolerance tests (check.json), figures/, report.md
 #   make check      the tolerance tests: results/<preset>/metrics.json against data/paper_targets.toml
 #   make test-pipeline  the whole pipeline on the small test scene (PRESET=quick), its outputs checked
@@ -19,6 +19,8 @@
 #   make network    stage: force network, percolation, keystones             (results/<preset>/network/)
 #   make friction   stage: friction mobilisation                             (results/<preset>/friction/)
 #   make metrics figures report   the merged metrics, the figures, the report of results/<preset>/
+#   make accuracy   the accuracy/cost sweep of data/accuracy.toml (use make -j2): results/accuracy/
+#                   table.md, pareto.png (pipeline/accuracy/README.md)
 #   make clean      remove build/ (results/ stays)
 
 SHELL := /bin/bash
@@ -48,7 +50,12 @@ FILL_SCENE := pipeline/fill.toml
 PULLOFF_SCENE := pipeline/pulloff.toml
 PRESET_FILE := pipeline/presets/$(PRESET).toml
 endif
-OVERLAY := $(if $(PRESET_FILE),--overlay $(PRESET_FILE))
+# POINT_OVERLAY: more overlays after the preset's (make accuracy: one sweep point's knob).
+OVERLAY_FILES := $(PRESET_FILE) $(POINT_OVERLAY)
+OVERLAY := $(foreach f,$(OVERLAY_FILES),--overlay $(f))
+# FILL_RUN: the bed the pull-off starts from; by default the preset's own fill
+# (make accuracy gives each sweep point a bed made elsewhere).
+FILL_RUN ?= $(RESULTS)/fill/run.h5
 THREADS ?= $(JOBS)
 
 DEBIAN_PACKAGES := g++ cmake make pkg-config git \
@@ -58,7 +65,7 @@ DEBIAN_PACKAGES := g++ cmake make pkg-config git \
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
 .PHONY: deps build test test-release test-sanitize test-pipeline bench reproduce check fill pulloff \
-  pulloff-slice spectrum cg network friction metrics figures report clean FORCE
+  pulloff-slice spectrum cg network friction metrics figures report accuracy clean FORCE
 
 deps:
 	@missing=$$(for p in $(DEBIAN_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done); \
@@ -96,16 +103,17 @@ bench: build
 	$(DEM2D) bench
 
 # --- the study's stages: file targets, so only what is stale reruns --------
-# The programs are always asked to build (a no-op when up to date); a stage
+# The programs are always asked to build (a no-op when up to date; one build
+# at a time in the tree, as make -j may ask for several at once); a stage
 # reruns only when its inputs or its program actually changed. An interrupted
 # simulation stage resumes from its checkpoint when rerun.
 $(DEM2D) $(BED_METRICS) $(PULLOFF_METRICS) $(SPECTRUM) $(CG) $(NETWORK) $(FRICTION) $(CHECK): FORCE | $(BUILD)/CMakeCache.txt
-	@cmake --build $(BUILD) -j $(JOBS) --target $(notdir $@) > $(BUILD)/$(notdir $@).build.log || \
+	@MAKEFLAGS= flock $(BUILD)/.build.lock cmake --build $(BUILD) -j $(JOBS) --target $(notdir $@) > $(BUILD)/$(notdir $@).build.log || \
 	  (cat $(BUILD)/$(notdir $@).build.log; exit 1)
 
 ifneq ($(PRESET),quick)
 ifeq ($(wildcard $(PRESET_FILE)),)
-$(error PRESET=$(PRESET): there is no $(PRESET_FILE); use PRESET=default, paper or quick)
+$(error PRESET=$(PRESET): there is no $(PRESET_FILE); use PRESET=default, fast, paper or quick)
 endif
 endif
 
@@ -117,15 +125,17 @@ timed = echo '$(strip $(1))' && t0=$$(date +%s.%N) && \
   'BEGIN { printf "{\"wall_seconds\": %.3f}\n", t1 - t0 }' > $(@D)/timing.json.tmp && \
   mv $(@D)/timing.json.tmp $(@D)/timing.json
 
-$(RESULTS)/fill/run.h5: $(FILL_SCENE) $(PRESET_FILE) $(DEM2D)
+ifeq ($(FILL_RUN),$(RESULTS)/fill/run.h5)
+$(RESULTS)/fill/run.h5: $(FILL_SCENE) $(OVERLAY_FILES) $(DEM2D)
 	$(DEM2D) run $(FILL_SCENE) $(OVERLAY) --out $(@D) --threads $(THREADS)
+endif
 
-$(RESULTS)/fill/metrics.json: $(RESULTS)/fill/run.h5 data/bed_metrics.toml $(BED_METRICS)
+$(RESULTS)/fill/metrics.json: $(FILL_RUN) data/bed_metrics.toml $(BED_METRICS)
+	@mkdir -p $(@D)
 	$(BED_METRICS) $< --out $@
 
-$(RESULTS)/pulloff/run.h5: $(PULLOFF_SCENE) $(PRESET_FILE) $(RESULTS)/fill/run.h5 $(DEM2D)
-	$(DEM2D) run $(PULLOFF_SCENE) $(OVERLAY) --initial $(RESULTS)/fill/run.h5 \
-	  --out $(@D) --threads $(THREADS)
+$(RESULTS)/pulloff/run.h5: $(PULLOFF_SCENE) $(OVERLAY_FILES) $(FILL_RUN) $(DEM2D)
+	$(DEM2D) run $(PULLOFF_SCENE) $(OVERLAY) --initial $(FILL_RUN) --out $(@D) --threads $(THREADS)
 
 $(RESULTS)/pulloff/metrics.json: $(RESULTS)/pulloff/run.h5 data/study.toml $(PULLOFF_METRICS)
 	$(PULLOFF_METRICS) $< --out $@ --csv $(@D)/drag.csv
@@ -163,7 +173,7 @@ $(RESULTS)/friction/metrics.json: $(PULLOFF_RUN) data/friction.toml data/study.t
 STAGE_METRICS := $(foreach s,fill pulloff spectrum cg network friction,$(RESULTS)/$(s)/metrics.json)
 
 $(RESULTS)/metrics.json: $(STAGE_METRICS) $(REPORT_SCRIPTS)/merge_metrics.py $(REPORT_SCRIPTS)/files.py
-	$(PYTHON) $(REPORT_SCRIPTS)/merge_metrics.py $(RESULTS) $(PRESET)
+	$(PYTHON) $(REPORT_SCRIPTS)/merge_metrics.py $(RESULTS) $(PRESET) $(FILL_RUN)
 
 # The tolerance tests' verdicts for the report: misses do not stop the
 # reproduction (`make check` fails on them); a broken check program does.
@@ -194,6 +204,22 @@ report: $(RESULTS)/report.md
 # Every paper target, one GoogleTest test each; fails on any miss.
 check: $(RESULTS)/metrics.json $(CHECK)
 	$(CHECK) $< data/paper_targets.toml
+
+# --- make accuracy: the accuracy/cost sweep (data/accuracy.toml) ------------
+ACCURACY := results/accuracy
+ifneq ($(filter accuracy $(ACCURACY)/%,$(MAKECMDGOALS)),)
+ifneq ($(PRESET),default)
+$(error make accuracy sweeps around the preset of data/accuracy.toml; run it without PRESET=)
+endif
+include $(ACCURACY)/plan.mk
+endif
+$(ACCURACY)/plan.mk: data/accuracy.toml pipeline/accuracy/plan.py pipeline/pulloff.toml $(wildcard pipeline/presets/*.toml)
+	$(PYTHON) pipeline/accuracy/plan.py data/accuracy.toml $(ACCURACY)
+
+$(ACCURACY)/table.md: $(ACCURACY_TARGETS) data/accuracy.toml data/paper_targets.toml pipeline/accuracy/table.py
+	$(PYTHON) pipeline/accuracy/table.py data/accuracy.toml $(ACCURACY)
+
+accuracy: $(ACCURACY)/table.md
 
 reproduce: $(RESULTS)/report.md
 	@echo "make reproduce: $(RESULTS) is up to date; the report is $(RESULTS)/report.md"

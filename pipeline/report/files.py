@@ -23,6 +23,16 @@ def read_json(path: Path, target: str) -> dict:
         fail(f"{path}: unreadable ({e}): rerun `{target}`")
 
 
+def read_toml(path: Path) -> dict:
+    import tomllib
+
+    try:
+        with open(path, "rb") as f:
+            return tomllib.load(f)
+    except (OSError, tomllib.TOMLDecodeError) as e:
+        fail(f"{path}: {e}")
+
+
 def write_atomic(path: Path, text: str) -> None:
     tmp = Path(str(path) + ".tmp")
     tmp.write_text(text)

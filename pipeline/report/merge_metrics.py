@@ -1,7 +1,10 @@
 #!/usr/bin/python3
 """Merges the stages' metrics into one file, with the run's cost.
 
-    /usr/bin/python3 pipeline/report/merge_metrics.py RESULTS_DIR PRESET
+    /usr/bin/python3 pipeline/report/merge_metrics.py RESULTS_DIR PRESET [FILL_RUN]
+
+FILL_RUN: the bed's run file when it is not RESULTS_DIR/fill/run.h5 (make
+accuracy starts its sweep points from beds made elsewhere).
 
 Reads RESULTS_DIR/<stage>/metrics.json (each {"<stage>": {...}}) for every
 stage, the engine's own timing of the two simulations (run.h5 attributes:
@@ -45,9 +48,12 @@ def simulation_cost(run_file: Path, preset: str, stage: str) -> tuple[dict, str]
 
 
 def main() -> None:
-    if len(sys.argv) != 3:
-        fail("usage: merge_metrics.py RESULTS_DIR PRESET")
+    if len(sys.argv) not in (3, 4):
+        fail("usage: merge_metrics.py RESULTS_DIR PRESET [FILL_RUN]")
     results, preset = Path(sys.argv[1]), sys.argv[2]
+    runs = {stage: results / stage / "run.h5" for stage in SIMULATIONS}
+    if len(sys.argv) == 4:
+        runs["fill"] = Path(sys.argv[3])
     merged = {"preset": preset, "code_version": ""}  # the pull-off's, filled in below
     cost = {}
     for stage in STAGES:
@@ -56,7 +62,7 @@ def main() -> None:
             fail(f"{results / stage / 'metrics.json'}: no \"{stage}\" object: rerun `make {stage} PRESET={preset}`")
         merged[stage] = metrics[stage]
         if stage in SIMULATIONS:
-            cost[stage], merged["code_version"] = simulation_cost(results / stage / "run.h5", preset, stage)
+            cost[stage], merged["code_version"] = simulation_cost(runs[stage], preset, stage)
         else:
             cost[stage] = read_json(results / stage / "timing.json", f"make {stage} PRESET={preset}")
     cost["total_wall_seconds"] = sum(c["wall_seconds"] for c in cost.values())

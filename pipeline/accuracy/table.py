@@ -1,0 +1,454 @@
+#!/usr/bin/python3
+"""The accuracy sweep's table and Pareto figure (make accuracy).
+
+    /usr/bin/python3 pipeline/accuracy/table.py data/accuracy.toml results/accuracy
+
+For every point of data/accuracy.toml:
+  - the slice comparison: over the first slice_mm of travel, the drag profile
+    (smoothed over smoothing_d), its bottom peak, its mean and the largest
+    overlap, against the paper-fidelity reference point (knob = "reference");
+  - for whole pull-offs, every metric of data/paper_targets.toml against the
+    whole-run reference (full_reference = true), a miss being a deviation
+    larger than the paper target's own tolerance (for a bound, a verdict that
+    differs from the reference's);
+  - the cost: the engine's wall time on one thread (a slice's projected to the
+    whole pull-off's travel).
+and for every [[cg]] setting the cg stage's metrics against the reference
+grid. Writes RESULTS/table.json, RESULTS/table.md, RESULTS/pareto.png and
+RESULTS/profiles.png (the smoothed drag profiles).
+"""
+import json
+import math
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "report"))
+from files import fail, read_json, read_toml, write_atomic  # noqa: E402
+
+MAKE = "make accuracy"
+CG_METRICS = ["cg.cone_angle_deg", "cg.wall_mobility_length_mm", "cg.dilatancy_delta_phi"]
+KNOB_ORDER = ["reference", "default", "replica", "kn", "dt", "V"]
+
+
+def dotted(metrics: dict, path: str):
+    v = metrics
+    for key in path.split("."):
+        if not isinstance(v, dict) or key not in v:
+            return None
+        v = v[key]
+    return v if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) else None
+
+
+class Run:
+    """One point's pull-off: its drag series, overlaps and cost."""
+
+    def __init__(self, directory: Path):
+        import h5py
+        import numpy as np
+
+        run_file = directory / "pulloff" / "run.h5"
+        try:
+            with h5py.File(run_file, "r") as f:
+                a = f.attrs
+                self.wall = float(a["wall_seconds"])
+                self.steps = int(a["steps"])
+                self.dt = float(a["dt"])
+                self.overlap = np.asarray(f["series/max_overlap"]) / float(np.mean(f["particles/diameter"]))
+                self.d_mean_mm = 1e3 * float(np.mean(f["particles/diameter"]))
+        except (OSError, KeyError) as e:
+            fail(f"{run_file}: unreadable ({e}): rerun `{MAKE}`")
+        csv = directory / "pulloff" / "drag.csv"
+        try:
+            data = np.loadtxt(csv, delimiter=",", skiprows=1, ndmin=2)
+        except (OSError, ValueError) as e:
+            fail(f"{csv}: unreadable ({e}): rerun `{MAKE}`")
+        self.height, self.drag = data[:, 1], data[:, 2]
+        n = min(len(self.height), len(self.overlap))
+        self.height, self.drag, self.overlap = self.height[:n], self.drag[:n], self.overlap[:n]
+        self.travel = float(self.height[-1] - self.height[0])
+
+    def smoothed(self, grid, window_mm: float):
+        """Running mean of the drag over window_mm of travel, sampled at grid (mm)."""
+        import numpy as np
+
+        c = np.concatenate([[0.0], np.cumsum(self.drag)])
+        lo = np.searchsorted(self.height, grid - window_mm / 2)
+        hi = np.searchsorted(self.height, grid + window_mm / 2, side="right")
+        return (c[hi] - c[lo]) / np.maximum(hi - lo, 1)
+
+    def slice_metrics(self, top_mm: float) -> dict:
+        import numpy as np
+
+        keep = self.height <= self.height[0] + top_mm + 1e-9
+        h, f = self.height[keep], self.drag[keep]
+        k = int(np.argmax(f))
+        return {"peak_drag_N_per_m": float(f[k]), "peak_height_mm": float(h[k]),
+                "mean_drag_N_per_m": float(np.mean(f)), "max_overlap_over_d": float(np.max(self.overlap[keep]))}
+
+
+def profile_deviation(run: Run, ref: Run, top_mm: float, window_mm: float, step_mm: float) -> float:
+    """rms(F - F_ref) / rms(F_ref) of the smoothed profiles over [start, start + top_mm]."""
+    import numpy as np
+
+    start = max(run.height[0], ref.height[0])
+    grid = np.arange(start, start + top_mm + 1e-9, step_mm)
+    a, b = run.smoothed(grid, window_mm), ref.smoothed(grid, window_mm)
+    return float(np.sqrt(np.mean((a - b) ** 2)) / np.sqrt(np.mean(b ** 2)))
+
+
+def verdict(target: dict, metrics: dict):
+    """The paper target's own verdict on metrics (None: metric missing)."""
+    v = dotted(metrics, target["metric"])
+    if v is None:
+        return None
+    if "below" in target:
+        return v < target["below"]
+    if "above" in target:
+        return v > target["above"]
+    if "above_metric" in target:
+        other = dotted(metrics, target["above_metric"])
+        return None if other is None else v > other
+    return abs(v - target["paper"]) <= target["tolerance"]
+
+
+def bound(target: dict, metrics: dict):
+    """The value a bound target compares with: its constant, or another metric of the same run."""
+    if "above_metric" in target:
+        return dotted(metrics, target["above_metric"])
+    return target.get("below", target.get("above"))
+
+
+def compare_targets(targets: list, metrics: dict, ref: dict) -> list:
+    """Every target's metric against the reference's: deviation, its tolerance, ok."""
+    rows = []
+    for t in targets:
+        v, r = dotted(metrics, t["metric"]), dotted(ref, t["metric"])
+        row = {"metric": t["metric"], "result": t["result"], "value": v, "reference": r}
+        if "tolerance" in t:
+            row["tolerance"] = t["tolerance"]
+            row["deviation"] = None if v is None or r is None else v - r
+            row["ok"] = row["deviation"] is not None and abs(row["deviation"]) <= t["tolerance"]
+            row["normalised"] = None if row["deviation"] is None else abs(row["deviation"]) / t["tolerance"]
+        else:  # a bound or a shape: the verdict must not change
+            mine, theirs = verdict(t, metrics), verdict(t, ref)
+            row["deviation"] = None if v is None or r is None else v - r
+            row["ok"] = mine is not None and mine == theirs
+            row["verdict"], row["reference_verdict"] = mine, theirs
+            bounds = (bound(t, metrics), bound(t, ref))
+            row["margins"] = (None if None in (v, r) or None in bounds
+                              else (abs(v - bounds[0]), abs(r - bounds[1])))
+        rows.append(row)
+    return rows
+
+
+def slice_checks(m: dict, ref: dict, dev: float, tol: dict) -> list:
+    def rel(key):
+        return abs(m[key] - ref[key]) / abs(ref[key])
+
+    checks = [("max_overlap_over_d", m["max_overlap_over_d"], tol["max_overlap_over_d"]),
+              ("profile_rel_rms", dev, tol["profile_rel_rms"]),
+              ("peak_drag_rel", rel("peak_drag_N_per_m"), tol["peak_drag_rel"]),
+              ("peak_height_mm", abs(m["peak_height_mm"] - ref["peak_height_mm"]), tol["peak_height_mm"]),
+              ("mean_drag_rel", rel("mean_drag_N_per_m"), tol["mean_drag_rel"])]
+    return [bound_check(c, v, t) for c, v, t in checks]
+
+
+def bound_check(name: str, value: float, tolerance: float) -> dict:
+    return {"check": name, "value": value, "tolerance": tolerance, "ok": value <= tolerance,
+            "normalised": value / tolerance}
+
+
+def check_name(c: dict) -> str:
+    return c.get("check") or c["metric"]
+
+
+def noise_floor(slice_noise: list, target_noise: list) -> dict:
+    """What two equivalent runs (the default and its replica) differ by, per check (None: a metric missing
+    in one of them). The overlap checks bound the run itself, they compare nothing: no noise."""
+    floor = {c["check"]: 0.0 if "overlap" in c["check"] else c["value"] for c in slice_noise}
+    for c in target_noise:
+        floor[c["metric"]] = None if c["deviation"] is None else abs(c["deviation"])
+    return floor
+
+
+def judge(row: dict, floor: dict) -> None:
+    """A miss counts only when it stands out of the noise: a deviation beyond max(tolerance, 2 x noise);
+    a flipped verdict only when both values are more than 2 x noise from the bound. Sets each check's
+    "significant" and the row's within_tolerance, misses (counted) and unresolved_misses (within the noise)."""
+    checks = row["slice_checks"] + row.get("targets", [])
+    for c in checks:
+        noise = floor.get(check_name(c), 0.0)
+        if c["ok"]:
+            c["significant"] = False
+        elif noise is None:  # the noise of a metric missing in the default or its replica is unknown
+            c["significant"] = False
+        elif "margins" in c:  # a bound: both sides clearly on their side of it
+            c["significant"] = c["margins"] is None or min(c["margins"]) > 2.0 * noise
+        else:
+            deviation = c["value"] if "check" in c else c["deviation"]
+            c["significant"] = deviation is None or abs(deviation) > max(c["tolerance"], 2.0 * noise)
+        if c.get("normalised") is not None and noise is not None:
+            c["normalised"] *= c["tolerance"] / max(c["tolerance"], 2.0 * noise)
+    row["misses"] = [check_name(c) for c in checks if c["significant"]]
+    row["unresolved_misses"] = [check_name(c) for c in checks if not c["ok"] and not c["significant"]]
+    row["within_tolerance"] = not row["misses"]
+    normalised = [c["normalised"] for c in checks if c.get("normalised") is not None]
+    row["worst_normalised_deviation"] = max(normalised) if normalised else None
+
+
+def fmt(v, digits=3) -> str:
+    if v is None:
+        return "—"
+    if isinstance(v, bool):
+        return "yes" if v else "no"
+    if isinstance(v, int):
+        return str(v)
+    return f"{v:.{digits}g}"
+
+
+def setting(p: dict) -> str:
+    return {"reference": "paper law, dt = 1e-7 s", "default": "the base (preset fast)",
+            "kn": f"k_n = {p.get('kn', 0):.3g} N/m", "dt": f"dt = dt_c x {p.get('dt_over_critical', 0):.3g}",
+            "V": f"V = {p.get('V_mm_s', 0):g} mm/s",
+            "replica": f"the base, dt = dt_c x {p.get('dt_over_critical', 0):.3g}"}[p["knob"]]
+
+
+def main() -> None:
+    if len(sys.argv) != 3:
+        fail("usage: table.py data/accuracy.toml RESULTS_DIR")
+    config_path, out = Path(sys.argv[1]), Path(sys.argv[2])
+    config = read_toml(config_path)
+    sweep, tol = config["sweep"], config["tolerance"]
+    targets = read_toml(Path("data/paper_targets.toml"))["target"]
+    points = config["point"]
+    ref_slice = next((p for p in points if p["knob"] == "reference"), None)
+    ref_full = next((p for p in points if p.get("full_reference")), None)
+    if ref_slice is None or ref_full is None:
+        fail(f"{config_path}: needs a point with knob = \"reference\" and one with full_reference = true")
+
+    runs = {p["name"]: Run(out / "points" / p["name"]) for p in points}
+    full = {p["name"]: read_json(out / "points" / p["name"] / "metrics.json", MAKE)
+            for p in points if p["extent"] == "full"}
+    full_travel = runs[ref_full["name"]].travel
+    d_mm = runs[ref_slice["name"]].d_mean_mm
+    window_mm, top_mm = sweep["smoothing_d"] * d_mm, sweep["slice_mm"]
+    ref_run = runs[ref_slice["name"]]
+    ref_slice_m = ref_run.slice_metrics(top_mm)
+
+    rows = []
+    for p in sorted(points, key=lambda p: KNOB_ORDER.index(p["knob"])):
+        run = runs[p["name"]]
+        sm = run.slice_metrics(top_mm)
+        dev = profile_deviation(run, ref_run, top_mm, window_mm, sweep["profile_step_mm"])
+        row = {"name": p["name"], "knob": p["knob"], "setting": setting(p), "extent": p["extent"],
+               "time_step_s": run.dt, "steps": run.steps, "wall_seconds": run.wall,
+               "full_wall_seconds": run.wall * (1.0 if p["extent"] == "full" else full_travel / run.travel),
+               "full_wall_projected": p["extent"] != "full",
+               "slice": sm, "profile_rel_rms": dev, "slice_checks": slice_checks(sm, ref_slice_m, dev, tol)}
+        if p["extent"] == "full":
+            m = full[p["name"]]
+            row["run_max_overlap_over_d"] = float(run.overlap.max())
+            row["slice_checks"].append(bound_check("run_max_overlap_over_d", row["run_max_overlap_over_d"],
+                                                   tol["max_overlap_over_d"]))
+            row["targets"] = compare_targets(targets, m, full[ref_full["name"]])
+            row["profile_rel_rms_full"] = profile_deviation(run, runs[ref_full["name"]], full_travel - 1e-6,
+                                                            window_mm, sweep["profile_step_mm"])
+        rows.append(row)
+
+    floor = {}
+    default = next((p for p in points if p["knob"] == "default"), None)
+    replica = next((p for p in points if p["knob"] == "replica"), None)
+    if default and replica:
+        a, b = runs[replica["name"]], runs[default["name"]]
+        slice_noise = slice_checks(a.slice_metrics(top_mm), b.slice_metrics(top_mm),
+                                   profile_deviation(a, b, top_mm, window_mm, sweep["profile_step_mm"]), tol)
+        target_noise = (compare_targets(targets, full[replica["name"]], full[default["name"]])
+                        if replica["name"] in full and default["name"] in full else [])
+        floor = noise_floor(slice_noise, target_noise)
+    for row in rows:
+        judge(row, floor)
+
+    cg_rows = cg_table(config, out, targets)
+    eligible = [r for r in rows if r["within_tolerance"] and r["extent"] == "full"]
+    cheapest = min(eligible, key=lambda r: r["full_wall_seconds"]) if eligible else None
+    result = {"slice_mm": top_mm, "smoothing_mm": window_mm, "d_mean_mm": d_mm, "slice_reference": ref_slice["name"],
+              "full_reference": ref_full["name"], "points": rows, "cg": cg_rows, "noise_floor": floor,
+              "overlap_tolerance": tol["max_overlap_over_d"],
+              "cheapest_within_tolerance": cheapest["name"] if cheapest else None}
+    write_atomic(out / "table.json", json.dumps(result, indent=2) + "\n")
+    write_atomic(out / "table.md", markdown(result, targets))
+    pareto(result, out / "pareto.png")
+    profiles(points, runs, result, out / "profiles.png")
+    print(f"accuracy: {len(rows)} points, {len(cg_rows)} cg settings; cheapest within tolerance: "
+          f"{result['cheapest_within_tolerance']} -> {out / 'table.md'}", file=sys.stderr)
+
+
+def cg_table(config: dict, out: Path, targets: list) -> list:
+    settings = config.get("cg", [])
+    if not settings:
+        return []
+    by_metric = {t["metric"]: t for t in targets}
+    metrics = {c["name"]: read_json(out / "cg" / c["name"] / "metrics.json", MAKE) for c in settings}
+    timing = {c["name"]: read_json(out / "cg" / c["name"] / "timing.json", MAKE) for c in settings}
+    ref = next(c for c in settings if c.get("reference"))
+    rows = []
+    for c in settings:
+        m, r = metrics[c["name"]], metrics[ref["name"]]
+        row = {"name": c["name"], "spacing_mm": c["spacing_mm"], "w_over_d": c["w_over_d"],
+               "reference": c is ref,
+               "wall_seconds": timing[c["name"]]["wall_seconds"], "metrics": {}}
+        for key in CG_METRICS:
+            v, rv = dotted(m, key), dotted(r, key)
+            t = by_metric.get(key, {})
+            entry = {"value": v, "reference": rv, "deviation": None if v is None or rv is None else v - rv}
+            if "tolerance" in t:
+                entry["tolerance"] = t["tolerance"]
+                entry["ok"] = entry["deviation"] is not None and abs(entry["deviation"]) <= t["tolerance"]
+            else:  # a sign (dilatancy: below 0): it must not flip
+                entry["ok"] = v is not None and rv is not None and (v < 0) == (rv < 0)
+            row["metrics"][key] = entry
+        row["within_tolerance"] = all(e["ok"] for e in row["metrics"].values())
+        rows.append(row)
+    return rows
+
+
+def markdown(result: dict, targets: list) -> str:
+    rows, floor = result["points"], result["noise_floor"]
+
+    def noise(name: str) -> str:
+        return fmt(floor[name]) if name in floor else "—"
+
+    lines = [f"# Accuracy and cost (make accuracy)", "",
+             f"Slice: the first {result['slice_mm']:g} mm of travel, compared with point "
+             f"`{result['slice_reference']}` (drag smoothed over {result['smoothing_mm']:.2f} mm). Whole runs: "
+             f"every paper target's metric compared with point `{result['full_reference']}`, within the target's "
+             "tolerance (bounds: same verdict). Wall time: the pull-off on one thread; for a slice, projected to "
+             "the whole travel (marked ~).", "",
+             "| point | setting | dt (s) | wall (s) | whole pull-off (s) | max overlap/d (slice) | peak drag (N/m) "
+             "| peak at (mm) | mean drag (N/m) | profile dev. (slice) | profile dev. (run) | max overlap/d (run) "
+             "| within tolerance | misses | misses within the noise |", "|" + "---|" * 15]
+    for r in rows:
+        s = r["slice"]
+        whole = ("~" if r["full_wall_projected"] else "") + f"{r['full_wall_seconds']:.0f}"
+        lines.append(f"| {r['name']} | {r['setting']} | {r['time_step_s']:.3g} | {r['wall_seconds']:.0f} | {whole} "
+                     f"| {s['max_overlap_over_d']:.4f} | {s['peak_drag_N_per_m']:.0f} | {s['peak_height_mm']:.2f} "
+                     f"| {s['mean_drag_N_per_m']:.1f} | {r['profile_rel_rms']:.3f} | {fmt(r.get('profile_rel_rms_full'))} "
+                     f"| {fmt(r.get('run_max_overlap_over_d'), 3)} | {fmt(r['within_tolerance'])} "
+                     f"| {', '.join(r['misses']) or '—'} | {', '.join(r['unresolved_misses']) or '—'} |")
+    if floor:
+        lines += ["", "Noise floor of the slice comparison (`default` against `replica`): " +
+                  ", ".join(f"{k} {noise(k)}" for k in ["profile_rel_rms", "peak_drag_rel", "peak_height_mm",
+                                                         "mean_drag_rel"]) + "."]
+    full_rows = [r for r in rows if "targets" in r]
+    if full_rows:
+        lines += ["", "Whole-run metrics (value; deviation from the reference in brackets when it exceeds the "
+                  "target's tolerance, or the verdict when a bound's verdict flips):", "",
+                  "| metric | tolerance | noise (default vs replica) | " + " | ".join(r["name"] for r in full_rows) + " |",
+                  "|---|---|---|" + "---|" * len(full_rows)]
+        for i, t in enumerate(targets):
+            cells = []
+            for r in full_rows:
+                c = r["targets"][i]
+                cell = fmt(c["value"])
+                if not c["ok"]:
+                    what = fmt(c["deviation"]) if "tolerance" in c else "verdict flips"
+                    cell += f" **({what})**" if c["significant"] else f" ({what}, within the noise)"
+                cells.append(cell)
+            tolerance = f"±{t['tolerance']:g}" if "tolerance" in t else "verdict"
+            lines.append(f"| {t['metric']} ({t['result']}) | {tolerance} | {noise(t['metric'])} | " + " | ".join(cells) + " |")
+    if result["cg"]:
+        ref = next(c for c in result["cg"] if c["reference"])
+        lines += ["", f"Coarse-graining grid and kernel width (the cg stage on point `default`'s pull-off, "
+                  f"one thread; reference {ref['name']}):", "",
+                  "| setting | spacing (mm) | w/d | w/Δx | cg wall (s) | " +
+                  " | ".join(CG_METRICS) + " | within tolerance |", "|" + "---|" * (6 + len(CG_METRICS))]
+        for c in result["cg"]:
+            cells = [f"{fmt(e['value'])} ({fmt(e['deviation'], 2)})" for e in c["metrics"].values()]
+            lines.append(f"| {c['name']} | {c['spacing_mm']:g} | {c['w_over_d']:g} | "
+                         f"{c['w_over_d'] * result['d_mean_mm'] / c['spacing_mm']:.1f} | {c['wall_seconds']:.0f} | "
+                         + " | ".join(cells) + f" | {fmt(c['within_tolerance'])} |")
+    lines += ["", f"Cheapest whole-run point within every tolerance: **{result['cheapest_within_tolerance']}**.", ""]
+    return "\n".join(lines)
+
+
+def pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def save(fig, path: Path) -> None:
+    tmp = path.with_suffix(".tmp.png")
+    fig.savefig(tmp, dpi=120)
+    tmp.replace(path)
+
+
+def profiles(points: list, runs: dict, result: dict, path: Path) -> None:
+    """The smoothed drag profiles: the slice for k_n and dt (with the reference), the whole run for V."""
+    import numpy as np
+
+    plt = pyplot()
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
+    window = result["smoothing_mm"]
+    ref = next(p for p in points if p["knob"] == "reference")
+    for ax, knob in zip(axes[:2], ["kn", "dt"]):
+        for p in [ref] + [q for q in points if q["knob"] in (knob, "default")]:
+            r = runs[p["name"]]
+            grid = np.arange(r.height[0], r.height[0] + result["slice_mm"], 0.05)
+            ax.plot(grid, r.smoothed(grid, window), lw=2.2 if p is ref else 1.1,
+                    color="k" if p is ref else None, label=setting(p))
+        ax.set_title(f"first {result['slice_mm']:g} mm: {'stiffness' if knob == 'kn' else 'time step'}")
+    for p in [q for q in points if q["knob"] in ("V", "default")]:
+        r = runs[p["name"]]
+        grid = np.arange(r.height[0], r.height[-1], 0.25)
+        axes[2].plot(grid, r.smoothed(grid, 3 * window), lw=1.1, label=setting(p))
+    axes[2].set_title(f"whole pull-off, smoothed over {3 * window:.1f} mm: pull speed")
+    for ax in axes:
+        ax.set_xlabel("intruder height H (mm)")
+        ax.set_ylabel("drag (N/m)")
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    save(fig, path)
+
+
+def pareto(result: dict, path: Path) -> None:
+    """Error against cost: left, the worst deviation of the comparisons (overlap aside) over what it is
+    allowed, max(tolerance, 2 x noise); right, the largest overlap. Filled: within every tolerance."""
+    plt = pyplot()
+    colours = {"reference": "k", "default": "tab:red", "replica": "tab:purple", "kn": "tab:blue", "dt": "tab:green",
+               "V": "tab:orange"}
+    fig, (left, right) = plt.subplots(1, 2, figsize=(13, 4.8))
+    for r in result["points"]:
+        x = r["full_wall_seconds"]
+        overlap = max(c["value"] for c in r["slice_checks"] if "overlap" in c["check"])
+        compared = [c["normalised"] for c in r["slice_checks"] + r.get("targets", [])
+                    if c.get("normalised") is not None and "overlap" not in check_name(c)]
+        style = dict(c=colours[r["knob"]] if r["within_tolerance"] else "none", edgecolors=colours[r["knob"]],
+                     marker="o" if r["extent"] == "full" else "^", s=45, zorder=3)
+        for ax, y in ((left, max(compared) if compared and r["knob"] != "reference" else None), (right, 100 * overlap)):
+            if y is None:
+                continue
+            ax.scatter(x, max(y, 1e-3), **style)
+            ax.annotate(r["name"], (x, max(y, 1e-3)), xytext=(4, 3), textcoords="offset points", fontsize=7)
+    for knob, c in colours.items():
+        left.scatter([], [], c=c, label=knob)
+    left.axhline(1.0, color="grey", ls="--", lw=1, label="tolerance")
+    right.axhline(100 * result["overlap_tolerance"], color="grey", ls="--", lw=1, label="1 % of d")
+    left.set_ylabel("worst deviation / max(tolerance, 2 x noise)")
+    right.set_ylabel("largest overlap (% of d)")
+    for ax in (left, right):
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("whole pull-off on one thread (s; triangles: projected from the 10 mm slice)")
+        ax.legend(fontsize=7)
+    left.set_title("accuracy against cost (filled: within every tolerance)")
+    right.set_title("overlap against cost")
+    fig.tight_layout()
+    save(fig, path)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,88 @@
+#!/usr/bin/env bash
+# The accuracy sweep's plan (pipeline/accuracy/plan.py): every overlay it
+# writes is a valid scene with the intended knob (checked by dem2d itself),
+# times given in travel scale with 1/V, slices last slice_mm of travel, and bad
+# sweep files are refused with a message naming the file and the key. Then the
+# table's comparison functions (tests/test_accuracy_table.py).
+# Usage: accuracy_test.sh DEM2D REPO_DIR
+set -uo pipefail
+DEM2D=$1
+REPO=$2
+PY=/usr/bin/python3
+WORK=$(mktemp -d)
+trap 'rm -rf "$WORK"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+cd "$REPO" || exit 1
+# one grain stands in for a bed, so the checks need no run file (dt_c: the smallest grain, 2 mm)
+printf '[[particle]]\nx = 0.02\ny = 0.05\nd = 0.002\n' >"$WORK/grain.toml"
+
+$PY pipeline/accuracy/plan.py data/accuracy.toml "$WORK/acc" || fail "plan.py on data/accuracy.toml"
+[ -s "$WORK/acc/plan.mk" ] || fail "no plan.mk"
+
+# every point's overlay, over its preset, is a valid pull-off scene; dt and dt/dt_c as intended
+$PY - "$WORK/acc" data/accuracy.toml >"$WORK/points" <<'PYEOF' || fail "listing the points"
+import sys, tomllib
+cfg = tomllib.load(open(sys.argv[2], "rb"))
+for p in cfg["point"]:
+    print(p["name"], p.get("preset", cfg["sweep"]["base_preset"]), p["knob"], p["extent"],
+          p.get("kn", 0), p.get("dt_over_critical", 0), p.get("V_mm_s", 1.2))
+PYEOF
+while read -r name preset knob extent kn ratio v; do
+  out=$("$DEM2D" check pipeline/pulloff.toml --overlay "pipeline/presets/$preset.toml" \
+        --overlay "$WORK/acc/points/$name/overlay.toml" --overlay "$WORK/grain.toml" 2>&1) ||
+    { fail "$name: dem2d check: $out"; continue; }
+  # slices: duration x V = slice length (10 mm); whole runs: 170 s at 1.2 mm/s = 204 mm of travel
+  $PY - "$out" "$extent" "$v" "$knob" "$ratio" <<'PYEOF' || fail "$name: $out"
+import re, sys
+out, extent, v, knob, ratio = sys.argv[1], sys.argv[2], float(sys.argv[3]), sys.argv[4], float(sys.argv[5])
+m = re.search(r"dt = ([0-9.e+-]+) s = dt_c/([0-9.]+).* ([0-9]+) steps for ([0-9.e+-]+) s", out)
+dt, inv, steps, duration = float(m[1]), float(m[2]), int(m[3]), float(m[4])
+travel_mm = duration * v
+assert abs(travel_mm - (10.0 if extent == "slice" else 204.0)) < 1e-3, travel_mm
+if knob == "dt":
+    assert abs(1.0 / inv - ratio) < 1e-3 * ratio, (inv, ratio)
+PYEOF
+done <"$WORK/points"
+for bed in "$WORK"/acc/beds/*/; do
+  "$DEM2D" check pipeline/accuracy/resettle.toml --overlay pipeline/presets/default.toml \
+    --overlay "$bed/overlay.toml" --overlay "$WORK/grain.toml" >/dev/null 2>&1 || fail "bed $bed"
+done
+# the V overlay: every time given in travel scales with 1/V (V = 29 mm/s: x 1.2/29)
+$PY - "$WORK/acc/points/V_29/overlay.toml" <<'PYEOF' || fail "V_29 overlay scaling"
+import sys, tomllib
+o = tomllib.load(open(sys.argv[1], "rb"))
+s = 1.2 / 29.0
+assert o["body"] == [{"name": "intruder", "velocity": [0.0, 0.029]}], o["body"]
+for table, key, base in [("output", "series_interval", 0.02), ("output", "snapshot_interval", 0.125),
+                         ("output", "displacement_window", 0.05), ("stop", "free_time", 2.0), ("time", "duration", 170.0)]:
+    assert abs(o[table][key] - base * s) < 1e-12, (key, o[table][key])
+PYEOF
+# the k_n overlay: k_t and k_r keep the preset's ratios
+grep -q "^kt = 9600000.0" "$WORK/acc/points/kn_1.92e7/overlay.toml" || fail "kn_1.92e7: k_t is not k_n/2"
+grep -q "^rolling_stiffness = 0.01728" "$WORK/acc/points/kn_1.92e7/overlay.toml" || fail "kn_1.92e7: k_r"
+# rewriting an unchanged plan keeps the files' times (make reruns nothing)
+before=$(stat -c %Y.%N "$WORK/acc/points/V_29/overlay.toml")
+sleep 1
+$PY pipeline/accuracy/plan.py data/accuracy.toml "$WORK/acc"
+[ "$(stat -c %Y.%N "$WORK/acc/points/V_29/overlay.toml")" = "$before" ] || fail "an unchanged overlay was rewritten"
+
+# bad sweep files: exit 2, the file and the key named
+bad() {
+  local pattern=$1; shift
+  "$@" >"$WORK/out" 2>&1
+  local rc=$?
+  [ $rc -eq 2 ] || fail "$*: exit $rc, expected 2"
+  grep -q -- "$pattern" "$WORK/out" || fail "no '$pattern' in: $(cat "$WORK/out")"
+}
+sed 's/^knob = "kn"$/knob = "stiffness"/' data/accuracy.toml >"$WORK/bad_knob.toml"
+bad "bad_knob.toml: point\[[0-9]*\] (kn_[0-9.e]*): knob = 'stiffness'" $PY pipeline/accuracy/plan.py "$WORK/bad_knob.toml" "$WORK/b1"
+sed 's/^kn = 1.92e5$/kn = -1.92e5/' data/accuracy.toml >"$WORK/bad_kn.toml"
+bad "bad_kn.toml: point\[[0-9]*\] (kn_1.92e5): kn = -192000.0: must be a number > 0" $PY pipeline/accuracy/plan.py "$WORK/bad_kn.toml" "$WORK/b2"
+sed 's/^V_mm_s = 2.4$/V_mm_s = -2.4/' data/accuracy.toml >"$WORK/bad_v.toml"
+bad "bad_v.toml: point\[[0-9]*\] (V_2.4): V_mm_s = -2.4: must be a number > 0" $PY pipeline/accuracy/plan.py "$WORK/bad_v.toml" "$WORK/b3"
+
+$PY tests/test_accuracy_table.py || fail "tests/test_accuracy_table.py"
+
+[ $failures -eq 0 ] && echo "accuracy_test: all checks passed"
+exit $((failures > 0))
