@@ -97,18 +97,11 @@ def profile_deviation(run: Run, ref: Run, top_mm: float, window_mm: float, step_
 
 
 def verdict(target: dict, metrics: dict):
-    """The paper target's own verdict on metrics (None: metric missing)."""
-    v = dotted(metrics, target["metric"])
-    if v is None:
+    """A bound target's own verdict on metrics (None: a metric missing)."""
+    v, b = dotted(metrics, target["metric"]), bound(target, metrics)
+    if v is None or b is None:
         return None
-    if "below" in target:
-        return v < target["below"]
-    if "above" in target:
-        return v > target["above"]
-    if "above_metric" in target:
-        other = dotted(metrics, target["above_metric"])
-        return None if other is None else v > other
-    return abs(v - target["paper"]) <= target["tolerance"]
+    return v < b if "below" in target else v > b
 
 
 def bound(target: dict, metrics: dict):
@@ -123,15 +116,14 @@ def compare_targets(targets: list, metrics: dict, ref: dict) -> list:
     rows = []
     for t in targets:
         v, r = dotted(metrics, t["metric"]), dotted(ref, t["metric"])
-        row = {"metric": t["metric"], "result": t["result"], "value": v, "reference": r}
+        row = {"metric": t["metric"], "result": t["result"], "value": v, "reference": r,
+               "deviation": None if v is None or r is None else v - r}
         if "tolerance" in t:
             row["tolerance"] = t["tolerance"]
-            row["deviation"] = None if v is None or r is None else v - r
             row["ok"] = row["deviation"] is not None and abs(row["deviation"]) <= t["tolerance"]
             row["normalised"] = None if row["deviation"] is None else abs(row["deviation"]) / t["tolerance"]
         else:  # a bound or a shape: the verdict must not change
             mine, theirs = verdict(t, metrics), verdict(t, ref)
-            row["deviation"] = None if v is None or r is None else v - r
             row["ok"] = mine is not None and mine == theirs
             row["verdict"], row["reference_verdict"] = mine, theirs
             bounds = (bound(t, metrics), bound(t, ref))
