@@ -6,6 +6,9 @@
 #   make test       unit + physics tests (optimised build), the quick tests again
 #                   under AddressSanitizer + UBSan, then make test-pipeline
 #   make bench      ns per particle-step on the standard settled bed
+#   make bench-scaling  ns per particle-step for N = 1.6e3 ... 1e6 disks (copies of that bed side by side)
+#   make bench-compare  dem2d against LAMMPS (installs lammps) on the same settled bed, 1 and 2 cores
+#                   (results/bench_compare/compare.md)
 #   make reproduce  the study, PRESET=default (or fast, paper), into results/<preset>/: every stage,
 #                   metrics.json, the tolerance tests (check.json), figures/, report.md
 #   make check      the tolerance tests: results/<preset>/metrics.json against data/paper_targets.toml
@@ -64,7 +67,7 @@ DEBIAN_PACKAGES := g++ cmake make pkg-config git \
   python3-h5py python3-numpy python3-matplotlib
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: deps build test test-release test-sanitize test-pipeline bench reproduce check fill pulloff \
+.PHONY: deps build test test-release test-sanitize test-pipeline bench bench-scaling bench-compare reproduce check fill pulloff \
   pulloff-slice spectrum cg network friction metrics figures report accuracy clean FORCE
 
 deps:
@@ -101,6 +104,15 @@ test-pipeline: build
 
 bench: build
 	$(DEM2D) bench
+
+# N = 1600 x (1, 6, 63, 625) disks: copies of the settled bed in cells side by side
+bench-scaling: build
+	$(DEM2D) bench --tiles 1 6 63 625 --repeat 3 --json results/bench_scaling.json
+
+bench-compare: build
+	@command -v lmp >/dev/null && command -v mpirun >/dev/null || { echo "make bench-compare: installing lammps"; \
+	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends lammps; }
+	/usr/bin/python3 pipeline/bench_compare/compare.py data/bench/compare.toml $(DEM2D) results/bench_compare
 
 # --- the study's stages: file targets, so only what is stale reruns --------
 # The programs are always asked to build (a no-op when up to date; one build

@@ -27,7 +27,7 @@ TEST(LongRuns, SettledPileAtPaperStiffnessStaysAtRest) {
   System sys(s);
   run_for(sys, 0.25);  // fall and settle: 2.5e6 steps
 
-  const std::vector<double> x0 = sys.p.x, y0 = sys.p.y;
+  const AlignedVector<double> x0 = sys.p.x, y0 = sys.p.y;
   constexpr double kRoundOffFloor = 1e-17;  // J/m: grains of ~10 g/m at ~1e-8 m/s
   auto envelope = [&sys] {
     double ke = 0.0;

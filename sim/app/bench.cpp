@@ -47,13 +47,70 @@ void zero(ContactLaw& law, EffectSet zeroed) {
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-}  // namespace
+// The settled state with its contact history (tangential springs, rolling
+// moments), so that a copy starts as settled as the original.
+Scene with_state_and_history(const Scene& scene, const System& bed) {
+  Scene s = with_state(scene, bed);
+  std::vector<std::int32_t> index(bed.size(), -1);  // grain of the System -> grain of the scene
+  std::int32_t next = 0;
+  for (std::size_t i = 0; i < bed.size(); ++i)
+    if (bed.p.active[i]) index[i] = next++;
+  const PairList& L = bed.lists.pairs;
+  for (std::size_t i = 0; i < bed.size(); ++i)
+    for (auto sl = static_cast<std::size_t>(L.start[i]); sl < static_cast<std::size_t>(L.start[i + 1]); ++sl)
+      if (L.fn[sl] > 0.0 && index[i] >= 0 && index[static_cast<std::size_t>(L.partner[sl])] >= 0)
+        s.initial_contacts.push_back({index[i], index[static_cast<std::size_t>(L.partner[sl])], "", L.ft[sl], L.mr[sl]});
+  const WallList& W = bed.lists.walls;
+  for (std::size_t sl = 0; sl < W.slots(); ++sl)
+    if (W.fn[sl] > 0.0 && index[static_cast<std::size_t>(W.owner[sl])] >= 0)
+      s.initial_contacts.push_back({index[static_cast<std::size_t>(W.owner[sl])], -1,
+                                    bed.bodies.name[static_cast<std::size_t>(W.body[sl])], W.ft[sl], W.mr[sl]});
+  return s;
+}
 
-int run_bench(const BenchOptions& opt) {
-  Scene scene = load_scene(opt.scene);
-  scene.threads = *std::max_element(opt.threads.begin(), opt.threads.end());
+// `tiles` copies of the settled cell side by side in one wider domain, each
+// with its own bodies (walls) and contact history: the same physics per
+// grain, N times the grains. The copies repeat every outer width of the
+// bodies, so that neighbouring cells' walls touch and no grain sees the next
+// cell.
+Scene tiled(Scene s, int tiles, const std::string& scene_path) {
+  if (s.bodies.empty()) throw std::invalid_argument(scene_path + ": bench --tiles needs a scene with walls (bodies)");
+  double lo = 1e300, hi = -1e300;
+  for (const BodySpec& b : s.bodies) {
+    lo = std::min(lo, std::min(b.ax, b.bx) - 0.5 * b.thickness);
+    hi = std::max(hi, std::max(b.ax, b.bx) + 0.5 * b.thickness);
+  }
+  const double period = hi - lo;  // (m)
+  const Scene one = s;
+  const auto n = static_cast<std::int32_t>(one.particles.size());
+  s.particles.clear();
+  s.bodies.clear();
+  s.initial_contacts.clear();
+  for (int k = 0; k < tiles; ++k) {
+    const double dx = k * period;
+    const std::string suffix = tiles > 1 ? "_" + std::to_string(k) : "";
+    for (ParticleInit q : one.particles) {
+      q.x += dx;
+      s.particles.push_back(q);
+    }
+    for (BodySpec b : one.bodies) {
+      b.name += suffix;
+      b.ax += dx;
+      b.bx += dx;
+      s.bodies.push_back(b);
+    }
+    for (InitialContact c : one.initial_contacts) {
+      c.i += k * n;
+      if (c.j >= 0) c.j += k * n;
+      if (!c.body.empty()) c.body += suffix;
+      s.initial_contacts.push_back(c);
+    }
+  }
+  s.domain.xmax += (tiles - 1) * period;
+  return s;
+}
 
-  // settle with the scene's own stop criterion
+System settle(const Scene& scene, const std::string& path) {
   const auto t0 = Clock::now();
   System bed(scene);
   const auto check = std::max<std::int64_t>(1, std::llround(scene.stop.check_interval / scene.dt));
@@ -62,9 +119,55 @@ int run_bench(const BenchOptions& opt) {
     bed.advance(check);
   std::printf("dem2d bench: %s\n  %zu disks, k_n = %.3g N/m, dt = %.4g s = dt_c/%.3g; settled for %.3g s "
               "(%.1f s wall), %zu contacts, kinetic energy %.3g J/m\n",
-              opt.scene.c_str(), bed.size(), scene.particle_particle.kn, scene.dt, scene.critical_dt() / scene.dt,
+              path.c_str(), bed.size(), scene.particle_particle.kn, scene.dt, scene.critical_dt() / scene.dt,
               bed.time(), seconds_since(t0), contact_count(bed), kinetic_energy(bed));
-  const Scene settled = with_state(scene, bed);
+  return bed;
+}
+
+// Best wall time of `repeat` runs of `steps` steps (after a warm-up of a tenth), in ns per particle-step,
+// and the contacts per grain at the end.
+std::pair<double, double> time_steps(const Scene& s, int steps, int repeat) {
+  double best = 1e300, contacts = 0.0;
+  for (int r = 0; r < repeat; ++r) {
+    System sys(s);
+    sys.advance(std::max(1, steps / 10));  // warm up caches and the neighbour lists
+    const auto t = Clock::now();
+    sys.advance(steps);
+    best = std::min(best, seconds_since(t));
+    contacts = static_cast<double>(contact_count(sys)) / static_cast<double>(sys.size());
+  }
+  return {best * 1e9 / (static_cast<double>(steps) * static_cast<double>(s.particles.size())), contacts};
+}
+
+int run_scaling(const BenchOptions& opt, const Scene& settled) {
+  nlohmann::json out = nlohmann::json::array();
+  std::printf("\n  %10s %8s %7s %17s %12s\n", "disks", "steps", "threads", "ns/particle-step", "contacts/N");
+  for (const int k : opt.tiles) {
+    Scene s = tiled(settled, k, opt.scene);
+    const double n = static_cast<double>(s.particles.size());
+    const int steps = std::max(10, static_cast<int>(std::llround(opt.particle_steps / n)));
+    for (const int threads : opt.threads) {
+      s.threads = threads;
+      const auto [ns, contacts] = time_steps(s, steps, opt.repeat);
+      std::printf("  %10zu %8d %7d %17.2f %12.2f\n", s.particles.size(), steps, threads, ns, contacts);
+      std::fflush(stdout);
+      out.push_back({{"tiles", k}, {"particles", s.particles.size()}, {"steps", steps}, {"threads", threads},
+                     {"ns_per_particle_step", ns}, {"contacts_per_particle", contacts}});
+    }
+  }
+  if (!opt.json.empty()) std::ofstream(opt.json) << out.dump(2) << "\n";
+  return 0;
+}
+
+}  // namespace
+
+int run_bench(const BenchOptions& opt) {
+  Scene scene = load_scene(opt.scene);
+  scene.threads = *std::max_element(opt.threads.begin(), opt.threads.end());
+
+  // settle with the scene's own stop criterion
+  const Scene settled = with_state_and_history(scene, settle(scene, opt.scene));
+  if (!opt.tiles.empty()) return run_scaling(opt, settled);
 
   nlohmann::json out = nlohmann::json::array();
   std::printf("\n  %-42s %7s %17s %12s\n", "case", "threads", "ns/particle-step", "contacts/N");
@@ -75,16 +178,7 @@ int run_bench(const BenchOptions& opt) {
       s.threads = threads;
       zero(s.particle_particle, c.zeroed);
       zero(s.particle_wall, c.zeroed);
-      double best = 1e300, contacts = 0.0;
-      for (int r = 0; r < opt.repeat; ++r) {
-        System sys(s);
-        sys.advance(opt.steps / 10);  // warm up caches and the neighbour lists
-        const auto t = Clock::now();
-        sys.advance(opt.steps);
-        best = std::min(best, seconds_since(t));
-        contacts = static_cast<double>(contact_count(sys)) / static_cast<double>(sys.size());
-      }
-      const double ns = best * 1e9 / (static_cast<double>(opt.steps) * static_cast<double>(s.particles.size()));
+      const auto [ns, contacts] = time_steps(s, opt.steps, opt.repeat);
       std::printf("  %-42s %7d %17.2f %12.2f\n", c.name, threads, ns, contacts);
       out.push_back({{"case", c.name}, {"effects", effect_names(s.effects)}, {"threads", threads},
                      {"ns_per_particle_step", ns}, {"contacts_per_particle", contacts},

@@ -48,9 +48,12 @@ int cmd_run(const std::string& path, const dem2d::SceneSources& extra, dem2d::Ru
                  static_cast<long long>(r.final_step), opt.out_dir.c_str());
     return kExitInterrupted;
   }
-  std::fprintf(stderr, "dem2d: %s%s: %lld steps in %.1f s (%.3g ns per particle-step), %s%s\n",
+  std::fprintf(stderr,
+               "dem2d: %s%s: %lld steps in %.1f s (%.3g ns per particle-step; %lld list rebuilds, %.2f candidate "
+               "pairs per grain), %s%s\n",
                r.run_file.c_str(), r.resumed ? " (resumed)" : "", static_cast<long long>(r.steps),
-               r.wall_seconds, r.ns_per_particle_step, r.stop_reason.c_str(),
+               r.wall_seconds, r.ns_per_particle_step, static_cast<long long>(r.rebuilds), r.candidates_per_grain,
+               r.stop_reason.c_str(),
                r.lost ? (", " + std::to_string(r.lost) + " particles left the domain").c_str() : "");
   return 0;
 }
@@ -89,6 +92,13 @@ int main(int argc, char** argv) {
   bench->add_option("--repeat", bench_opt.repeat, "Measurements per case (best is kept)")->capture_default_str();
   bench->add_option("--threads", bench_opt.threads, "Thread counts")->capture_default_str();
   bench->add_option("--json", bench_opt.json, "Also write the results as JSON to this file");
+  bench->add_option("--tiles", bench_opt.tiles,
+                    "Scaling instead: time K copies of the settled bed side by side in one wider cell, for each K")
+      ->check(CLI::PositiveNumber);
+  bench->add_option("--particle-steps", bench_opt.particle_steps,
+                    "Scaling: particle-steps per measurement (steps = this / N)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
 
   CLI11_PARSE(app, argc, argv);
   try {

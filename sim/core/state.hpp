@@ -12,23 +12,25 @@
 #include <string>
 #include <vector>
 
+#include "core/aligned_vector.hpp"
+
 namespace dem2d {
 
 struct Particles {
   // kinematics
-  std::vector<double> x, y;     // centre (m)
-  std::vector<double> vx, vy;   // velocity (m/s)
-  std::vector<double> theta;    // orientation (rad), integrated from omega
-  std::vector<double> omega;    // angular velocity (rad/s), counter-clockwise positive
+  AlignedVector<double> x, y;     // centre (m)
+  AlignedVector<double> vx, vy;   // velocity (m/s)
+  AlignedVector<double> theta;    // orientation (rad), integrated from omega
+  AlignedVector<double> omega;    // angular velocity (rad/s), counter-clockwise positive
   // resultant from the last force evaluation
-  std::vector<double> fx, fy;   // force (N/m)
-  std::vector<double> torque;   // torque (N)
+  AlignedVector<double> fx, fy;   // force (N/m)
+  AlignedVector<double> torque;   // torque (N)
   // constants
-  std::vector<double> radius;       // (m)
-  std::vector<double> mass;         // (kg/m)
-  std::vector<double> inv_mass;     // (m/kg)
-  std::vector<double> inv_inertia;  // 1/(kg*m)
-  std::vector<std::uint8_t> active;  // 0 once a particle has left the domain
+  AlignedVector<double> radius;       // (m)
+  AlignedVector<double> mass;         // (kg/m)
+  AlignedVector<double> inv_mass;     // (m/kg)
+  AlignedVector<double> inv_inertia;  // 1/(kg*m)
+  AlignedVector<std::uint8_t> active;  // 0 once a particle has left the domain
 
   std::size_t size() const { return x.size(); }
   void resize(std::size_t n);

@@ -2,16 +2,20 @@
 // `if constexpr`: an instantiation contains only the physics its scene names.
 //
 // One time step (velocity Verlet, as in LAMMPS: velocity-dependent forces use
-// the half-step velocity):
-//   v += dt/2 a(t);  x += dt v                    integrate (parallel over grains, vectorised)
-//   move bodies; rebuild lists if the skin is used serial
-//   per-contact forces at x(t+dt)                 pair_forces (parallel over slots, vectorised),
-//                                                 wall_forces
-//   per-grain sums in a fixed order               gather (parallel over grains)
+// the half-step velocity). Thread t owns the grains [part[t], part[t+1]) and
+// their rows of the contact lists (System::split_work):
+//   v += dt/2 a(t);  x += dt v                    integrate (own grains, vectorised)
+//   barrier; the rebuild test                     every thread decides alike from the
+//                                                 same data; a rebuild is serial
+//   per-contact forces at x(t+dt)                 pair_forces, wall_forces (own rows;
+//                                                 pair slots vectorised)
+//   barrier
+//   per-grain sums in a fixed order               gather (own grains)
 //   v += dt/2 a(t+dt)                             integrate, in one pass with the next step's
 //                                                 opening kick + drift within a call
-//   body force sums                                serial, fixed order
-// All loops run inside one OpenMP parallel region per call; none allocates.
+//   body force sums; move the bodies              thread 0, before the next barrier
+// Two barriers a step; all loops run inside one OpenMP parallel region per
+// call; none allocates.
 #pragma once
 
 #include <algorithm>
@@ -28,10 +32,10 @@ namespace dem2d::kernels {
 
 using std::size_t;
 
-// This thread's share [begin, end) of n grains: the same split as a static schedule.
-inline std::pair<size_t, size_t> my_range(size_t n) {
-  const auto t = static_cast<size_t>(omp_get_thread_num()), nt = static_cast<size_t>(omp_get_num_threads());
-  return {n * t / nt, n * (t + 1) / nt};
+// This thread's grains [first, second).
+inline std::pair<size_t, size_t> my_grains(const System& s) {
+  const auto t = static_cast<size_t>(omp_get_thread_num());
+  return {s.part[t], s.part[t + 1]};
 }
 
 // Velocity Verlet's per-grain updates, h = dt/2, a = F/m + g, as one vectorised pass:
@@ -49,7 +53,7 @@ inline void integrate(System& s) {
   Particles& p = s.p;
   // plain locals, not a structured binding: GCC does not see a binding's
   // members as loop-invariant bounds and would not vectorise the loop
-  const std::pair<size_t, size_t> range = my_range(p.size());
+  const std::pair<size_t, size_t> range = my_grains(s);
   const size_t begin = range.first, end = range.second;
   const double h = 0.5 * s.dt, dt = s.dt, gx = s.gx, gy = s.gy;
   const Box box = s.domain;
@@ -113,10 +117,11 @@ inline void pair_forces(System& s, const LawCoefficients c) {  // by value: cann
   const double *rad_i = L.ri.data(), *rad_j = L.rj.data(), *sqm = L.sqrt_meff.data();
   double *ft = L.ft.data(), *mr = L.mr.data(), *ti = L.ti.data(), *tj = L.tj.data();
   double *fx = L.fx.data(), *fy = L.fy.data(), *fn = L.fn.data(), *ov = L.overlap.data();
-  const auto slots = static_cast<std::int64_t>(L.slots());
+  const std::pair<size_t, size_t> grains = my_grains(s);
+  const std::int64_t first = L.start[grains.first], last = L.start[grains.second];
   // simd: slots are independent (each reads grain data, writes only its own slot)
-#pragma omp for simd schedule(static) nowait
-  for (std::int64_t sl = 0; sl < slots; ++sl) {
+#pragma omp simd
+  for (std::int64_t sl = first; sl < last; ++sl) {
     const std::int32_t i = own[sl], j = par[sl];
     const double dx = x[i] - x[j], dy = y[i] - y[j], ri = rad_i[sl], rj = rad_j[sl], rsum = ri + rj;
     const double d2 = dx * dx + dy * dy;
@@ -164,10 +169,9 @@ inline void wall_forces(System& s, const LawCoefficients& c) {
   const Particles& p = s.p;
   WallList& L = s.lists.walls;
   const Bodies& B = s.bodies;
-  const auto slots = static_cast<std::int64_t>(L.slots());
-#pragma omp for schedule(static) nowait
-  for (std::int64_t k = 0; k < slots; ++k) {
-    const auto sl = static_cast<size_t>(k);
+  const std::pair<size_t, size_t> grains = my_grains(s);
+  const auto first = static_cast<size_t>(L.start[grains.first]), last = static_cast<size_t>(L.start[grains.second]);
+  for (size_t sl = first; sl < last; ++sl) {
     const auto i = static_cast<size_t>(L.owner[sl]);
     const auto b = static_cast<size_t>(L.body[sl]);
     const SegmentProximity g = closest_point(s.seg[b], p.x[i], p.y[i]);
@@ -215,14 +219,14 @@ inline void wall_forces(System& s, const LawCoefficients& c) {
 
 // Per-grain resultant force and torque, summed in a fixed order (own row by
 // ascending partner, then the reverse index by ascending i, then walls).
-// Each thread takes its my_range() share, the grains it then integrates, so
-// no barrier is needed in between.
+// Each thread sums its own grains, the ones it then integrates, so no
+// barrier is needed in between.
 template <EffectSet E>
 inline void gather(System& s) {
   Particles& p = s.p;
   const PairList& L = s.lists.pairs;
   const WallList& W = s.lists.walls;
-  const std::pair<size_t, size_t> range = my_range(p.size());
+  const std::pair<size_t, size_t> range = my_grains(s);
   for (size_t i = range.first; i < range.second; ++i) {
     if (!p.active[i]) continue;
     constexpr bool kTorque = has(E, effect::friction) || has(E, effect::rolling_resistance);
@@ -296,45 +300,60 @@ void initial_forces(System& s) {
   }
 }
 
+// Thread 0's serial work after a drift has opened a step: the step count and
+// the bodies' positions for it. No other thread reads either before the next
+// barrier.
+template <EffectSet E>
+inline void open_step_serial(System& s) {
+  ++s.step;
+  if constexpr (has(E, effect::moving_bodies)) s.place_bodies();
+}
+
 template <EffectSet E>
 void advance(System& s, std::int64_t steps) {
   if (steps <= 0) return;
   bool failed = false;
 #pragma omp parallel num_threads(s.threads)
   {
+    // every thread keeps the same displacement bound, from the same numbers
+    double moved = s.moved_particles;
     integrate<E, false, true>(s);
+#pragma omp master
+    open_step_serial<E>(s);
     for (std::int64_t k = 0; k < steps; ++k) {
 #pragma omp barrier
+      const double v2max = *std::max_element(s.thread_v2max.begin(), s.thread_v2max.end());
+      const bool escaped =
+          std::find(s.thread_escaped.begin(), s.thread_escaped.end(), 1) != s.thread_escaped.end();
+      moved += std::sqrt(v2max) * s.dt;
+      if (escaped || moved > 0.5 * s.lists.skin() || moved + s.moved_bodies > s.lists.skin()) {
 #pragma omp single
-      {
-        const double v2max = *std::max_element(s.thread_v2max.begin(), s.thread_v2max.end());
-        const bool escaped =
-            std::find(s.thread_escaped.begin(), s.thread_escaped.end(), 1) != s.thread_escaped.end();
-        std::fill(s.thread_v2max.begin(), s.thread_v2max.end(), 0.0);
-        std::fill(s.thread_escaped.begin(), s.thread_escaped.end(), 0);
-        ++s.step;
-        s.moved_particles += std::sqrt(v2max) * s.dt;
-        if constexpr (has(E, effect::moving_bodies)) s.place_bodies();
-        if (escaped) s.remove_escaped();
-        const double half_skin = 0.5 * s.lists.skin();
-        if (escaped || s.moved_particles > half_skin || s.moved_particles + s.moved_bodies > s.lists.skin())
+        {
+          if (escaped) s.remove_escaped();
           s.rebuild();
-        failed = !s.failure.empty();
+          failed = !s.failure.empty();
+        }  // (a barrier)
+        moved = 0.0;
+        if (failed) break;
       }
-      if (failed) break;
       pair_forces<E>(s, s.pp);
       if constexpr (has(E, effect::walls)) wall_forces<E>(s, s.pw);
 #pragma omp barrier
       gather<E>(s);
-      if (k + 1 < steps)
+      const bool open = k + 1 < steps;
+      if (open)
         integrate<E, true, true>(s);  // close this step, open the next
       else
         integrate<E, true, false>(s);
-      if constexpr (has(E, effect::walls)) {
-#pragma omp single nowait  // the barrier at the top of the loop orders it before bodies move
-        body_sums(s);
+      if (omp_get_thread_num() == 0) {
+        // this step's body force sums (all wall slots were done before the
+        // barrier above) need the bodies where they were: sum, then move them
+        if constexpr (has(E, effect::walls)) body_sums(s);
+        if (open) open_step_serial<E>(s);
       }
     }
+#pragma omp master
+    s.moved_particles = moved;
   }
 }
 

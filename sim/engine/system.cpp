@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 namespace dem2d {
 
@@ -21,6 +22,9 @@ System::System(const Scene& scene)
       domain(scene.domain) {
   omp_set_dynamic(0);
   threads = scene.threads > 0 ? scene.threads : omp_get_max_threads();
+  if (threads > omp_get_thread_limit())  // the kernels need every thread they split the work for
+    throw std::invalid_argument("threads = " + std::to_string(threads) + " exceeds OpenMP's thread limit " +
+                                std::to_string(omp_get_thread_limit()) + " (OMP_THREAD_LIMIT)");
   thread_v2max.assign(static_cast<std::size_t>(threads), 0.0);
   thread_escaped.assign(static_cast<std::size_t>(threads), 0);
 
@@ -170,6 +174,32 @@ void System::rebuild() {
   if (has(effects, effect::walls)) lists.rebuild_walls(p, seg, bodies.radius, bodies.active);
   moved_particles = 0.0;
   moved_bodies = 0.0;
+  split_work();
+}
+
+void System::split_work() {
+  // Cost of grain i in units of one gathered contact: its pair rows are
+  // evaluated (~2 units a slot), its own and reverse slots summed (1 unit
+  // each), its wall slots evaluated and summed, and it is integrated (~2).
+  const std::size_t n = p.size();
+  const PairList& L = lists.pairs;
+  const WallList& W = lists.walls;
+  auto cost = [&](std::size_t i) {
+    const double own = L.start[i + 1] - L.start[i], rev = L.rev_start[i + 1] - L.rev_start[i];
+    const double wall = W.start.size() == n + 1 ? W.start[i + 1] - W.start[i] : 0.0;
+    return 2.0 + 3.0 * own + rev + 4.0 * wall;
+  };
+  double total = 0.0;
+  for (std::size_t i = 0; i < n; ++i) total += cost(i);
+  const auto nt = static_cast<std::size_t>(threads);
+  part.assign(nt + 1, n);
+  part[0] = 0;
+  double acc = 0.0;
+  std::size_t t = 1;
+  for (std::size_t i = 0; i < n && t < nt; ++i) {
+    acc += cost(i);
+    while (t < nt && acc >= total * static_cast<double>(t) / static_cast<double>(nt)) part[t++] = i + 1;
+  }
 }
 
 Scene with_state(Scene scene, const System& sys) {

@@ -60,12 +60,18 @@ struct System {
 
   std::vector<double> thread_v2max;         // per-thread largest speed^2 of the last drift
   std::vector<std::uint8_t> thread_escaped;  // per-thread: a grain left the domain in the last drift
+  // Thread t integrates and sums the grains [part[t], part[t+1]) and evaluates
+  // their rows of the pair and wall lists; set at each rebuild so that the
+  // threads' shares of work are even (threads + 1 entries). The results do
+  // not depend on it.
+  std::vector<std::size_t> part;
 
   std::vector<LostParticle> lost;
   std::string failure;  // set by a kernel when the state became non-finite
 
-  // Rebuild the neighbour lists now and reset the displacement bounds.
-  // When it happens never changes the results, only the cost.
+  // Rebuild the neighbour lists now, reset the displacement bounds and split
+  // the work among the threads. When it happens never changes the results,
+  // only the cost.
   void rebuild();
   // Removes (deactivates, records in `lost`) grains outside the domain; a
   // non-finite grain sets `failure` instead. Called whenever a drift flags one.
@@ -87,6 +93,7 @@ struct System {
   void reset_body_sums();
 
  private:
+  void split_work();  // sets `part`
   AdvanceFn advance_ = nullptr;
   ForceFn initial_forces_ = nullptr;
 };

@@ -94,7 +94,7 @@ template <>
 hid_t native_type<std::uint8_t>() { return H5T_NATIVE_UINT8; }
 
 template <class T>
-void write(const File& f, const std::string& name, const std::vector<T>& data, std::vector<hsize_t> dims) {
+void write(const File& f, const std::string& name, std::span<const T> data, std::vector<hsize_t> dims) {
   if (dims.empty()) dims = {data.size()};
   hsize_t total = 1;
   for (hsize_t d : dims) total *= d;
@@ -263,12 +263,12 @@ bool has_attr(const File& f, const std::string& object, const std::string& name)
   return H5Aexists(obj, name.c_str()) > 0;
 }
 
-template void write<float>(const File&, const std::string&, const std::vector<float>&, std::vector<hsize_t>);
+template void write<float>(const File&, const std::string&, std::span<const float>, std::vector<hsize_t>);
 template std::vector<float> read<float>(const File&, const std::string&, std::vector<hsize_t>*);
-template void write<double>(const File&, const std::string&, const std::vector<double>&, std::vector<hsize_t>);
-template void write<std::int32_t>(const File&, const std::string&, const std::vector<std::int32_t>&, std::vector<hsize_t>);
-template void write<std::int64_t>(const File&, const std::string&, const std::vector<std::int64_t>&, std::vector<hsize_t>);
-template void write<std::uint8_t>(const File&, const std::string&, const std::vector<std::uint8_t>&, std::vector<hsize_t>);
+template void write<double>(const File&, const std::string&, std::span<const double>, std::vector<hsize_t>);
+template void write<std::int32_t>(const File&, const std::string&, std::span<const std::int32_t>, std::vector<hsize_t>);
+template void write<std::int64_t>(const File&, const std::string&, std::span<const std::int64_t>, std::vector<hsize_t>);
+template void write<std::uint8_t>(const File&, const std::string&, std::span<const std::uint8_t>, std::vector<hsize_t>);
 template std::vector<double> read<double>(const File&, const std::string&, std::vector<hsize_t>*);
 template std::vector<std::int32_t> read<std::int32_t>(const File&, const std::string&, std::vector<hsize_t>*);
 template std::vector<std::int64_t> read<std::int64_t>(const File&, const std::string&, std::vector<hsize_t>*);

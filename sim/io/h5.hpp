@@ -6,6 +6,7 @@
 #include <hdf5.h>
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -63,8 +64,12 @@ hid_t native_type();
 // Whole datasets. `dims` empty means 1-D of data.size(). Intermediate groups
 // are created as needed. Large datasets are chunked and compressed.
 template <class T>
-void write(const File& f, const std::string& name, const std::vector<T>& data,
-           std::vector<hsize_t> dims = {});
+void write(const File& f, const std::string& name, std::span<const T> data, std::vector<hsize_t> dims = {});
+// Any contiguous array of a supported type (std::vector, AlignedVector, ...).
+template <class Array>
+void write(const File& f, const std::string& name, const Array& data, std::vector<hsize_t> dims = {}) {
+  write(f, name, std::span<const typename Array::value_type>(data.data(), data.size()), std::move(dims));
+}
 void write_strings(const File& f, const std::string& name, const std::vector<std::string>& data);
 
 template <class T>
@@ -84,12 +89,12 @@ double read_attr_double(const File& f, const std::string& object, const std::str
 std::int64_t read_attr_int(const File& f, const std::string& object, const std::string& name);
 bool has_attr(const File& f, const std::string& object, const std::string& name);
 
-extern template void write<float>(const File&, const std::string&, const std::vector<float>&, std::vector<hsize_t>);
+extern template void write<float>(const File&, const std::string&, std::span<const float>, std::vector<hsize_t>);
 extern template std::vector<float> read<float>(const File&, const std::string&, std::vector<hsize_t>*);
-extern template void write<double>(const File&, const std::string&, const std::vector<double>&, std::vector<hsize_t>);
-extern template void write<std::int32_t>(const File&, const std::string&, const std::vector<std::int32_t>&, std::vector<hsize_t>);
-extern template void write<std::int64_t>(const File&, const std::string&, const std::vector<std::int64_t>&, std::vector<hsize_t>);
-extern template void write<std::uint8_t>(const File&, const std::string&, const std::vector<std::uint8_t>&, std::vector<hsize_t>);
+extern template void write<double>(const File&, const std::string&, std::span<const double>, std::vector<hsize_t>);
+extern template void write<std::int32_t>(const File&, const std::string&, std::span<const std::int32_t>, std::vector<hsize_t>);
+extern template void write<std::int64_t>(const File&, const std::string&, std::span<const std::int64_t>, std::vector<hsize_t>);
+extern template void write<std::uint8_t>(const File&, const std::string&, std::span<const std::uint8_t>, std::vector<hsize_t>);
 extern template std::vector<double> read<double>(const File&, const std::string&, std::vector<hsize_t>*);
 extern template std::vector<std::int32_t> read<std::int32_t>(const File&, const std::string&, std::vector<hsize_t>*);
 extern template std::vector<std::int64_t> read<std::int64_t>(const File&, const std::string&, std::vector<hsize_t>*);

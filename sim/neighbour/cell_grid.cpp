@@ -30,8 +30,7 @@ int CellGrid::cell_y(double y) const {
   return std::clamp(static_cast<int>((y - y0_) * inv_cell_), 0, ny_ - 1);
 }
 
-void CellGrid::bin(const std::vector<double>& x, const std::vector<double>& y,
-                   const std::vector<std::uint8_t>& active) {
+void CellGrid::bin(std::span<const double> x, std::span<const double> y, std::span<const std::uint8_t> active) {
   const std::size_t n = x.size();
   cell_.resize(n);
   std::fill(start_.begin(), start_.end(), 0);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace dem2d {
@@ -14,8 +15,7 @@ class CellGrid {
   void configure(double xmin, double ymin, double xmax, double ymax, double cell_size);
 
   // Counting sort of the active particles into cells: O(N + cells).
-  void bin(const std::vector<double>& x, const std::vector<double>& y,
-           const std::vector<std::uint8_t>& active);
+  void bin(std::span<const double> x, std::span<const double> y, std::span<const std::uint8_t> active);
 
   int nx() const { return nx_; }
   int ny() const { return ny_; }

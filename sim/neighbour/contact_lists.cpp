@@ -11,7 +11,7 @@ namespace {
 // Copies the tangential and rolling history of every contact present in both
 // lists. Rows of both lists are sorted by `key`, so this is one merge per row.
 template <class List>
-void carry_history(List& nl, const List& ol, std::vector<std::int32_t> List::*key) {
+void carry_history(List& nl, const List& ol, AlignedVector<std::int32_t> List::*key) {
   const auto& nk = nl.*key;
   const auto& ok = ol.*key;
   for (std::size_t i = 0; i + 1 < nl.start.size(); ++i) {
@@ -46,6 +46,7 @@ void WallList::resize_slots(std::size_t n) {
 void NeighbourLists::configure(double xmin, double ymin, double xmax, double ymax, double r_max,
                                double skin) {
   skin_ = skin;
+  r_max_ = r_max;
   grid_.configure(xmin, ymin, xmax, ymax, 2.0 * r_max + skin);
 }
 
@@ -113,17 +114,31 @@ void NeighbourLists::rebuild_walls(const Particles& p, const std::vector<Segment
   const WallList& ol = old_walls_;
   const bool have_old = ol.start.size() == n + 1;
 
+  // candidates from the grid cells within reach of each body (the grid was
+  // binned by rebuild_pairs), then in rows: ascending grain, ascending body
+  wall_candidates_.clear();
+  for (std::size_t b = 0; b < seg.size(); ++b) {
+    if (!seg_active[b]) continue;
+    const Segment& g = seg[b];
+    const double reach = seg_radius[b] + r_max_ + skin_;
+    const int cx0 = grid_.cell_x(std::min(g.ax, g.ax + g.ex) - reach), cx1 = grid_.cell_x(std::max(g.ax, g.ax + g.ex) + reach);
+    const int cy0 = grid_.cell_y(std::min(g.ay, g.ay + g.ey) - reach), cy1 = grid_.cell_y(std::max(g.ay, g.ay + g.ey) + reach);
+    for (int cy = cy0; cy <= cy1; ++cy)
+      for (int cx = cx0; cx <= cx1; ++cx)
+        for (std::int32_t k = grid_.begin(cx, cy); k < grid_.end(cx, cy); ++k) {
+          const auto i = static_cast<std::size_t>(grid_.order()[static_cast<std::size_t>(k)]);
+          if (closest_point(g, p.x[i], p.y[i]).dist < p.radius[i] + seg_radius[b] + skin_)
+            wall_candidates_.emplace_back(static_cast<std::int32_t>(i), static_cast<std::int32_t>(b));
+        }
+  }
+  std::sort(wall_candidates_.begin(), wall_candidates_.end());
   nl.start.assign(n + 1, 0);
   nl.body.clear();
-  for (std::size_t i = 0; i < n; ++i) {
-    nl.start[i] = static_cast<std::int32_t>(nl.body.size());
-    if (!p.active[i]) continue;
-    for (std::size_t b = 0; b < seg.size(); ++b) {
-      if (!seg_active[b]) continue;
-      const SegmentProximity c = closest_point(seg[b], p.x[i], p.y[i]);
-      if (c.dist < p.radius[i] + seg_radius[b] + skin_) nl.body.push_back(static_cast<std::int32_t>(b));
-    }
+  for (const auto& [i, b] : wall_candidates_) {
+    ++nl.start[static_cast<std::size_t>(i) + 1];
+    nl.body.push_back(b);
   }
+  for (std::size_t i = 1; i <= n; ++i) nl.start[i] += nl.start[i - 1];
   nl.start[n] = static_cast<std::int32_t>(nl.body.size());
   nl.resize_slots(nl.body.size());
   nl.owner.resize(nl.body.size());
@@ -135,7 +150,7 @@ void NeighbourLists::rebuild_walls(const Particles& p, const std::vector<Segment
 
 namespace {
 template <class List>
-bool set_history(List& L, const std::vector<std::int32_t>& key, std::int32_t i, std::int32_t k, double ft,
+bool set_history(List& L, const AlignedVector<std::int32_t>& key, std::int32_t i, std::int32_t k, double ft,
                  double mr) {
   const auto row = static_cast<std::size_t>(i);
   if (row + 1 >= L.start.size()) return false;

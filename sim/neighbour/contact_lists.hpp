@@ -13,7 +13,10 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
+
+#include "core/aligned_vector.hpp"
 
 #include "contact/spheroline.hpp"
 #include "core/state.hpp"
@@ -22,38 +25,38 @@
 namespace dem2d {
 
 struct PairList {
-  std::vector<std::int32_t> start;    // N + 1
-  std::vector<std::int32_t> owner;    // i of each slot (the row it belongs to)
-  std::vector<std::int32_t> partner;  // j > i, ascending within a row
+  AlignedVector<std::int32_t> start;    // N + 1
+  AlignedVector<std::int32_t> owner;    // i of each slot (the row it belongs to)
+  AlignedVector<std::int32_t> partner;  // j > i, ascending within a row
   // constants of the pair, set at rebuild (contiguous loads in the kernel)
-  std::vector<double> ri, rj;       // radii (m)
-  std::vector<double> sqrt_meff;    // sqrt(m_i m_j / (m_i + m_j)) (sqrt(kg/m))
+  AlignedVector<double> ri, rj;       // radii (m)
+  AlignedVector<double> sqrt_meff;    // sqrt(m_i m_j / (m_i + m_j)) (sqrt(kg/m))
   // history
-  std::vector<double> ft;  // tangential spring (N/m) along t = z x n
-  std::vector<double> mr;  // rolling moment on i (N)
+  AlignedVector<double> ft;  // tangential spring (N/m) along t = z x n
+  AlignedVector<double> mr;  // rolling moment on i (N)
   // last evaluation (zero for candidates that do not touch)
-  std::vector<double> fx, fy;  // force on i (N/m); j receives the opposite
-  std::vector<double> ti, tj;  // torque on i and on j (N)
-  std::vector<double> fn;      // normal force (N/m)
-  std::vector<double> overlap; // -delta (m), positive when touching
+  AlignedVector<double> fx, fy;  // force on i (N/m); j receives the opposite
+  AlignedVector<double> ti, tj;  // torque on i and on j (N)
+  AlignedVector<double> fn;      // normal force (N/m)
+  AlignedVector<double> overlap; // -delta (m), positive when touching
   // reverse index: for particle k, the slots whose partner is k (ascending i)
-  std::vector<std::int32_t> rev_start, rev_slot;
+  AlignedVector<std::int32_t> rev_start, rev_slot;
 
   std::size_t slots() const { return partner.size(); }
   void resize_slots(std::size_t n);  // sizes the per-slot arrays to n, zeroed
 };
 
 struct WallList {
-  std::vector<std::int32_t> start;  // N + 1
-  std::vector<std::int32_t> owner;  // the grain of each slot
-  std::vector<std::int32_t> body;   // ascending within a row
+  AlignedVector<std::int32_t> start;  // N + 1
+  AlignedVector<std::int32_t> owner;  // the grain of each slot
+  AlignedVector<std::int32_t> body;   // ascending within a row
   // history
-  std::vector<double> ft, mr;
+  AlignedVector<double> ft, mr;
   // last evaluation
-  std::vector<double> fx, fy;      // force on the grain (N/m); the body receives the opposite
-  std::vector<double> tq;          // torque on the grain (N)
-  std::vector<double> cx, cy;      // contact point (m), for the torque on the body
-  std::vector<double> fn, overlap;
+  AlignedVector<double> fx, fy;      // force on the grain (N/m); the body receives the opposite
+  AlignedVector<double> tq;          // torque on the grain (N)
+  AlignedVector<double> cx, cy;      // contact point (m), for the torque on the body
+  AlignedVector<double> fn, overlap;
 
   std::size_t slots() const { return body.size(); }
   void resize_slots(std::size_t n);  // sizes the per-slot arrays to n, zeroed
@@ -66,6 +69,7 @@ class NeighbourLists {
   double skin() const { return skin_; }
 
   void rebuild_pairs(const Particles& p);
+  // Uses the grid binned by the last rebuild_pairs: call it after that.
   void rebuild_walls(const Particles& p, const std::vector<Segment>& seg,
                      const std::vector<double>& seg_radius, const std::vector<std::uint8_t>& seg_active);
 
@@ -80,10 +84,11 @@ class NeighbourLists {
 
  private:
   CellGrid grid_;
-  double skin_ = 0.0;
+  double skin_ = 0.0, r_max_ = 0.0;
   PairList old_pairs_;
   WallList old_walls_;
   std::vector<std::int32_t> row_;  // scratch
+  std::vector<std::pair<std::int32_t, std::int32_t>> wall_candidates_;  // scratch: (grain, body)
 };
 
 }  // namespace dem2d

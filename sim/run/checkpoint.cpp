@@ -42,7 +42,7 @@ auto body_arrays(B& b) {
 // Touching contacts of a list as (row, key, ft, mr) columns.
 template <class List>
 void write_history(const h5::File& f, const std::string& group, const List& L,
-                   const std::vector<std::int32_t>& key) {
+                   const AlignedVector<std::int32_t>& key) {
   std::vector<std::int32_t> row, col;
   std::vector<double> ft, mr;
   for (std::size_t i = 0; i + 1 < L.start.size(); ++i)
@@ -127,10 +127,12 @@ RunProgress read_checkpoint(const std::string& path, System& sys) {
     throw std::runtime_error(path + ": not a dem2d checkpoint");
   const std::size_t n = sys.size();
   for (const auto& [name, v] : particle_arrays(sys.p)) {
-    *v = h5::read<double>(f, std::string("particles/") + name);
+    const std::vector<double> column = h5::read<double>(f, std::string("particles/") + name);
+    v->assign(column.begin(), column.end());
     if (v->size() != n) throw std::runtime_error(path + ": particle count differs from the scene's");
   }
-  sys.p.active = h5::read<std::uint8_t>(f, "particles/active");
+  const std::vector<std::uint8_t> active = h5::read<std::uint8_t>(f, "particles/active");
+  sys.p.active.assign(active.begin(), active.end());
   sys.freeze_lost();
   sys.step = h5::read_attr_int(f, "/", "step");
   sys.lost.clear();

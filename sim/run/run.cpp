@@ -135,6 +135,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     write_checkpoint(ckpt, sys, pr, scene.text);
   };
   const std::int64_t first_step = sys.step;
+  const std::int64_t first_rebuild = sys.lists.rebuild_count;
   Progress progress(opt.progress, total, sys.size(), first_step);
   auto finish_report = [&](bool complete) {
     report.complete = complete;
@@ -144,6 +145,8 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     const auto active = static_cast<double>(std::count(sys.p.active.begin(), sys.p.active.end(), 1));
     if (report.steps > 0 && active > 0)
       report.ns_per_particle_step = report.wall_seconds * 1e9 / (static_cast<double>(report.steps) * active);
+    report.rebuilds = sys.lists.rebuild_count - first_rebuild;
+    if (active > 0) report.candidates_per_grain = static_cast<double>(sys.lists.pairs.slots()) / active;
     report.lost = sys.lost.size();
     report.jams = jam.state().jam_times.size();
     return report;

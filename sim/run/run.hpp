@@ -31,6 +31,8 @@ struct RunReport {
   double ns_per_particle_step = 0.0;
   std::size_t lost = 0;
   std::size_t jams = 0;          // hopper jams detected (and tapped)
+  std::int64_t rebuilds = 0;     // neighbour-list rebuilds in this invocation
+  double candidates_per_grain = 0.0;  // pair slots (candidate contacts) per active grain at the end
   std::string run_file;
 };
 
