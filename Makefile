@@ -110,8 +110,7 @@ bench-scaling: build
 	$(DEM2D) bench --tiles 1 6 63 625 --repeat 3 --json results/bench_scaling.json
 
 bench-compare: build
-	@command -v lmp >/dev/null && command -v mpirun >/dev/null || { echo "make bench-compare: installing lammps"; \
-	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends lammps; }
+	@$(MAKE) --no-print-directory deps DEBIAN_PACKAGES=lammps
 	/usr/bin/python3 pipeline/bench_compare/compare.py data/bench/compare.toml $(DEM2D) results/bench_compare
 
 # --- the study's stages: file targets, so only what is stale reruns --------

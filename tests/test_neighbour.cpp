@@ -88,7 +88,9 @@ TEST(Neighbour, FindsEveryWallCandidateAmongManyBodies) {
               .dist < p.radius[static_cast<std::size_t>(i)] + sys.bodies.radius[static_cast<std::size_t>(b)])
         touching.insert({i, b});
     for (const auto& ib : touching) EXPECT_TRUE(listed.count(ib)) << "grain " << ib.first << " body " << ib.second;
-    if (k == 3) EXPECT_GT(touching.size(), 30u);  // not vacuous: by then the pegs and walls carry the bed
+    if (k == 3) {
+      EXPECT_GT(touching.size(), 30u);  // not vacuous: by then the pegs and walls carry the bed
+    }
     sys.rebuild();
     listed.clear();
     for (std::size_t sl = 0; sl < W.slots(); ++sl) listed.insert({W.owner[sl], W.body[sl]});

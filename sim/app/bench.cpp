@@ -58,11 +58,11 @@ Scene with_state_and_history(const Scene& scene, const System& bed) {
   const PairList& L = bed.lists.pairs;
   for (std::size_t i = 0; i < bed.size(); ++i)
     for (auto sl = static_cast<std::size_t>(L.start[i]); sl < static_cast<std::size_t>(L.start[i + 1]); ++sl)
-      if (L.fn[sl] > 0.0 && index[i] >= 0 && index[static_cast<std::size_t>(L.partner[sl])] >= 0)
+      if (L.overlap[sl] > 0.0 && index[i] >= 0 && index[static_cast<std::size_t>(L.partner[sl])] >= 0)
         s.initial_contacts.push_back({index[i], index[static_cast<std::size_t>(L.partner[sl])], "", L.ft[sl], L.mr[sl]});
   const WallList& W = bed.lists.walls;
   for (std::size_t sl = 0; sl < W.slots(); ++sl)
-    if (W.fn[sl] > 0.0 && index[static_cast<std::size_t>(W.owner[sl])] >= 0)
+    if (W.overlap[sl] > 0.0 && index[static_cast<std::size_t>(W.owner[sl])] >= 0)
       s.initial_contacts.push_back({index[static_cast<std::size_t>(W.owner[sl])], -1,
                                     bed.bodies.name[static_cast<std::size_t>(W.body[sl])], W.ft[sl], W.mr[sl]});
   return s;
@@ -88,7 +88,8 @@ Scene tiled(Scene s, int tiles, const std::string& scene_path) {
   s.initial_contacts.clear();
   for (int k = 0; k < tiles; ++k) {
     const double dx = k * period;
-    const std::string suffix = tiles > 1 ? "_" + std::to_string(k) : "";
+    // (built with append: "_" + to_string trips GCC 12's false -Wrestrict warning)
+    const std::string suffix = tiles > 1 ? std::string(1, '_').append(std::to_string(k)) : std::string();
     for (ParticleInit q : one.particles) {
       q.x += dx;
       s.particles.push_back(q);

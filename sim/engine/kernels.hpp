@@ -345,7 +345,8 @@ void advance(System& s, std::int64_t steps) {
         integrate<E, true, true>(s);  // close this step, open the next
       else
         integrate<E, true, false>(s);
-      if (omp_get_thread_num() == 0) {
+#pragma omp master
+      {
         // this step's body force sums (all wall slots were done before the
         // barrier above) need the bodies where they were: sum, then move them
         if constexpr (has(E, effect::walls)) body_sums(s);

@@ -133,17 +133,15 @@ void NeighbourLists::rebuild_walls(const Particles& p, const std::vector<Segment
   }
   std::sort(wall_candidates_.begin(), wall_candidates_.end());
   nl.start.assign(n + 1, 0);
+  nl.owner.clear();
   nl.body.clear();
   for (const auto& [i, b] : wall_candidates_) {
     ++nl.start[static_cast<std::size_t>(i) + 1];
+    nl.owner.push_back(i);
     nl.body.push_back(b);
   }
   for (std::size_t i = 1; i <= n; ++i) nl.start[i] += nl.start[i - 1];
-  nl.start[n] = static_cast<std::int32_t>(nl.body.size());
   nl.resize_slots(nl.body.size());
-  nl.owner.resize(nl.body.size());
-  for (std::size_t i = 0; i < n; ++i)
-    std::fill(nl.owner.begin() + nl.start[i], nl.owner.begin() + nl.start[i + 1], static_cast<std::int32_t>(i));
 
   if (have_old) carry_history(nl, ol, &WallList::body);
 }

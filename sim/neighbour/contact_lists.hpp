@@ -16,9 +16,8 @@
 #include <utility>
 #include <vector>
 
-#include "core/aligned_vector.hpp"
-
 #include "contact/spheroline.hpp"
+#include "core/aligned_vector.hpp"
 #include "core/state.hpp"
 #include "neighbour/cell_grid.hpp"
 
