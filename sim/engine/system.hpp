@@ -10,6 +10,7 @@
 
 #include "contact/contact_law.hpp"
 #include "contact/spheroline.hpp"
+#include "core/aligned_vector.hpp"
 #include "core/effects.hpp"
 #include "core/state.hpp"
 #include "neighbour/contact_lists.hpp"
@@ -58,13 +59,19 @@ struct System {
   std::vector<double> body_fx_sum, body_fy_sum, body_torque_sum;
   std::int64_t body_sum_steps = 0;
 
-  std::vector<double> thread_v2max;         // per-thread largest speed^2 of the last drift
-  std::vector<std::uint8_t> thread_escaped;  // per-thread: a grain left the domain in the last drift
+  // What each thread's last drift found, one cache line per thread (written
+  // by its thread every step, read by all after the next barrier).
+  struct alignas(kCacheLine) DriftReport {
+    double v2max = 0.0;    // largest speed^2 (m^2/s^2)
+    bool escaped = false;  // a grain left the domain or became non-finite
+  };
+  std::vector<DriftReport> drift;
   // Thread t integrates and sums the grains [part[t], part[t+1]) and evaluates
   // their rows of the pair and wall lists; set at each rebuild so that the
   // threads' shares of work are even (threads + 1 entries). The results do
-  // not depend on it.
+  // not depend on it. Inner boundaries are multiples of kGrainsPerLine.
   std::vector<std::size_t> part;
+  static constexpr std::size_t kGrainsPerLine = kCacheLine / sizeof(double);
 
   std::vector<LostParticle> lost;
   std::string failure;  // set by a kernel when the state became non-finite
