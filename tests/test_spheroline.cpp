@@ -28,6 +28,22 @@ TEST(SpheroLine, MatchesPaperEquations) {
       EXPECT_NEAR(closest_point(s, ox, oy).dist, paper_distance(ox, oy, 0.01, 0.02, 0.03, 0.035), 1e-15);
 }
 
+// A centre exactly on the segment (flat side or end point) has no direction
+// to the closest point: it is pushed out along the segment's left normal.
+TEST(SpheroLine, CentreOnTheSegmentIsPushedAlongItsNormal) {
+  const Segment s = make_segment(0.0, 0.0, 0.03, 0.04);  // |C1C2| = 0.05, u = (0.6, 0.8)
+  for (const double t : {0.0, 0.5, 1.0}) {
+    const SegmentProximity c = closest_point(s, 0.03 * t, 0.04 * t);
+    EXPECT_EQ(c.dist, 0.0) << "t = " << t;
+    EXPECT_NEAR(c.nx, -0.8, 1e-15) << "t = " << t;
+    EXPECT_NEAR(c.ny, 0.6, 1e-15) << "t = " << t;
+  }
+  const SegmentProximity off = closest_point(s, 0.0 - 0.8e-3, 0.0 + 0.6e-3);  // 1 mm off C1, along v
+  EXPECT_NEAR(off.dist, 1e-3, 1e-15);
+  EXPECT_NEAR(off.nx, -0.8, 1e-12);
+  EXPECT_NEAR(off.ny, 0.6, 1e-12);
+}
+
 // A grain slid along the top of a horizontal sphero-line, over its end and
 // down around the cap: the overlap and the normal change by at most
 // O(step) between neighbouring positions, including across the boundary.

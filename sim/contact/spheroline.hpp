@@ -44,8 +44,11 @@ inline SegmentProximity closest_point(const Segment& s, double ox, double oy) {
   const double t = std::clamp((rx * s.ex + ry * s.ey) * s.inv_len2, 0.0, 1.0);
   const double dx = rx - t * s.ex, dy = ry - t * s.ey;
   const double dist = std::sqrt(dx * dx + dy * dy);
-  if (dist > 0.0) return {dist, dx / dist, dy / dist};
-  return {0.0, s.nx0, s.ny0};  // centre on the segment: push out along its normal
+  // selects rather than a branch, so that a loop over wall slots vectorises;
+  // a centre on the segment is pushed out along the segment's normal
+  const bool apart = dist > 0.0;
+  const double div = apart ? dist : 1.0;
+  return {dist, apart ? dx / div : s.nx0, apart ? dy / div : s.ny0};
 }
 
 }  // namespace dem2d

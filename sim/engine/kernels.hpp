@@ -162,57 +162,62 @@ inline void pair_forces(System& s, const LawCoefficients c) {  // by value: cann
   }
 }
 
-// Grain-sphero-line contacts: a flat loop over the (few) wall slots.
+// Grain-sphero-line contacts: a flat loop over the wall slots, vectorised
+// like pair_forces (open contacts masked by selects). A touching slot goes
+// through exactly the arithmetic of the scalar law; an open one is zeroed and
+// keeps its last contact point.
 template <EffectSet E>
-inline void wall_forces(System& s, const LawCoefficients& c) {
+inline void wall_forces(System& s, const LawCoefficients c) {  // by value: cannot alias the outputs
   const Particles& p = s.p;
   WallList& L = s.lists.walls;
   const Bodies& B = s.bodies;
+  const Segment* seg = s.seg.data();
+  const std::int32_t *own = L.owner.data(), *body = L.body.data();
+  const double *x = p.x.data(), *y = p.y.data(), *vx = p.vx.data(), *vy = p.vy.data(), *w = p.omega.data();
+  const double *rad = p.radius.data(), *mass = p.mass.data();
+  const double *brad = B.radius.data(), *bvx = B.vx.data(), *bvy = B.vy.data();
+  double *ft = L.ft.data(), *mr = L.mr.data(), *fxo = L.fx.data(), *fyo = L.fy.data(), *tqo = L.tq.data();
+  double *cx = L.cx.data(), *cy = L.cy.data(), *fno = L.fn.data(), *ov = L.overlap.data();
   const std::pair<size_t, size_t> grains = my_grains(s);
-  const auto first = static_cast<size_t>(L.start[grains.first]), last = static_cast<size_t>(L.start[grains.second]);
-  for (size_t sl = first; sl < last; ++sl) {
-    const auto i = static_cast<size_t>(L.owner[sl]);
-    const auto b = static_cast<size_t>(L.body[sl]);
-    const SegmentProximity g = closest_point(s.seg[b], p.x[i], p.y[i]);
-    const double ri = p.radius[i];
-    const double delta = g.dist - (ri + B.radius[b]);
-    if (delta >= 0.0) {
-      L.fx[sl] = L.fy[sl] = L.tq[sl] = L.fn[sl] = L.overlap[sl] = 0.0;
-      if constexpr (has(E, effect::friction)) L.ft[sl] = 0.0;
-      if constexpr (has(E, effect::rolling_resistance)) L.mr[sl] = 0.0;
-      continue;
-    }
-    double rvx = p.vx[i], rvy = p.vy[i];
+  const std::int64_t first = L.start[grains.first], last = L.start[grains.second];
+#pragma omp simd
+  for (std::int64_t sl = first; sl < last; ++sl) {
+    const std::int32_t i = own[sl], b = body[sl];
+    const SegmentProximity g = closest_point(seg[b], x[i], y[i]);
+    const double ri = rad[i];
+    const double delta = g.dist - (ri + brad[b]);
+    const bool touch = delta < 0.0;
+    double rvx = vx[i], rvy = vy[i];
     if constexpr (has(E, effect::moving_bodies)) {
-      rvx -= B.vx[b];
-      rvy -= B.vy[b];
+      rvx -= bvx[b];
+      rvy -= bvy[b];
     }
     double sqrt_m = 0.0;
-    if constexpr (has(E, effect::normal_damping)) sqrt_m = std::sqrt(p.mass[i]);
+    if constexpr (has(E, effect::normal_damping)) sqrt_m = std::sqrt(mass[i]);
     const double fn = normal_force<E>(c, delta, rvx * g.nx + rvy * g.ny, sqrt_m);
     const double a = ri + 0.5 * delta;  // centre to contact point (m)
     double fx = fn * g.nx, fy = fn * g.ny, tq = 0.0;
     if constexpr (has(E, effect::friction)) {
       const double tx = -g.ny, ty = g.nx;
-      const double vt = rvx * tx + rvy * ty - a * p.omega[i];
-      const double ft = capped_increment(L.ft[sl], -c.kt_dt * vt, c.mu * fn);
-      L.ft[sl] = ft;
-      fx += ft * tx;
-      fy += ft * ty;
-      tq = -a * ft;
+      const double vt = rvx * tx + rvy * ty - a * w[i];
+      const double f_t = touch ? capped_increment(ft[sl], -c.kt_dt * vt, c.mu * fn) : 0.0;
+      ft[sl] = f_t;
+      fx += f_t * tx;
+      fy += f_t * ty;
+      tq = -a * f_t;
     }
     if constexpr (has(E, effect::rolling_resistance)) {
-      const double mr = capped_increment(L.mr[sl], -c.kr_dt * p.omega[i], c.mu_r * fn);
-      L.mr[sl] = mr;
-      tq += mr;
+      const double m = touch ? capped_increment(mr[sl], -c.kr_dt * w[i], c.mu_r * fn) : 0.0;
+      mr[sl] = m;
+      tq += m;
     }
-    L.fx[sl] = fx;
-    L.fy[sl] = fy;
-    L.tq[sl] = tq;
-    L.cx[sl] = p.x[i] - a * g.nx;
-    L.cy[sl] = p.y[i] - a * g.ny;
-    L.fn[sl] = fn;
-    L.overlap[sl] = -delta;
+    fxo[sl] = touch ? fx : 0.0;
+    fyo[sl] = touch ? fy : 0.0;
+    tqo[sl] = touch ? tq : 0.0;
+    cx[sl] = touch ? x[i] - a * g.nx : cx[sl];
+    cy[sl] = touch ? y[i] - a * g.ny : cy[sl];
+    fno[sl] = touch ? fn : 0.0;
+    ov[sl] = touch ? -delta : 0.0;
   }
 }
 
