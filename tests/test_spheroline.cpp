@@ -38,7 +38,7 @@ TEST(SpheroLine, CentreOnTheSegmentIsPushedAlongItsNormal) {
     EXPECT_NEAR(c.nx, -0.8, 1e-15) << "t = " << t;
     EXPECT_NEAR(c.ny, 0.6, 1e-15) << "t = " << t;
   }
-  const SegmentProximity off = closest_point(s, 0.0 - 0.8e-3, 0.0 + 0.6e-3);  // 1 mm off C1, along v
+  const SegmentProximity off = closest_point(s, -0.8e-3, 0.6e-3);  // 1 mm from C1 along the normal
   EXPECT_NEAR(off.dist, 1e-3, 1e-15);
   EXPECT_NEAR(off.nx, -0.8, 1e-12);
   EXPECT_NEAR(off.ny, 0.6, 1e-12);
