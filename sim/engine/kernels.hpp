@@ -38,6 +38,12 @@ inline std::pair<size_t, size_t> my_grains(const System& s) {
   return {s.part[t], s.part[t + 1]};
 }
 
+// This thread's slots [first, last) of a list whose row i is [start[i], start[i+1]).
+inline std::pair<std::int64_t, std::int64_t> my_slots(const System& s, const AlignedVector<std::int32_t>& start) {
+  const std::pair<size_t, size_t> grains = my_grains(s);
+  return {start[grains.first], start[grains.second]};
+}
+
 // Velocity Verlet's per-grain updates, h = dt/2, a = F/m + g, as one vectorised pass:
 //   Close: v += h a, omega += h T/I            (end of a step)
 //   Open:  the same kick, then x += dt v,      (start of the next step)
@@ -116,8 +122,8 @@ inline void pair_forces(System& s, const LawCoefficients c) {  // by value: cann
   const double *rad_i = L.ri.data(), *rad_j = L.rj.data(), *sqm = L.sqrt_meff.data();
   double *ft = L.ft.data(), *mr = L.mr.data(), *ti = L.ti.data(), *tj = L.tj.data();
   double *fx = L.fx.data(), *fy = L.fy.data(), *fn = L.fn.data(), *ov = L.overlap.data();
-  const std::pair<size_t, size_t> grains = my_grains(s);
-  const std::int64_t first = L.start[grains.first], last = L.start[grains.second];
+  const std::pair<std::int64_t, std::int64_t> slots = my_slots(s, L.start);
+  const std::int64_t first = slots.first, last = slots.second;
   // simd: slots are independent (each reads grain data, writes only its own slot)
 #pragma omp simd
   for (std::int64_t sl = first; sl < last; ++sl) {
@@ -174,12 +180,12 @@ inline void wall_forces(System& s, const LawCoefficients c) {  // by value: cann
   const Segment* seg = s.seg.data();
   const std::int32_t *own = L.owner.data(), *body = L.body.data();
   const double *x = p.x.data(), *y = p.y.data(), *vx = p.vx.data(), *vy = p.vy.data(), *w = p.omega.data();
-  const double *rad = p.radius.data(), *mass = p.mass.data();
+  const double *rad = p.radius.data(), *sqm = L.sqrt_m.data();
   const double *brad = B.radius.data(), *bvx = B.vx.data(), *bvy = B.vy.data();
   double *ft = L.ft.data(), *mr = L.mr.data(), *fxo = L.fx.data(), *fyo = L.fy.data(), *tqo = L.tq.data();
   double *cx = L.cx.data(), *cy = L.cy.data(), *fno = L.fn.data(), *ov = L.overlap.data();
-  const std::pair<size_t, size_t> grains = my_grains(s);
-  const std::int64_t first = L.start[grains.first], last = L.start[grains.second];
+  const std::pair<std::int64_t, std::int64_t> slots = my_slots(s, L.start);
+  const std::int64_t first = slots.first, last = slots.second;
 #pragma omp simd
   for (std::int64_t sl = first; sl < last; ++sl) {
     const std::int32_t i = own[sl], b = body[sl];
@@ -192,9 +198,7 @@ inline void wall_forces(System& s, const LawCoefficients c) {  // by value: cann
       rvx -= bvx[b];
       rvy -= bvy[b];
     }
-    double sqrt_m = 0.0;
-    if constexpr (has(E, effect::normal_damping)) sqrt_m = std::sqrt(mass[i]);
-    const double fn = normal_force<E>(c, delta, rvx * g.nx + rvy * g.ny, sqrt_m);
+    const double fn = normal_force<E>(c, delta, rvx * g.nx + rvy * g.ny, sqm[sl]);
     const double a = ri + 0.5 * delta;  // centre to contact point (m)
     double fx = fn * g.nx, fy = fn * g.ny, tq = 0.0;
     if constexpr (has(E, effect::friction)) {

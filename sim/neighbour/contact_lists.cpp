@@ -40,7 +40,7 @@ void PairList::resize_slots(std::size_t n) {
 }
 
 void WallList::resize_slots(std::size_t n) {
-  for (auto* v : {&ft, &mr, &fx, &fy, &tq, &cx, &cy, &fn, &overlap}) v->assign(n, 0.0);
+  for (auto* v : {&sqrt_m, &ft, &mr, &fx, &fy, &tq, &cx, &cy, &fn, &overlap}) v->assign(n, 0.0);
 }
 
 void NeighbourLists::configure(double xmin, double ymin, double xmax, double ymax, double r_max,
@@ -142,6 +142,7 @@ void NeighbourLists::rebuild_walls(const Particles& p, const std::vector<Segment
   }
   for (std::size_t i = 1; i <= n; ++i) nl.start[i] += nl.start[i - 1];
   nl.resize_slots(nl.body.size());
+  for (std::size_t s = 0; s < nl.slots(); ++s) nl.sqrt_m[s] = std::sqrt(p.mass[static_cast<std::size_t>(nl.owner[s])]);
 
   if (have_old) carry_history(nl, ol, &WallList::body);
 }

@@ -49,6 +49,7 @@ struct WallList {
   AlignedVector<std::int32_t> start;  // N + 1
   AlignedVector<std::int32_t> owner;  // the grain of each slot
   AlignedVector<std::int32_t> body;   // ascending within a row
+  AlignedVector<double> sqrt_m;       // sqrt(m_i) (sqrt(kg/m)), set at rebuild: a body's mass is infinite
   // history
   AlignedVector<double> ft, mr;
   // last evaluation
