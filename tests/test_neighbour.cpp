@@ -10,6 +10,7 @@
 #include <set>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "engine/diagnostics.hpp"
 #include "scene_builder.hpp"
@@ -158,6 +159,16 @@ TEST(Determinism, OneTwoAndThreeThreadsAreBitwiseIdentical) {
       EXPECT_LE(b.part[t - 1], b.part[t]);
       EXPECT_TRUE(b.part[t] % System::kGrainsPerLine == 0 || b.part[t] == b.size()) << b.part[t];
     }
+    // shared_end[t] is one past the highest grain of thread t that a lower
+    // thread's pair row reads (part[t] if none)
+    std::vector<std::size_t> expected(b.part.begin(), b.part.end() - 1);
+    for (std::size_t sl = 0; sl < b.lists.pairs.slots(); ++sl) {
+      const auto i = static_cast<std::size_t>(b.lists.pairs.owner[sl]), j = static_cast<std::size_t>(b.lists.pairs.partner[sl]);
+      for (std::size_t t = 1; t < expected.size(); ++t)
+        if (i < b.part[t] && j >= b.part[t] && j < b.part[t + 1]) expected[t] = std::max(expected[t], j + 1);
+    }
+    EXPECT_EQ(b.shared_end, expected);
+    EXPECT_GT(b.shared_end[1], b.part[1]);  // a packed bed: the threads share grains
     EXPECT_TRUE(bitwise_equal(state_of(a), state_of(b))) << threads << " threads";
     EXPECT_EQ(kinetic_energy(a), kinetic_energy(b));
   }

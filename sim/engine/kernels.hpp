@@ -225,6 +225,19 @@ inline void wall_forces(System& s, const LawCoefficients c) {  // by value: cann
   }
 }
 
+// Asks, with write intent, for the lines of this thread's grains that lower
+// threads' pair rows read this step (System::shared_end). Called after the
+// barrier that ends the pair loops, before the sums: the other cores give the
+// lines up while the sums run, and the integration that follows writes lines
+// it already owns (measured: thread 1's integration 5.8-6.6k -> 4.5k cycles
+// a step on the 1600-grain bed).
+inline void claim_shared_grains(System& s) {
+  const auto t = static_cast<size_t>(omp_get_thread_num());
+  Particles& p = s.p;
+  for (double* a : {p.x.data(), p.y.data(), p.vx.data(), p.vy.data(), p.omega.data()})
+    for (size_t i = s.part[t]; i < s.shared_end[t]; i += System::kGrainsPerLine) __builtin_prefetch(a + i, 1, 3);
+}
+
 // Per-grain resultant force and torque, summed in a fixed order (own row by
 // ascending partner, then the reverse index by ascending i, then walls).
 // Each thread sums its own grains, the ones it then integrates, so no
@@ -350,6 +363,7 @@ void advance(System& s, std::int64_t steps) {
       pair_forces<E>(s, s.pp);
       if constexpr (has(E, effect::walls)) wall_forces<E>(s, s.pw);
 #pragma omp barrier
+      claim_shared_grains(s);
       gather<E>(s);
       const bool open = k + 1 < steps;
       if (open)

@@ -202,6 +202,16 @@ void System::split_work() {
     while (t < nt && acc >= total * static_cast<double>(t) / static_cast<double>(nt))
       part[t++] = std::min(n, (i + 1 + kGrainsPerLine - 1) / kGrainsPerLine * kGrainsPerLine);
   }
+  shared_end.assign(part.begin(), part.end() - 1);
+  for (std::size_t t_i = 0; t_i + 1 < nt; ++t_i) {
+    const auto first = static_cast<std::size_t>(L.start[part[t_i]]), last = static_cast<std::size_t>(L.start[part[t_i + 1]]);
+    for (std::size_t sl = first; sl < last; ++sl) {
+      const auto j = static_cast<std::size_t>(L.partner[sl]);
+      if (j < part[t_i + 1]) continue;
+      const auto t_j = static_cast<std::size_t>(std::upper_bound(part.begin(), part.end(), j) - part.begin()) - 1;
+      shared_end[t_j] = std::max(shared_end[t_j], j + 1);
+    }
+  }
 }
 
 Scene with_state(Scene scene, const System& sys) {

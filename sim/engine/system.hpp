@@ -72,6 +72,11 @@ struct System {
   // not depend on it. Inner boundaries are multiples of kGrainsPerLine.
   std::vector<std::size_t> part;
   static constexpr std::size_t kGrainsPerLine = kCacheLine / sizeof(double);
+  // Thread t's grains [part[t], shared_end[t]) are the ones whose kinematics
+  // the pair rows of lower threads read (the half list has j > i): their
+  // cache lines sit in another core when thread t integrates them. Set with
+  // `part`.
+  std::vector<std::size_t> shared_end;
 
   std::vector<LostParticle> lost;
   std::string failure;  // set by a kernel when the state became non-finite
