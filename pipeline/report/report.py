@@ -9,6 +9,7 @@ our value, the paper's and the verdict as properties), RESULTS_DIR/figures/
 index.json (figures.py) and pipeline/report/deviations.toml; writes
 RESULTS_DIR/report.md.
 """
+import re
 import sys
 import tomllib
 from pathlib import Path
@@ -40,15 +41,39 @@ def targets_table(check: dict) -> tuple[list[str], list[dict]]:
     return lines, rows
 
 
-def deviations(preset: str, failed: list[dict]) -> list[str]:
-    with open(HERE / "deviations.toml", "rb") as f:
+# {stage.key} or {stage.key.sub:format} in a reason of deviations.toml
+PLACEHOLDER = re.compile(r"\{([A-Za-z_]\w*(?:\.\w+)+)(?::([^{}]*))?\}")
+
+
+def fill_in(text: str, metrics: dict, where: str) -> str:
+    """Replaces each placeholder in `text` by that value of metrics.json, formatted
+    (None, a metric the run could not measure, as "—"): a reason quotes the
+    numbers of the run it explains, never another run's."""
+    def value(m: re.Match) -> str:
+        v = metrics
+        for key in m.group(1).split("."):
+            if not isinstance(v, dict) or key not in v:
+                fail(f"{where}: '{m.group(0)}' names no value of metrics.json")
+            v = v[key]
+        if v is None:
+            return "—"
+        try:
+            return format(v, m.group(2) or "")
+        except (TypeError, ValueError) as e:
+            fail(f"{where}: '{m.group(0)}': cannot format {v!r} ({e})")
+    return PLACEHOLDER.sub(value, text)
+
+
+def deviations(preset: str, failed: list[dict], metrics: dict) -> list[str]:
+    path = HERE / "deviations.toml"
+    with open(path, "rb") as f:
         d = tomllib.load(f)
     lines = ["### Method", "", "| what | paper | ours | why |", "|---|---|---|---|"]
     for dev in d.get("deviation", []):
         if preset in dev["presets"]:
             lines.append(f"| {dev['what']} | {dev['paper']} | {dev['ours']} | {dev['reason']} |")
     lines += ["", "### Results outside the paper's tolerance", ""]
-    reasons = {m["metric"]: m["reason"] for m in d.get("miss", [])}
+    reasons = {m["metric"]: fill_in(m["reason"], metrics, f"{path}, miss '{m['metric']}'") for m in d.get("miss", [])}
     if not failed:
         lines.append("None: every target passes.")
     for t in failed:
@@ -138,7 +163,7 @@ def main() -> None:
         "",
         "## Deviations from the paper",
         "",
-        *deviations(preset, failed),
+        *deviations(preset, failed, metrics),
         "",
         "## Cost",
         "",

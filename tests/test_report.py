@@ -1,0 +1,61 @@
+#!/usr/bin/python3
+"""The report's reasons quote the run's own numbers (pipeline/report/report.py,
+fill_in): placeholders in deviations.toml are filled in from metrics.json,
+and one that names no value stops the report with an error naming it."""
+import contextlib
+import io
+import re
+import sys
+import tomllib
+import unittest
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "pipeline" / "report"))
+import report  # noqa: E402
+
+METRICS = {"fill": {"solid_fraction": 0.8414430434, "bed_height_mm": 141.1},
+           "spectrum": {"envelope_fit_upper": {"slope": -0.2436, "r2": 0.3625}},
+           "cg": {"cone_angle_sd_deg": None}}
+
+
+class FillIn(unittest.TestCase):
+    def test_values_are_formatted_as_asked(self):
+        text = "Φ {fill.solid_fraction:.3f}, R² {spectrum.envelope_fit_upper.r2:.2f}, {fill.bed_height_mm} mm"
+        self.assertEqual(report.fill_in(text, METRICS, "here"), "Φ 0.841, R² 0.36, 141.1 mm")
+
+    def test_an_unmeasured_value_reads_as_a_dash(self):
+        self.assertEqual(report.fill_in("± {cg.cone_angle_sd_deg:.0f}°", METRICS, "here"), "± —°")
+
+    def test_text_without_placeholders_is_unchanged(self):
+        text = "μ* ≈ 0.24 {not a placeholder} and d/2"
+        self.assertEqual(report.fill_in(text, METRICS, "here"), text)
+
+    def test_a_placeholder_naming_no_value_is_an_error_naming_it(self):
+        for text in ("{fill.solid_fractoin:.3f}", "{spectrum.envelope_fit_upper.r2.x}", "{network.keystones}"):
+            err = io.StringIO()
+            with self.assertRaises(SystemExit) as exit_, contextlib.redirect_stderr(err):
+                report.fill_in(text, METRICS, "deviations.toml, miss 'x'")
+            self.assertEqual(exit_.exception.code, 2)
+            self.assertIn(text, err.getvalue())
+            self.assertIn("deviations.toml, miss 'x'", err.getvalue())
+
+    def test_deviations_toml_quotes_run_numbers_only_through_placeholders(self):
+        with open(ROOT / "pipeline" / "report" / "deviations.toml", "rb") as f:
+            d = tomllib.load(f)
+        stages = {"fill", "pulloff", "spectrum", "cg", "network", "friction", "cost"}
+        found = [m.group(1) for entry in d["deviation"] + d["miss"]
+                 for m in report.PLACEHOLDER.finditer(entry["reason"])]
+        self.assertGreater(len(found), 10)
+        for name in found:
+            self.assertIn(name.split(".")[0], stages, name)
+        # every decimal written out in a miss reason is the paper's value or
+        # the accuracy sweep's, never one run's
+        allowed = {"0.82", "0.24", "0.25", "0.32", "0.34", "1.92", "87.5"}
+        for entry in d["miss"]:
+            for number in re.findall(r"\d+\.\d+", report.PLACEHOLDER.sub("", entry["reason"])):
+                self.assertIn(number, allowed, entry["metric"])
+
+
+if __name__ == "__main__":
+    unittest.main()
