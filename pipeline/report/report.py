@@ -41,7 +41,7 @@ def targets_table(check: dict) -> tuple[list[str], list[dict]]:
     return lines, rows
 
 
-# {stage.key} or {stage.key.sub:format} in a reason of deviations.toml
+# {stage.key} or {stage.key.sub:format} in a reason of deviations.toml (deviation or miss)
 PLACEHOLDER = re.compile(r"\{([A-Za-z_]\w*(?:\.\w+)+)(?::([^{}]*))?\}")
 
 
@@ -71,7 +71,8 @@ def deviations(preset: str, failed: list[dict], metrics: dict) -> list[str]:
     lines = ["### Method", "", "| what | paper | ours | why |", "|---|---|---|---|"]
     for dev in d.get("deviation", []):
         if preset in dev["presets"]:
-            lines.append(f"| {dev['what']} | {dev['paper']} | {dev['ours']} | {dev['reason']} |")
+            why = fill_in(dev["reason"], metrics, f"{path}, deviation '{dev['what']}'")
+            lines.append(f"| {dev['what']} | {dev['paper']} | {dev['ours']} | {why} |")
     lines += ["", "### Results outside the paper's tolerance", ""]
     reasons = {m["metric"]: fill_in(m["reason"], metrics, f"{path}, miss '{m['metric']}'") for m in d.get("miss", [])}
     if not failed:
