@@ -11,10 +11,9 @@ RESULTS_DIR/report.md.
 """
 import re
 import sys
-import tomllib
 from pathlib import Path
 
-from files import fail, read_json, write_atomic
+from files import fail, read_json, read_toml, write_atomic
 
 HERE = Path(__file__).resolve().parent
 
@@ -66,8 +65,7 @@ def fill_in(text: str, metrics: dict, where: str) -> str:
 
 def deviations(preset: str, failed: list[dict], metrics: dict) -> list[str]:
     path = HERE / "deviations.toml"
-    with open(path, "rb") as f:
-        d = tomllib.load(f)
+    d = read_toml(path)
     lines = ["### Method", "", "| what | paper | ours | why |", "|---|---|---|---|"]
     for dev in d.get("deviation", []):
         if preset in dev["presets"]:
