@@ -20,7 +20,12 @@ ATTRS = {"scene_text": str, "scene_path": str, "code_version": str, "threads": n
          "n_particles": np.int64, "n_bodies": np.int64, "lost_particles": np.int64, "format": str,
          "initial_run": str, "jams": np.int64, "wall_seconds": np.float64,
          "displacement_window": np.float64}
-EFFECTS = {"gravity", "normal_damping", "friction", "rolling_resistance", "walls", "moving_bodies"}
+EFFECTS = {"gravity", "normal_damping", "friction", "rolling_resistance", "walls", "moving_bodies",
+           "tangential_damping", "rolling_damping"}
+# /series/energy/<term>, present when the scene asked for output.energy_balance
+ENERGY = ("kinetic", "elastic_normal", "elastic_tangential", "elastic_rolling", "gravity", "body_work",
+          "normal_damping", "tangential_damping", "sliding", "rolling_damping", "rolling_slip", "removed",
+          "integration_error")
 
 
 def layout(T, S, C, L, N, B, J):
@@ -113,6 +118,24 @@ def check_run_file(f, errors):
         if np.any(np.diff(pairs.astype(int)) > 0) or np.any(np.diff(ik[pairs]) < 0) or np.any(np.diff(ik[~pairs]) < 0):
             errors.append(f"contacts of snapshot {k} are not in slot order")
             break
+    if "series/energy" in f:
+        check_energy(f, errors)
+
+
+def check_energy(f, errors):
+    """The ledger's terms, and their sum constant to round-off (docs/energy.md)."""
+    T = f["series/time"].shape[0]
+    for term in ENERGY:
+        name = "series/energy/" + term
+        if name not in f or f[name].shape != (T,) or dtype_code(f[name]) != "f8":
+            errors.append(f"/{name}: missing, or not f8 of shape ({T},)")
+            return
+    terms = {t: f["series/energy/" + t][...] for t in ENERGY}
+    total = sum(v for t, v in terms.items() if t != "body_work") - terms["body_work"]
+    scale = max(np.max(np.abs(v)) for v in terms.values())
+    if scale > 0 and np.max(np.abs(total - total[0])) > 1e-9 * scale:
+        errors.append(f"the energy balance does not close: its total moves by {np.max(np.abs(total - total[0])):.3g} J/m "
+                      f"(largest term {scale:.3g} J/m)")
 
 
 def check_xdmf(f, h5_path, xdmf_path, errors):

@@ -426,7 +426,7 @@ TEST(RunFile, RecordsMatchTheSystem) {
   EXPECT_EQ(h5::read_attr_string(f, "/", "code_version"), code_version());
   EXPECT_EQ(h5::read_attr_string(f, "/", "stop_reason"), "duration");
   EXPECT_EQ(h5::read_attr_string(f, "/", "effects"),
-            "gravity,normal_damping,friction,rolling_resistance,walls,moving_bodies");
+            "gravity,normal_damping,friction,rolling_resistance,walls,moving_bodies,tangential_damping,rolling_damping");
   EXPECT_EQ(h5::read_attr_int(f, "/", "threads"), 1);
   EXPECT_EQ(h5::read_attr_int(f, "/", "steps"), (kRows - 1) * kSteps);
   EXPECT_EQ(h5::read_attr_int(f, "/", "n_particles"), 6);

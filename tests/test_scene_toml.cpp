@@ -22,7 +22,7 @@ namespace {
 
 constexpr const char* kPath = "scenes/t.toml";
 
-// Every effect on; explicit particles, a generator and a moving body.
+// Every effect of the paper's law on; explicit particles, a generator and a moving body.
 constexpr std::string_view kValid = R"(name = "drop"
 description = "two disks above a lattice on a floor"
 [effects]
@@ -151,7 +151,8 @@ TEST(SceneToml, ValidFullScene) {
   EXPECT_EQ(s.path, kPath);
   EXPECT_EQ(s.text, kValid);
   EXPECT_EQ(s.name, "drop");
-  EXPECT_EQ(s.effects, effect::all);
+  EXPECT_EQ(s.effects, effect::gravity | effect::normal_damping | effect::friction | effect::rolling_resistance |
+                           effect::walls | effect::moving_bodies);
   EXPECT_EQ(s.gx, 0.0);
   EXPECT_EQ(s.gy, -9.81);
   EXPECT_EQ(s.density, 2500.0);
@@ -397,7 +398,8 @@ TEST(SceneTomlErrors, UnknownKeys) {
   expect_error(
       edit(kValid, "friction = 0.5", "frictoin = 0.5"),
       {"unknown key 'frictoin' in [contact]",
-       "(allowed: kn, kt, restitution, friction, rolling_friction, rolling_stiffness, wall)"},
+       "(allowed: kn, kt, restitution, friction, rolling_friction, rolling_stiffness, tangential_damping_ratio, "
+       "rolling_damping_ratio, wall)"},
       18);
   expect_error(edit(kValid, "name = \"intruder\"", "name = \"intruder\"\ncolour = \"red\""),
                {"unknown key 'colour' in body[1]", "allowed: name, a, b, thickness, velocity"}, 66);
@@ -447,28 +449,61 @@ TEST(SceneTomlErrors, ParticleOutsideTheDomain) {
 }
 
 TEST(SceneTomlErrors, TimeStepAboveTheStabilityBound) {
+  // kBare: undamped normal springs only, so the limit is 2/sqrt(6) dt_c
+  // (contact/stability.hpp) with dt_c = sqrt(m_min/k_n) = 8.86e-5 s
   const std::string big = edit(kBare, "dt = 1e-6", "dt = 1e-3");
   expect_error(big,
-               {"time.dt = 0.001 s exceeds the stability bound dt_c = sqrt(m_min/k_n) = 8.86e-05 s",
-                "m_min = 0.00785 kg/m", "k_n = 1e+06 N/m", "time.force_dt = true"},
+               {"time.dt = 0.001 s exceeds the stability limit dt_s = 7.24e-05 s = 0.816 dt_c",
+                "dt_c = sqrt(m_min/k_n) = 8.86e-05 s", "hexagonal", "d = 0.002 m",
+                "grains moving against their normal/tangential springs", "time.force_dt = true"},
                7);
   const Scene forced = parse_scene(edit(big, "[domain]", "force_dt = true\n[domain]"), kPath);
   EXPECT_EQ(forced.dt, 1e-3);
   EXPECT_TRUE(forced.dt_forced);
+  // kValid: the wall law (k_n = 3.84e6, k_t = 9.6e5 N/m) is the stiffer; with
+  // k_t = k_n/4 its fastest mode is a translation (wave vector M), damped by e = 0.9
   expect_error(
-      edit(kValid, "dt_over_critical = 0.02", "dt_over_critical = 1.5"),
-      {"time.dt_over_critical = 1.5", "must be <= 1", "stability bound", "time.force_dt = true"},
+      edit(kValid, "dt_over_critical = 0.02", "dt_over_critical = 0.75"),
+      {"time.dt_over_critical = 0.75", "must be <= 0.741", "stability limit",
+       "grains moving against their normal/tangential springs (wave vector M)", "time.force_dt = true"},
       26);
+  EXPECT_NO_THROW(parse_scene(edit(kValid, "dt_over_critical = 0.02", "dt_over_critical = 0.74"), kPath));
+  // one law with k_t = k_n/2: the spin mode, 2/sqrt(12) dt_c = 0.577 dt_c
+  const std::string one_law = edit(kValid, "[contact.wall]\nkn = 3.84e6\n", "[contact.wall]\n");
+  expect_error(edit(one_law, "dt_over_critical = 0.02", "dt_over_critical = 0.58"),
+               {"must be <= 0.577", "grains spinning against their tangential/rolling springs (wave vector Gamma)"});
+  EXPECT_NO_THROW(parse_scene(edit(one_law, "dt_over_critical = 0.02", "dt_over_critical = 0.577"), kPath));
   expect_error(edit(kValid, "dt_over_critical = 0.02", "dt_over_critical = 0.02\ndt = 1e-7"),
                {"time.dt_over_critical = 0.02", "give exactly one"}, 26);
+}
+
+TEST(SceneToml, DampingEffectsAndTheirRatios) {
+  const std::string damped = edit(edit(kValid, "moving_bodies = true\n", "moving_bodies = true\ntangential_damping = true\nrolling_damping = true\n"),
+                                  "rolling_stiffness = 1.728e-6\n",
+                                  "rolling_stiffness = 1.728e-6\ntangential_damping_ratio = 0.3\nrolling_damping_ratio = 0.2\n");
+  const Scene s = parse_scene(damped, kPath);
+  EXPECT_EQ(s.effects, effect::all);
+  EXPECT_EQ(s.particle_particle.tangential_damping_ratio, 0.3);
+  EXPECT_EQ(s.particle_wall.rolling_damping_ratio, 0.2);  // inherited by the wall law
+  // the ratios are required with their effect, forbidden without it
+  expect_error(edit(damped, "tangential_damping_ratio = 0.3\n", ""),
+               {"missing key contact.tangential_damping_ratio", "required because effects.tangential_damping is true"});
+  expect_error(edit(kValid, "rolling_stiffness = 1.728e-6\n", "rolling_stiffness = 1.728e-6\nrolling_damping_ratio = 0.2\n"),
+               {"contact.rolling_damping_ratio = 0.2", "given but effects.rolling_damping is false"});
+  expect_error(edit(damped, "tangential_damping_ratio = 0.3", "tangential_damping_ratio = -1"),
+               {"contact.tangential_damping_ratio = -1", ">= 0"});
+  // a dashpot needs the spring it damps
+  expect_error(edit(damped, "friction = true\n", ""),
+               {"effects.tangential_damping = true", "needs effects.friction = true"});
 }
 
 TEST(SceneTomlErrors, BodiesNeedWalls) {
   const std::string body = "[[body]]\nname = \"w\"\na = [0, 0]\nb = [1, 0]\nthickness = 1e-3\n";
   expect_error(std::string(kBare) + body, {"[[body]] given but effects.walls is false"}, 21);
   expect_error(
-      edit(kValid, "walls = true\n", ""),
-      {"contact.wall = { friction = 0.3, kn = 3840000 }", "given but effects.walls is false"}, 20);
+      edit(kValid, "walls = true\nmoving_bodies = true\n", ""),
+      {"contact.wall = { friction = 0.3, kn = 3840000 }", "given but effects.walls is false"}, 19);
+  expect_error(edit(kValid, "walls = true\n", ""), {"effects.moving_bodies = true", "needs effects.walls = true"}, 8);
   expect_error(edit(kBare, "[material]", "[effects]\nwalls = true\n[material]"),
                {"effects.walls = true", "no [[body]]"}, 2);
 }

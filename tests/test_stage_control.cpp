@@ -273,7 +273,7 @@ bodies = ["nope"]
 tap_velocity = [0.0, 0.1]
 tap_duration = 0.01
 )").find("jam.bodies = [\"nope\"]: 'nope' names no [[body]]"), std::string::npos);
-  EXPECT_NE(error_of(base + "[stop]\nall_below = 0.1\n").find("stop.all_below = 0.1: given but stop.kinetic_energy_below is not"),
+  EXPECT_NE(error_of(base + "[stop]\nall_below = 0.1\n").find("stop.all_below = 0.1: given but no kinetic energy criterion"),
             std::string::npos);
   EXPECT_NE(error_of(base + "[stop]\nbody_free = \"gate\"\ncheck_interval = 0.1\n").find("missing key stop.free_time"),
             std::string::npos);

@@ -116,7 +116,7 @@ System settle(const Scene& scene, const std::string& path) {
   System bed(scene);
   const auto check = std::max<std::int64_t>(1, std::llround(scene.stop.check_interval / scene.dt));
   while (bed.time() < scene.stop.duration &&
-         !(bed.time() >= scene.stop.min_time && kinetic_energy(bed) < scene.stop.kinetic_energy_below))
+         !(bed.time() >= scene.stop.min_time && kinetic_energy_criterion_met(bed, scene.stop)))
     bed.advance(check);
   std::printf("dem2d bench: %s\n  %zu disks, k_n = %.3g N/m, dt = %.4g s = dt_c/%.3g; settled for %.3g s "
               "(%.1f s wall), %zu contacts, kinetic energy %.3g J/m\n",

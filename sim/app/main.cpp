@@ -33,6 +33,13 @@ int cmd_check(const std::string& path, const dem2d::SceneSources& extra) {
   std::printf("  dt = %.6g s = dt_c/%.4g (dt_c = %.6g s), %lld steps for %.6g s\n", s.dt,
               s.critical_dt() / s.dt, s.critical_dt(), static_cast<long long>(s.stop.duration / s.dt + 0.5),
               s.stop.duration);
+  const dem2d::StabilityLimit limit = s.stability_limit();
+  std::printf("  stability limit dt_s = %.6g s = %.4g dt_c (fastest mode: %s); dt = %.3g dt_s\n", limit.dt,
+              limit.dt_over_critical, limit.mode.c_str(), s.dt / limit.dt);
+  if (dem2d::has(s.effects, dem2d::effect::normal_damping))
+    std::printf("  normal damping ratio nu = %.6g for e = %.6g (grains), %.6g for e = %.6g (walls)\n",
+                dem2d::damping_ratio(s.particle_particle.restitution), s.particle_particle.restitution,
+                dem2d::damping_ratio(s.particle_wall.restitution), s.particle_wall.restitution);
   return 0;
 }
 

@@ -19,7 +19,9 @@ inline constexpr EffectSet friction = 1u << 2;            // incremental tangent
 inline constexpr EffectSet rolling_resistance = 1u << 3;  // incremental rolling spring + cap mu_r F_n
 inline constexpr EffectSet walls = 1u << 4;               // grain / sphero-line contacts
 inline constexpr EffectSet moving_bodies = 1u << 5;       // kinematic sphero-lines with a prescribed velocity
-inline constexpr int count = 6;
+inline constexpr EffectSet tangential_damping = 1u << 6;  // dashpot beside the tangential spring (needs friction)
+inline constexpr EffectSet rolling_damping = 1u << 7;     // dashpot beside the rolling spring (needs rolling_resistance)
+inline constexpr int count = 8;
 inline constexpr EffectSet all = (1u << count) - 1;
 }  // namespace effect
 
@@ -35,9 +37,26 @@ inline constexpr std::array<EffectName, effect::count> kEffectNames{{
     {effect::rolling_resistance, "rolling_resistance"},
     {effect::walls, "walls"},
     {effect::moving_bodies, "moving_bodies"},
+    {effect::tangential_damping, "tangential_damping"},
+    {effect::rolling_damping, "rolling_damping"},
+}};
+
+// Effects that only make sense on top of another: (effect, what it needs).
+inline constexpr std::array<std::array<EffectSet, 2>, 3> kEffectNeeds{{
+    {effect::tangential_damping, effect::friction},
+    {effect::rolling_damping, effect::rolling_resistance},
+    {effect::moving_bodies, effect::walls},
 }};
 
 constexpr bool has(EffectSet set, EffectSet bit) { return (set & bit) != 0; }
+
+// A set the engine runs: known bits only, and every effect's prerequisite present.
+constexpr bool is_valid(EffectSet set) {
+  if (set > effect::all) return false;
+  for (const auto& [bit, needs] : kEffectNeeds)
+    if (has(set, bit) && !has(set, needs)) return false;
+  return true;
+}
 
 // "gravity,friction,walls" (scene keys of the effects in the set, joined by sep).
 inline std::string effect_names(EffectSet set, std::string_view sep = ",") {

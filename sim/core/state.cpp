@@ -15,6 +15,7 @@ void Bodies::resize(std::size_t n) {
     v->resize(n, 0.0);
   anchor_step.resize(n, 0);
   active.resize(n, 1);
+  removing.resize(n, 0);
 }
 
 }  // namespace dem2d

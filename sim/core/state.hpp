@@ -52,6 +52,8 @@ struct Bodies {
   std::vector<double> anchor_x, anchor_y;  // C1 when the velocity last changed (m)
   std::vector<std::int64_t> anchor_step;   // step when the velocity last changed
   std::vector<std::uint8_t> active;        // 0 once removed
+  std::vector<std::uint8_t> removing;      // 1: removed at the next list rebuild (its contacts
+                                           // still act in the current step)
   std::vector<double> fx, fy;          // force from the grains, last step (N/m)
   std::vector<double> torque;          // torque from the grains about the middle (N)
 

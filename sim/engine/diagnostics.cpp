@@ -17,13 +17,13 @@ void for_touching(const List& L, F&& f) {
 }
 
 template <class List>
-double list_elastic_energy(const List& L, const ContactLaw& law, EffectSet effects) {
-  double e = 0.0;
+SpringEnergy list_spring_energy(const List& L, const ContactLaw& law, EffectSet effects) {
+  SpringEnergy e;
   for_touching(L, [&](std::size_t s) {
-    e += 0.5 * law.kn * L.overlap[s] * L.overlap[s];
-    if (has(effects, effect::friction) && law.kt > 0.0) e += 0.5 * L.ft[s] * L.ft[s] / law.kt;
-    if (has(effects, effect::rolling_resistance) && law.rolling_stiffness > 0.0)
-      e += 0.5 * L.mr[s] * L.mr[s] / law.rolling_stiffness;
+    const SpringEnergy u = spring_energy(law, effects, L.overlap[s], L.ft[s], L.mr[s]);
+    e.normal += u.normal;
+    e.tangential += u.tangential;
+    e.rolling += u.rolling;
   });
   return e;
 }
@@ -40,11 +40,27 @@ double kinetic_energy(const System& sys) {
   return e;
 }
 
-double elastic_energy(const System& sys) {
-  double e = list_elastic_energy(sys.lists.pairs, sys.law_pp, sys.effects);
-  if (has(sys.effects, effect::walls)) e += list_elastic_energy(sys.lists.walls, sys.law_pw, sys.effects);
+bool kinetic_energy_criterion_met(const System& sys, const StopCondition& stop) {
+  const double ke = kinetic_energy(sys);
+  if (stop.kinetic_energy_per_grain_below > 0.0) {
+    const auto active = static_cast<double>(std::count(sys.p.active.begin(), sys.p.active.end(), 1));
+    return ke < stop.kinetic_energy_per_grain_below * active;
+  }
+  return stop.kinetic_energy_below > 0.0 && ke < stop.kinetic_energy_below;
+}
+
+SpringEnergy spring_energy(const System& sys) {
+  SpringEnergy e = list_spring_energy(sys.lists.pairs, sys.law_pp, sys.effects);
+  if (has(sys.effects, effect::walls)) {
+    const SpringEnergy w = list_spring_energy(sys.lists.walls, sys.law_pw, sys.effects);
+    e.normal += w.normal;
+    e.tangential += w.tangential;
+    e.rolling += w.rolling;
+  }
   return e;
 }
+
+double elastic_energy(const System& sys) { return spring_energy(sys).total(); }
 
 double gravity_energy(const System& sys) {
   const Particles& p = sys.p;

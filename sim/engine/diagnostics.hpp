@@ -11,8 +11,14 @@ namespace dem2d {
 // Translational + rotational kinetic energy of the active grains (J/m).
 double kinetic_energy(const System& sys);
 
+// Whether the kinetic-energy stop criterion of `stop` holds: the total below
+// stop.kinetic_energy_below, or the mean per active grain below
+// stop.kinetic_energy_per_grain_below (whichever is set).
+bool kinetic_energy_criterion_met(const System& sys, const StopCondition& stop);
+
 // Elastic energy stored in the contacts (J/m): normal springs, and the
-// tangential and rolling springs when those effects are on.
+// tangential and rolling springs when those effects are on; by kind, and total.
+SpringEnergy spring_energy(const System& sys);
 double elastic_energy(const System& sys);
 
 // Gravitational potential energy -m g.r of the active grains (J/m).

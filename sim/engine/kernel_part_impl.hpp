@@ -6,9 +6,19 @@
 
 namespace dem2d {
 
+// The kernels of effect set E, or none for a set the engine does not run
+// (is_valid): those are never instantiated.
+template <EffectSet E>
+constexpr KernelPair kernels_of() {
+  if constexpr (is_valid(E))
+    return {&kernels::advance<E>, &kernels::initial_forces<E>};
+  else
+    return {nullptr, nullptr};
+}
+
 template <EffectSet Base, std::size_t... I>
 constexpr std::array<KernelPair, sizeof...(I)> make_kernel_part(std::index_sequence<I...>) {
-  return {KernelPair{&kernels::advance<Base + I>, &kernels::initial_forces<Base + I>}...};
+  return {kernels_of<Base + I>()...};
 }
 
 template <unsigned Part>

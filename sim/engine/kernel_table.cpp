@@ -1,12 +1,15 @@
 #include "engine/kernel_table.hpp"
 
 #include <stdexcept>
+#include <string>
 
 namespace dem2d {
 
 namespace {
 KernelPair lookup(EffectSet effects) {
-  if (effects > effect::all) throw std::invalid_argument("unknown effect bits");
+  if (!is_valid(effects))
+    throw std::invalid_argument("effect set " + effect_names(effects) +
+                                " is not valid (unknown bits, or an effect without the one it needs)");
   const EffectSet low = effects & ((1u << kKernelPartBits) - 1);
   switch (effects >> kKernelPartBits) {
     case 0: return kernel_part<0>(low);

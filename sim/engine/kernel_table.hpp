@@ -1,6 +1,7 @@
-// The kernel table: kernels::advance<E> and kernels::initial_forces<E> for all
-// 2^6 effect sets, split by the two highest effect bits into four parts, each
-// instantiated in its own translation unit (kernels_part*.cpp) to build in parallel.
+// The kernel table: kernels::advance<E> and kernels::initial_forces<E> for
+// every valid effect set (is_valid: 144 of the 2^8), split by the two highest
+// effect bits into four parts, each instantiated in its own translation unit
+// (kernels_part*.cpp) to build in parallel.
 #pragma once
 
 #include <array>

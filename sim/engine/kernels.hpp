@@ -7,9 +7,11 @@
 //   v += dt/2 a(t);  x += dt v                    integrate (own grains, vectorised)
 //   barrier; the rebuild test                     every thread decides alike from the
 //                                                 same data; a rebuild is serial
+//   [energy ledger: open_step; a barrier before a rebuild]
 //   per-contact forces at x(t+dt)                 pair_forces, wall_forces (own rows;
 //                                                 pair slots vectorised)
 //   barrier
+//   [energy ledger: close_step, barrier]
 //   per-grain sums in a fixed order               gather (own grains)
 //   v += dt/2 a(t+dt)                             integrate, in one pass with the next step's
 //                                                 opening kick + drift within a call
@@ -119,7 +121,7 @@ inline void pair_forces(System& s, const LawCoefficients c) {  // by value: cann
   PairList& L = s.lists.pairs;
   const std::int32_t *own = L.owner.data(), *par = L.partner.data();
   const double *x = p.x.data(), *y = p.y.data(), *vx = p.vx.data(), *vy = p.vy.data(), *w = p.omega.data();
-  const double *rad_i = L.ri.data(), *rad_j = L.rj.data(), *sqm = L.sqrt_meff.data();
+  const double *rad_i = L.ri.data(), *rad_j = L.rj.data(), *sqm = L.sqrt_meff.data(), *sqi = L.sqrt_ieff.data();
   double *ft = L.ft.data(), *mr = L.mr.data(), *ti = L.ti.data(), *tj = L.tj.data();
   double *fx = L.fx.data(), *fy = L.fy.data(), *fn = L.fn.data(), *ov = L.overlap.data();
   const std::pair<std::int64_t, std::int64_t> slots = my_slots(s, L.start);
@@ -144,16 +146,21 @@ inline void pair_forces(System& s, const LawCoefficients c) {  // by value: cann
       const double ai = ri + 0.5 * delta, aj = rj + 0.5 * delta;
       const double tx = -ny, ty = nx;
       const double vt = rvx * tx + rvy * ty - (ai * w[i] + aj * w[j]);
-      const double f_t = touch ? capped_increment(ft[sl], -c.kt_dt * vt, c.mu * f_n) : 0.0;
-      ft[sl] = f_t;
+      const CappedSpring t = capped_spring<has(E, effect::tangential_damping)>(
+          ft[sl], -c.kt_dt * vt, c.damp_t * sqm[sl] * vt, c.mu * f_n);
+      const double f_t = touch ? t.force : 0.0;
+      ft[sl] = touch ? t.spring : 0.0;
       fxs += f_t * tx;
       fys += f_t * ty;
       tqi = -ai * f_t;
       tqj = -aj * f_t;
     }
     if constexpr (has(E, effect::rolling_resistance)) {
-      const double m = touch ? capped_increment(mr[sl], -c.kr_dt * (w[i] - w[j]), c.mu_r * f_n) : 0.0;
-      mr[sl] = m;
+      const double spin = w[i] - w[j];
+      const CappedSpring r = capped_spring<has(E, effect::rolling_damping)>(
+          mr[sl], -c.kr_dt * spin, c.damp_r * sqi[sl] * spin, c.mu_r * f_n);
+      const double m = touch ? r.force : 0.0;
+      mr[sl] = touch ? r.spring : 0.0;
       tqi += m;
       tqj -= m;
     }
@@ -180,7 +187,7 @@ inline void wall_forces(System& s, const LawCoefficients c) {  // by value: cann
   const Segment* seg = s.seg.data();
   const std::int32_t *own = L.owner.data(), *body = L.body.data();
   const double *x = p.x.data(), *y = p.y.data(), *vx = p.vx.data(), *vy = p.vy.data(), *w = p.omega.data();
-  const double *rad = p.radius.data(), *sqm = L.sqrt_m.data();
+  const double *rad = p.radius.data(), *sqm = L.sqrt_m.data(), *sqi = L.sqrt_i.data();
   const double *brad = B.radius.data(), *bvx = B.vx.data(), *bvy = B.vy.data();
   double *ft = L.ft.data(), *mr = L.mr.data(), *fxo = L.fx.data(), *fyo = L.fy.data(), *tqo = L.tq.data();
   double *cx = L.cx.data(), *cy = L.cy.data(), *fno = L.fn.data(), *ov = L.overlap.data();
@@ -204,15 +211,19 @@ inline void wall_forces(System& s, const LawCoefficients c) {  // by value: cann
     if constexpr (has(E, effect::friction)) {
       const double tx = -g.ny, ty = g.nx;
       const double vt = rvx * tx + rvy * ty - a * w[i];
-      const double f_t = touch ? capped_increment(ft[sl], -c.kt_dt * vt, c.mu * fn) : 0.0;
-      ft[sl] = f_t;
+      const CappedSpring t = capped_spring<has(E, effect::tangential_damping)>(
+          ft[sl], -c.kt_dt * vt, c.damp_t * sqm[sl] * vt, c.mu * fn);
+      const double f_t = touch ? t.force : 0.0;
+      ft[sl] = touch ? t.spring : 0.0;
       fx += f_t * tx;
       fy += f_t * ty;
       tq = -a * f_t;
     }
     if constexpr (has(E, effect::rolling_resistance)) {
-      const double m = touch ? capped_increment(mr[sl], -c.kr_dt * w[i], c.mu_r * fn) : 0.0;
-      mr[sl] = m;
+      const CappedSpring r = capped_spring<has(E, effect::rolling_damping)>(
+          mr[sl], -c.kr_dt * w[i], c.damp_r * sqi[sl] * w[i], c.mu_r * fn);
+      const double m = touch ? r.force : 0.0;
+      mr[sl] = touch ? r.spring : 0.0;
       tq += m;
     }
     fxo[sl] = touch ? fx : 0.0;
@@ -341,8 +352,10 @@ void advance(System& s, std::int64_t steps) {
     integrate<E, false, true>(s);
 #pragma omp master
     open_step_serial<E>(s);
+    const bool ledger = s.energy.on;  // the same for every thread: the extra barriers below match
     for (std::int64_t k = 0; k < steps; ++k) {
 #pragma omp barrier
+      if (ledger) energy::open_step(s);
       double v2max = 0.0;
       bool escaped = false;
       for (const System::DriftReport& r : s.drift) {
@@ -350,11 +363,13 @@ void advance(System& s, std::int64_t steps) {
         escaped |= r.escaped;
       }
       moved += std::sqrt(v2max) * s.dt;
-      if (escaped || moved > 0.5 * s.lists.skin() || moved + s.moved_bodies > s.lists.skin()) {
+      if (escaped || s.rebuild_pending || moved > 0.5 * s.lists.skin() || moved + s.moved_bodies > s.lists.skin()) {
+        if (ledger) {
+#pragma omp barrier
+        }  // every thread's open_step is done with the old lists
 #pragma omp single
         {
-          if (escaped) s.remove_escaped();
-          s.rebuild();
+          s.rebuild_in_step(escaped);
           failed = !s.failure.empty();
         }  // (a barrier)
         moved = 0.0;
@@ -363,6 +378,10 @@ void advance(System& s, std::int64_t steps) {
       pair_forces<E>(s, s.pp);
       if constexpr (has(E, effect::walls)) wall_forces<E>(s, s.pw);
 #pragma omp barrier
+      if (ledger) {
+        energy::close_step(s);
+#pragma omp barrier
+      }  // no grain moves before every thread's close_step has read it
       claim_shared_grains(s);
       gather<E>(s);
       const bool open = k + 1 < steps;

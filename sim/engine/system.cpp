@@ -1,5 +1,7 @@
 #include "engine/system.hpp"
 
+#include "engine/diagnostics.hpp"
+
 #include <omp.h>
 
 #include <algorithm>
@@ -90,6 +92,8 @@ System::System(const Scene& scene)
     }
   }
   evaluate_initial_forces();
+  energy.on = scene.output.energy_balance;
+  if (energy.on) energy::start(*this);
 }
 
 void System::advance(std::int64_t steps) {
@@ -130,9 +134,8 @@ void System::set_body_velocity(std::size_t b, double vx, double vy) {
 }
 
 void System::remove_body(std::size_t b) {
-  bodies.active[b] = 0;
-  bodies.fx[b] = bodies.fy[b] = bodies.torque[b] = 0.0;
-  rebuild();
+  bodies.removing[b] = 1;
+  rebuild_pending = true;
 }
 
 std::size_t System::body_index(const std::string& name) const {
@@ -154,6 +157,7 @@ void System::remove_escaped() {
       return;
     }
     if (!domain.contains(p.x[i], p.y[i])) {
+      if (energy.on) energy::remove_grain(*this, i);
       lost.push_back({static_cast<std::int32_t>(i), step, p.x[i], p.y[i]});
       p.active[i] = 0;
       p.vx[i] = p.vy[i] = p.omega[i] = 0.0;
@@ -169,11 +173,32 @@ void System::freeze_lost() {
 }
 
 void System::rebuild() {
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    if (bodies.removing[b]) {
+      bodies.active[b] = bodies.removing[b] = 0;
+      bodies.fx[b] = bodies.fy[b] = bodies.torque[b] = 0.0;
+    }
   lists.rebuild_pairs(p);
   if (has(effects, effect::walls)) lists.rebuild_walls(p, seg, bodies.radius, bodies.active);
   moved_particles = 0.0;
   moved_bodies = 0.0;
+  rebuild_pending = false;
   split_work();
+}
+
+void System::rebuild_in_step(bool escaped) {
+  // Only removed grains and bodies lose touching contacts at a rebuild (a
+  // touching pair is always within the skin), so the stored energy the
+  // lists lose is theirs.
+  const double before = energy.on ? elastic_energy(*this) : 0.0;
+  if (escaped) remove_escaped();
+  if (!failure.empty()) return;
+  rebuild();
+  if (energy.on) {
+    const double gone = before - elastic_energy(*this);
+    energy.removed += gone;
+    energy.error_offset -= gone;
+  }
 }
 
 void System::split_work() {

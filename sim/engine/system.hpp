@@ -13,6 +13,7 @@
 #include "core/aligned_vector.hpp"
 #include "core/effects.hpp"
 #include "core/state.hpp"
+#include "engine/energy_ledger.hpp"
 #include "neighbour/contact_lists.hpp"
 #include "scene/scene.hpp"
 
@@ -81,10 +82,20 @@ struct System {
   std::vector<LostParticle> lost;
   std::string failure;  // set by a kernel when the state became non-finite
 
+  EnergyLedger energy;  // where the energy goes (on if the scene asks: output.energy_balance)
+  // A body was removed: the next step rebuilds the lists (after its drift,
+  // so that the step's first half still sees the body's contacts).
+  bool rebuild_pending = false;
+
   // Rebuild the neighbour lists now, reset the displacement bounds and split
   // the work among the threads. When it happens never changes the results,
   // only the cost.
   void rebuild();
+  // The rebuild inside a step (kernels' advance, after the drift): also
+  // removes the grains a drift flagged (`escaped`) and hands the energy of
+  // the contacts that disappear with them or with removed bodies to the
+  // ledger. Sets `failure` on a non-finite state.
+  void rebuild_in_step(bool escaped);
   // Removes (deactivates, records in `lost`) grains outside the domain; a
   // non-finite grain sets `failure` instead. Called whenever a drift flags one.
   void remove_escaped();
@@ -96,7 +107,8 @@ struct System {
   // Prescribed motion from the current step on (needs the moving_bodies effect
   // unless the velocity is zero).
   void set_body_velocity(std::size_t b, double vx, double vy);
-  // Takes body b out of the scene from the next force evaluation on.
+  // Takes body b out of the scene from the next step's force evaluation on
+  // (its contacts still act in the current step).
   void remove_body(std::size_t b);
   std::size_t body_index(const std::string& name) const;  // throws if unknown
   // Evaluate forces for the current positions without advancing the springs

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "engine/diagnostics.hpp"
+#include "engine/energy_ledger.hpp"
 #include "io/h5.hpp"
 
 namespace dem2d {
@@ -138,7 +139,7 @@ void write_xdmf(const std::string& path, const std::string& h5_name, const std::
 }  // namespace
 
 RunRecorder::RunRecorder(const System& sys, std::string work_dir)
-    : work_dir_(std::move(work_dir)), n_(sys.size()), nb_(sys.bodies.size()) {}
+    : work_dir_(std::move(work_dir)), n_(sys.size()), nb_(sys.bodies.size()), energy_(sys.energy.on) {}
 
 std::string RunRecorder::segment_path(int k) const {
   char name[32];
@@ -149,7 +150,7 @@ std::string RunRecorder::segment_path(int k) const {
 std::vector<RunRecorder::Column> RunRecorder::columns() {
   const std::size_t t = series_.time.size(), s = snap_.time.size(), c = contact_.i.size();
   const std::uint64_t n = n_, b = nb_;
-  return {
+  std::vector<Column> out{
       {"series/time", {}, &series_.time, t},
       {"series/step", {}, &series_.step, t},
       {"series/body_force", {b, 2}, &series_.force, t},
@@ -180,6 +181,12 @@ std::vector<RunRecorder::Column> RunRecorder::columns() {
       {"contacts/mr", {}, &contact_.mr, c},
       {"contacts/sliding", {}, &contact_.sliding, c},
   };
+  if (energy_) {
+    const auto names = EnergyBalance{}.terms();
+    for (std::size_t k = 0; k < names.size(); ++k)
+      out.push_back({std::string("series/energy/") + names[k].first, {}, &series_.energy[k], t});
+  }
+  return out;
 }
 
 void RunRecorder::record_series(System& sys) {
@@ -202,6 +209,10 @@ void RunRecorder::record_series(System& sys) {
   series_.kinetic_energy.push_back(kinetic_energy(sys));
   series_.max_overlap.push_back(max_overlap(sys));
   series_.contacts.push_back(static_cast<std::int64_t>(contact_count(sys)));
+  if (energy_) {
+    const auto terms = energy::balance(sys).terms();
+    for (std::size_t k = 0; k < terms.size(); ++k) series_.energy[k].push_back(terms[k].second);
+  }
   ++series_rows_;
   sys.reset_body_sums();
 }

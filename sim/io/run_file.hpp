@@ -8,6 +8,7 @@
 // ParaView. A file named out_path therefore exists only once it is complete.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <variant>
@@ -85,7 +86,9 @@ class RunRecorder {
   struct {
     std::vector<double> time, force, force_mean, torque, torque_mean, ends, kinetic_energy, max_overlap;
     std::vector<std::int64_t> step, contacts;
+    std::array<std::vector<double>, EnergyBalance::kTerms> energy;  // if the ledger is on
   } series_;
+  bool energy_ = false;
   struct {
     std::vector<double> time, position, velocity, displacement, omega, theta, ends;
     std::vector<std::int64_t> step, contact_count;  // contacts per snapshot (segments only)

@@ -8,8 +8,9 @@ namespace dem2d {
 
 namespace {
 
-// Copies the tangential and rolling history of every contact present in both
-// lists. Rows of both lists are sorted by `key`, so this is one merge per row.
+// Copies the carried arrays (history, last evaluation) of every contact
+// present in both lists. Rows of both lists are sorted by `key`, so this is
+// one merge per row.
 template <class List>
 void carry_history(List& nl, const List& ol, AlignedVector<std::int32_t> List::*key) {
   const auto& nk = nl.*key;
@@ -24,8 +25,7 @@ void carry_history(List& nl, const List& ol, AlignedVector<std::int32_t> List::*
       } else if (ok[o] < nk[s]) {
         ++o;
       } else {
-        nl.ft[s] = ol.ft[o];
-        nl.mr[s] = ol.mr[o];
+        for (const auto& [name, a] : List::carried()) (nl.*a)[s] = (ol.*a)[o];
         ++s;
         ++o;
       }
@@ -36,11 +36,13 @@ void carry_history(List& nl, const List& ol, AlignedVector<std::int32_t> List::*
 }  // namespace
 
 void PairList::resize_slots(std::size_t n) {
-  for (auto* v : {&ri, &rj, &sqrt_meff, &ft, &mr, &fx, &fy, &ti, &tj, &fn, &overlap}) v->assign(n, 0.0);
+  for (auto* v : {&ri, &rj, &sqrt_meff, &sqrt_ieff}) v->assign(n, 0.0);
+  for (const auto& [name, a] : carried()) (this->*a).assign(n, 0.0);
 }
 
 void WallList::resize_slots(std::size_t n) {
-  for (auto* v : {&sqrt_m, &ft, &mr, &fx, &fy, &tq, &cx, &cy, &fn, &overlap}) v->assign(n, 0.0);
+  for (auto* v : {&sqrt_m, &sqrt_i}) v->assign(n, 0.0);
+  for (const auto& [name, a] : carried()) (this->*a).assign(n, 0.0);
 }
 
 void NeighbourLists::configure(double xmin, double ymin, double xmax, double ymax, double r_max,
@@ -89,6 +91,7 @@ void NeighbourLists::rebuild_pairs(const Particles& p) {
       nl.ri[s] = p.radius[i];
       nl.rj[s] = p.radius[j];
       nl.sqrt_meff[s] = 1.0 / std::sqrt(p.inv_mass[i] + p.inv_mass[j]);
+      nl.sqrt_ieff[s] = 1.0 / std::sqrt(p.inv_inertia[i] + p.inv_inertia[j]);
     }
 
   if (have_old) carry_history(nl, ol, &PairList::partner);
@@ -142,33 +145,49 @@ void NeighbourLists::rebuild_walls(const Particles& p, const std::vector<Segment
   }
   for (std::size_t i = 1; i <= n; ++i) nl.start[i] += nl.start[i - 1];
   nl.resize_slots(nl.body.size());
-  for (std::size_t s = 0; s < nl.slots(); ++s) nl.sqrt_m[s] = std::sqrt(p.mass[static_cast<std::size_t>(nl.owner[s])]);
+  for (std::size_t s = 0; s < nl.slots(); ++s) {
+    const auto i = static_cast<std::size_t>(nl.owner[s]);
+    nl.sqrt_m[s] = std::sqrt(p.mass[i]);
+    nl.sqrt_i[s] = 1.0 / std::sqrt(p.inv_inertia[i]);
+  }
 
   if (have_old) carry_history(nl, ol, &WallList::body);
 }
 
 namespace {
 template <class List>
-bool set_history(List& L, const AlignedVector<std::int32_t>& key, std::int32_t i, std::int32_t k, double ft,
-                 double mr) {
+std::int64_t find_slot(const List& L, const AlignedVector<std::int32_t>& key, std::int32_t i, std::int32_t k) {
   const auto row = static_cast<std::size_t>(i);
-  if (row + 1 >= L.start.size()) return false;
+  if (i < 0 || row + 1 >= L.start.size()) return -1;
   const auto first = key.begin() + L.start[row], last = key.begin() + L.start[row + 1];
   const auto it = std::lower_bound(first, last, k);  // rows are sorted by key
-  if (it == last || *it != k) return false;
-  const auto s = static_cast<std::size_t>(it - key.begin());
-  L.ft[s] = ft;
-  L.mr[s] = mr;
+  if (it == last || *it != k) return -1;
+  return it - key.begin();
+}
+
+template <class List>
+bool set_history(List& L, std::int64_t slot, double ft, double mr) {
+  if (slot < 0) return false;
+  L.ft[static_cast<std::size_t>(slot)] = ft;
+  L.mr[static_cast<std::size_t>(slot)] = mr;
   return true;
 }
 }  // namespace
 
+std::int64_t NeighbourLists::pair_slot(std::int32_t i, std::int32_t j) const {
+  return find_slot(pairs, pairs.partner, i, j);
+}
+
+std::int64_t NeighbourLists::wall_slot(std::int32_t i, std::int32_t b) const {
+  return find_slot(walls, walls.body, i, b);
+}
+
 bool NeighbourLists::set_pair_history(std::int32_t i, std::int32_t j, double ft, double mr) {
-  return set_history(pairs, pairs.partner, i, j, ft, mr);
+  return set_history(pairs, pair_slot(i, j), ft, mr);
 }
 
 bool NeighbourLists::set_wall_history(std::int32_t i, std::int32_t b, double ft, double mr) {
-  return set_history(walls, walls.body, i, b, ft, mr);
+  return set_history(walls, wall_slot(i, b), ft, mr);
 }
 
 }  // namespace dem2d

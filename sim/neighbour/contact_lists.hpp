@@ -9,9 +9,13 @@
 // restarts bitwise identical.
 //
 // History (tangential spring, rolling moment) is carried over to the new list
-// at each rebuild and is zeroed by the kernel as soon as a contact opens.
+// at each rebuild and is zeroed by the kernel as soon as a contact opens; so
+// are the results of the last force evaluation and the energy ledger's springs
+// at the start of the step (`carried()`), so that a rebuild changes nothing
+// any reader of the lists sees.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -30,19 +34,29 @@ struct PairList {
   // constants of the pair, set at rebuild (contiguous loads in the kernel)
   AlignedVector<double> ri, rj;       // radii (m)
   AlignedVector<double> sqrt_meff;    // sqrt(m_i m_j / (m_i + m_j)) (sqrt(kg/m))
+  AlignedVector<double> sqrt_ieff;    // sqrt(I_i I_j / (I_i + I_j)) (sqrt(kg m))
   // history
   AlignedVector<double> ft;  // tangential spring (N/m) along t = z x n
-  AlignedVector<double> mr;  // rolling moment on i (N)
+  AlignedVector<double> mr;  // rolling spring: moment on i (N)
   // last evaluation (zero for candidates that do not touch)
   AlignedVector<double> fx, fy;  // force on i (N/m); j receives the opposite
   AlignedVector<double> ti, tj;  // torque on i and on j (N)
   AlignedVector<double> fn;      // normal force (N/m)
   AlignedVector<double> overlap; // -delta (m), positive when touching
+  // the springs at the start of the step (energy ledger only)
+  AlignedVector<double> ft_prev, mr_prev;
   // reverse index: for particle k, the slots whose partner is k (ascending i)
   AlignedVector<std::int32_t> rev_start, rev_slot;
 
   std::size_t slots() const { return partner.size(); }
   void resize_slots(std::size_t n);  // sizes the per-slot arrays to n, zeroed
+
+  // The per-slot arrays a rebuild and a checkpoint carry over, by name.
+  static constexpr std::array<std::pair<const char*, AlignedVector<double> PairList::*>, 10> carried() {
+    return {{{"ft", &PairList::ft}, {"mr", &PairList::mr}, {"fx", &PairList::fx}, {"fy", &PairList::fy},
+             {"ti", &PairList::ti}, {"tj", &PairList::tj}, {"fn", &PairList::fn},
+             {"overlap", &PairList::overlap}, {"ft_prev", &PairList::ft_prev}, {"mr_prev", &PairList::mr_prev}}};
+  }
 };
 
 struct WallList {
@@ -50,6 +64,7 @@ struct WallList {
   AlignedVector<std::int32_t> owner;  // the grain of each slot
   AlignedVector<std::int32_t> body;   // ascending within a row
   AlignedVector<double> sqrt_m;       // sqrt(m_i) (sqrt(kg/m)), set at rebuild: a body's mass is infinite
+  AlignedVector<double> sqrt_i;       // sqrt(I_i) (sqrt(kg m)), likewise
   // history
   AlignedVector<double> ft, mr;
   // last evaluation
@@ -57,9 +72,18 @@ struct WallList {
   AlignedVector<double> tq;          // torque on the grain (N)
   AlignedVector<double> cx, cy;      // contact point (m), for the torque on the body
   AlignedVector<double> fn, overlap;
+  // the springs at the start of the step (energy ledger only)
+  AlignedVector<double> ft_prev, mr_prev;
 
   std::size_t slots() const { return body.size(); }
   void resize_slots(std::size_t n);  // sizes the per-slot arrays to n, zeroed
+
+  // The per-slot arrays a rebuild and a checkpoint carry over, by name.
+  static constexpr std::array<std::pair<const char*, AlignedVector<double> WallList::*>, 11> carried() {
+    return {{{"ft", &WallList::ft}, {"mr", &WallList::mr}, {"fx", &WallList::fx}, {"fy", &WallList::fy},
+             {"tq", &WallList::tq}, {"cx", &WallList::cx}, {"cy", &WallList::cy}, {"fn", &WallList::fn},
+             {"overlap", &WallList::overlap}, {"ft_prev", &WallList::ft_prev}, {"mr_prev", &WallList::mr_prev}}};
+  }
 };
 
 class NeighbourLists {
@@ -73,8 +97,11 @@ class NeighbourLists {
   void rebuild_walls(const Particles& p, const std::vector<Segment>& seg,
                      const std::vector<double>& seg_radius, const std::vector<std::uint8_t>& seg_active);
 
-  // Sets the stored history of the candidate contact (i, partner j) / (i, body
-  // b); false if the lists hold no such candidate.
+  // The slot of the candidate contact (i, partner j) / (i, body b), or -1 if
+  // the lists hold no such candidate.
+  std::int64_t pair_slot(std::int32_t i, std::int32_t j) const;
+  std::int64_t wall_slot(std::int32_t i, std::int32_t b) const;
+  // Sets the stored history of a candidate contact; false if there is none.
   bool set_pair_history(std::int32_t i, std::int32_t j, double ft, double mr);
   bool set_wall_history(std::int32_t i, std::int32_t b, double ft, double mr);
 

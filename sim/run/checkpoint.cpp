@@ -13,7 +13,7 @@ namespace dem2d {
 
 namespace {
 
-constexpr const char* kFormat = "dem2d-checkpoint-1";
+constexpr const char* kFormat = "dem2d-checkpoint-2";
 
 // The particle arrays a checkpoint stores, by name.
 template <class P>
@@ -39,38 +39,45 @@ auto body_arrays(B& b) {
                     std::pair{"anchor_y", &b.anchor_y}};
 }
 
-// Touching contacts of a list as (row, key, ft, mr) columns.
+// Touching contacts of a list: (row, key) and every carried per-slot array
+// (history, last evaluation) as columns.
 template <class List>
 void write_history(const h5::File& f, const std::string& group, const List& L,
                    const AlignedVector<std::int32_t>& key) {
   std::vector<std::int32_t> row, col;
-  std::vector<double> ft, mr;
+  std::vector<std::size_t> slots;
   for (std::size_t i = 0; i + 1 < L.start.size(); ++i)
     for (auto s = static_cast<std::size_t>(L.start[i]); s < static_cast<std::size_t>(L.start[i + 1]); ++s)
       if (L.overlap[s] > 0.0) {
         row.push_back(static_cast<std::int32_t>(i));
         col.push_back(key[s]);
-        ft.push_back(L.ft[s]);
-        mr.push_back(L.mr[s]);
+        slots.push_back(s);
       }
   h5::write(f, group + "/row", row);
   h5::write(f, group + "/key", col);
-  h5::write(f, group + "/ft", ft);
-  h5::write(f, group + "/mr", mr);
+  for (const auto& [name, a] : List::carried()) {
+    std::vector<double> column;
+    for (const std::size_t s : slots) column.push_back((L.*a)[s]);
+    h5::write(f, group + "/" + name, column);
+  }
 }
 
-// Puts the stored history back into the freshly rebuilt lists.
-void read_history(const h5::File& f, const std::string& group, bool walls, NeighbourLists& lists) {
+// Puts the stored contacts back into the freshly rebuilt lists.
+template <class List>
+void read_history(const h5::File& f, const std::string& group, List& L, const NeighbourLists& lists, bool walls) {
   const auto row = h5::read<std::int32_t>(f, group + "/row");
   const auto col = h5::read<std::int32_t>(f, group + "/key");
-  const auto ft = h5::read<double>(f, group + "/ft");
-  const auto mr = h5::read<double>(f, group + "/mr");
+  std::vector<std::int64_t> slot(row.size());
   for (std::size_t c = 0; c < row.size(); ++c) {
-    const bool found = walls ? lists.set_wall_history(row[c], col[c], ft[c], mr[c])
-                             : lists.set_pair_history(row[c], col[c], ft[c], mr[c]);
-    if (!found)
+    slot[c] = walls ? lists.wall_slot(row[c], col[c]) : lists.pair_slot(row[c], col[c]);
+    if (slot[c] < 0)
       throw std::runtime_error(f.path() + ": contact " + std::to_string(row[c]) + "-" +
                                std::to_string(col[c]) + " of the checkpoint is not a neighbour-list candidate");
+  }
+  for (const auto& [name, a] : List::carried()) {
+    const auto column = h5::read<double>(f, group + "/" + name);
+    if (column.size() != row.size()) throw std::runtime_error(f.path() + ": " + group + "/" + name + " has the wrong length");
+    for (std::size_t c = 0; c < row.size(); ++c) (L.*a)[static_cast<std::size_t>(slot[c])] = column[c];
   }
 }
 
@@ -105,11 +112,16 @@ void write_checkpoint(const std::string& path, const System& sys, const RunProgr
     for (const auto& [name, v] : body_arrays(B)) h5::write(f, std::string("bodies/") + name, *v);
     h5::write(f, "bodies/anchor_step", B.anchor_step);
     h5::write(f, "bodies/active", B.active);
+    h5::write(f, "bodies/removing", B.removing);
+    h5::write_attr(f, "/", "rebuild_pending", static_cast<std::int64_t>(sys.rebuild_pending));
     h5::write(f, "bodies/fx_sum", sys.body_fx_sum);
     h5::write(f, "bodies/fy_sum", sys.body_fy_sum);
     h5::write(f, "bodies/torque_sum", sys.body_torque_sum);
     h5::write_attr(f, "/", "body_sum_steps", sys.body_sum_steps);
     write_lost(f, sys.lost);
+    for (const auto& [name, v] : accumulators(sys.energy)) h5::write(f, std::string("energy/") + name, *v);
+    h5::write_attr(f, "/", "energy_removed", sys.energy.removed);
+    h5::write_attr(f, "/", "energy_error_offset", sys.energy.error_offset);
   }
   std::filesystem::rename(tmp, path);
 }
@@ -145,11 +157,23 @@ RunProgress read_checkpoint(const std::string& path, System& sys) {
   for (const auto& [name, v] : body_arrays(B)) *v = h5::read<double>(f, std::string("bodies/") + name);
   B.anchor_step = h5::read<std::int64_t>(f, "bodies/anchor_step");
   B.active = h5::read<std::uint8_t>(f, "bodies/active");
+  // a body removed at the checkpoint's step is still in the lists: rebuild
+  // with it, as the uninterrupted run has them, and remove it at the next step
+  const std::vector<std::uint8_t> removing = h5::read<std::uint8_t>(f, "bodies/removing");
   if (B.vx.size() != B.size()) throw std::runtime_error(path + ": body count differs from the scene's");
+  B.removing.assign(B.size(), 0);
   sys.place_bodies();
   sys.rebuild();
-  read_history(f, "pairs", false, sys.lists);
-  if (has(sys.effects, effect::walls)) read_history(f, "walls", true, sys.lists);
+  B.removing = removing;
+  sys.rebuild_pending = h5::read_attr_int(f, "/", "rebuild_pending") != 0;
+  read_history(f, "pairs", sys.lists.pairs, sys.lists, false);
+  if (has(sys.effects, effect::walls)) read_history(f, "walls", sys.lists.walls, sys.lists, true);
+  for (const auto& [name, v] : accumulators(sys.energy)) {
+    const std::vector<double> column = h5::read<double>(f, std::string("energy/") + name);
+    v->assign(column.begin(), column.end());
+  }
+  sys.energy.removed = h5::read_attr_double(f, "/", "energy_removed");
+  sys.energy.error_offset = h5::read_attr_double(f, "/", "energy_error_offset");
   sys.body_fx_sum = h5::read<double>(f, "bodies/fx_sum");
   sys.body_fy_sum = h5::read<double>(f, "bodies/fy_sum");
   sys.body_torque_sum = h5::read<double>(f, "bodies/torque_sum");

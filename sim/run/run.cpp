@@ -90,7 +90,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   // PIV-like displacements: positions are taken `window` steps before each scheduled snapshot
   const std::int64_t window = every_snapshot ? steps_of(scene.output.displacement_window, scene.dt) : 0;
   const StopCondition& stop = scene.stop;
-  const bool energy_stop = stop.kinetic_energy_below > 0.0;
+  const bool energy_stop = stop.energy_criterion();
   const bool free_stop = !stop.body_free.empty();
   const std::int64_t every_check = energy_stop || free_stop ? steps_of(stop.check_interval, scene.dt) : 0;
   const std::size_t free_body = free_stop ? sys.body_index(stop.body_free) : 0;
@@ -188,9 +188,12 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
         report.stop_reason = "body " + stop.body_free + " free of the bed for " + std::to_string(stop.free_time) + " s";
         break;
       }
-      if (energy_stop && kinetic_energy(sys) < stop.kinetic_energy_below && highest_grain(sys) < stop.all_below) {
+      if (energy_stop && kinetic_energy_criterion_met(sys, stop) && highest_grain(sys) < stop.all_below) {
         std::ostringstream why;
-        why << "kinetic energy below " << stop.kinetic_energy_below << " J/m";
+        if (stop.kinetic_energy_per_grain_below > 0.0)
+          why << "kinetic energy below " << stop.kinetic_energy_per_grain_below << " J/m per grain";
+        else
+          why << "kinetic energy below " << stop.kinetic_energy_below << " J/m";
         if (stop.all_below < 1e300) why << " with every grain below " << stop.all_below << " m";
         report.stop_reason = why.str();
         break;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "contact/contact_law.hpp"
+#include "contact/stability.hpp"
 #include "core/effects.hpp"
 
 namespace dem2d {
@@ -60,6 +61,7 @@ struct Box {
 struct StopCondition {
   double duration = 0.0;                // simulated time limit (s); the run always ends here
   double kinetic_energy_below = -1.0;   // end earlier once total kinetic energy < this (J/m); <0: off
+  double kinetic_energy_per_grain_below = -1.0;  // ... or once it is < this per active grain (J/m); <0: off
   double all_below = 1e300;             // ... and every active grain is below this height (m)
   std::string body_free;                // end once this body has been free of the bed for free_time:
                                         // no grain touching it connects, through touching grains, to a
@@ -67,6 +69,8 @@ struct StopCondition {
   double free_time = 0.0;               // (s)
   double check_interval = 0.0;          // how often the criteria are tested (s)
   double min_time = 0.0;                // the criteria are not tested before this time (s)
+
+  bool energy_criterion() const { return kinetic_energy_below > 0.0 || kinetic_energy_per_grain_below > 0.0; }
 };
 
 struct OutputSpec {
@@ -76,6 +80,8 @@ struct OutputSpec {
   double displacement_window = 0.0;  // each scheduled snapshot also stores every grain's
                                      // displacement over this past interval (s), a PIV-like
                                      // velocity = displacement / window; 0 = none
+  bool energy_balance = false;       // keep the energy ledger (engine/energy_ledger.hpp) and record
+                                     // its terms in the series; costs two passes over the contacts a step
 };
 
 struct Scene {
@@ -103,10 +109,14 @@ struct Scene {
   JamControl jam;
   OutputSpec output;
 
-  // Smallest grain mass per unit depth (kg/m) and the stability bound
-  // dt_c = sqrt(m_min / k_n) with the stiffer of the two laws in use.
+  // Smallest grain diameter (m) and mass per unit depth (kg/m), and the time
+  // unit dt_c = sqrt(m_min / k_n) with the stiffer of the two laws in use.
+  double min_diameter() const;
   double min_mass() const;
   double critical_dt() const;
+  // The largest stable time step of this scene (contact/stability.hpp): the
+  // smaller of the two laws' limits on a dense packing of the smallest grains.
+  StabilityLimit stability_limit() const;
 };
 
 }  // namespace dem2d

@@ -296,7 +296,7 @@ struct LawKey {
 };
 
 // clang-format off
-const std::array<LawKey, 6> kLawKeys{{
+const std::array<LawKey, 8> kLawKeys{{
   {"kn", &ContactLaw::kn, 0, {"normal stiffness", "N/m", Rule::positive}},
   {"kt", &ContactLaw::kt, effect::friction, {"tangential stiffness", "N/m", Rule::non_negative}},
   {"restitution", &ContactLaw::restitution, effect::normal_damping,
@@ -307,6 +307,10 @@ const std::array<LawKey, 6> kLawKeys{{
    {"rolling friction length mu_r", "m", Rule::non_negative}},
   {"rolling_stiffness", &ContactLaw::rolling_stiffness, effect::rolling_resistance,
    {"rolling stiffness k_r", "N m/rad", Rule::non_negative}},
+  {"tangential_damping_ratio", &ContactLaw::tangential_damping_ratio, effect::tangential_damping,
+   {"tangential damping ratio nu_t (c_t = 2 nu_t sqrt(m_eff k_t))", "", Rule::non_negative}},
+  {"rolling_damping_ratio", &ContactLaw::rolling_damping_ratio, effect::rolling_damping,
+   {"rolling damping ratio nu_r (c_r = 2 nu_r sqrt(I_eff k_r))", "", Rule::non_negative}},
 }};
 // clang-format on
 
@@ -380,6 +384,10 @@ class SceneParser {
     effects_ = top_.table("effects", keys);
     for (const auto& e : kEffectNames)
       if (effects_.boolean(e.key).value_or(false)) s_.effects |= e.bit;
+    for (const auto& [bit, needs] : kEffectNeeds)
+      if (has(s_.effects, bit) && !has(s_.effects, needs))
+        effects_.fail(effect_key(bit).substr(8),
+                      "needs " + effect_key(needs) + " = true (" + effect_key(bit) + " acts on what it adds)");
 
     if (has(s_.effects, effect::gravity)) {
       const Vec2 g = top_.table("gravity", {"g"})
@@ -420,15 +428,22 @@ class SceneParser {
   }
 
   void read_stop_domain_output() {
-    stop_ = top_.table(
-        "stop", {"kinetic_energy_below", "all_below", "body_free", "free_time", "check_interval", "min_time"});
+    stop_ = top_.table("stop", {"kinetic_energy_below", "kinetic_energy_per_grain_below", "all_below", "body_free",
+                                "free_time", "check_interval", "min_time"});
     const TableReader& st = stop_;
     StopCondition& stop = s_.stop;
-    if (const auto ke = st.number("kinetic_energy_below", {"kinetic energy threshold", "J/m", Rule::positive})) {
-      stop.kinetic_energy_below = *ke;
+    if (st.has("kinetic_energy_below") && st.has("kinetic_energy_per_grain_below"))
+      st.fail("kinetic_energy_per_grain_below",
+              "stop.kinetic_energy_below is also given: give one of the two (total, or per active grain)");
+    const auto ke = st.number("kinetic_energy_below", {"total kinetic energy threshold", "J/m", Rule::positive});
+    const auto ke_grain = st.number("kinetic_energy_per_grain_below",
+                                    {"kinetic energy threshold per active grain", "J/m", Rule::positive});
+    if (ke || ke_grain) {
+      stop.kinetic_energy_below = ke.value_or(-1.0);
+      stop.kinetic_energy_per_grain_below = ke_grain.value_or(-1.0);
       stop.all_below = st.number_or("all_below", {"height every grain must be below", "m", Rule::finite}, 1e300);
     } else {
-      st.forbid("all_below", "stop.kinetic_energy_below is not");
+      st.forbid("all_below", "no kinetic energy criterion (kinetic_energy_below, kinetic_energy_per_grain_below) is");
     }
     if (const auto body = st.string("body_free")) {
       stop.body_free = *body;
@@ -437,13 +452,14 @@ class SceneParser {
     } else {
       st.forbid("free_time", "stop.body_free is not");
     }
-    if (stop.kinetic_energy_below > 0.0 || !stop.body_free.empty()) {
+    if (stop.energy_criterion() || !stop.body_free.empty()) {
       stop.check_interval = st.required("check_interval", {"interval between checks", "s", Rule::positive},
                                         "; required because a stop criterion is given");
       stop.min_time = st.number_or("min_time", {"time before the first check", "s", Rule::non_negative}, 0.0);
     } else {
-      st.forbid("check_interval", "no stop criterion (kinetic_energy_below, body_free) is");
-      st.forbid("min_time", "no stop criterion (kinetic_energy_below, body_free) is");
+      const std::string none = "no stop criterion (kinetic_energy_below, kinetic_energy_per_grain_below, body_free) is";
+      st.forbid("check_interval", none);
+      st.forbid("min_time", none);
     }
 
     const TableReader d = top_.table("domain", {"xmin", "xmax", "ymin", "ymax"});
@@ -459,7 +475,7 @@ class SceneParser {
                 .number_or("skin", {"Verlet-list skin", "m", Rule::positive}, -1.0);
 
     const TableReader o = top_.table(
-        "output", {"series_interval", "snapshot_interval", "checkpoint_interval", "displacement_window"});
+        "output", {"series_interval", "snapshot_interval", "checkpoint_interval", "displacement_window", "energy_balance"});
     const Num every{"interval, 0 = off", "s", Rule::non_negative};
     s_.output = {o.number_or("series_interval", every, 0.0),
                  o.number_or("snapshot_interval", every, 0.0),
@@ -468,7 +484,10 @@ class SceneParser {
                  o.number_or("displacement_window",
                              {"window of the displacement stored with each snapshot, 0 = off", "s",
                               Rule::non_negative},
-                             0.0)};
+                             0.0),
+                 o.boolean("energy_balance").value_or(false)};
+    if (s_.output.energy_balance && s_.output.series_interval <= 0.0)
+      o.fail("energy_balance", "the balance is recorded in the time series: set output.series_interval > 0");
     if (s_.output.displacement_window > s_.output.snapshot_interval)
       o.fail("displacement_window", "must be <= output.snapshot_interval = " +
                                         shortest(s_.output.snapshot_interval) + " s (and snapshots on)");
@@ -719,15 +738,17 @@ class SceneParser {
     const bool fraction = t.has("dt_over_critical");
     const double given = *t.number(fraction ? "dt_over_critical" : "dt", {"", "", Rule::positive});
     s_.dt = fraction ? given * dt_c : given;
-    if (s_.dt <= dt_c || s_.dt_forced) return;
-    double kn = s_.particle_particle.kn;
-    if (has(s_.effects, effect::walls)) kn = std::max(kn, s_.particle_wall.kn);
-    const std::string bound = "the stability bound dt_c = sqrt(m_min/k_n) = " + sig3(dt_c) +
-                              " s (m_min = " + sig3(s_.min_mass()) + " kg/m, k_n = " + sig3(kn) +
-                              " N/m)";
+    const StabilityLimit limit = s_.stability_limit();
+    if (s_.dt <= limit.dt || s_.dt_forced) return;
+    const std::string bound =
+        "the stability limit dt_s = " + sig3(limit.dt) + " s = " + sig3(limit.dt / dt_c) +
+        " dt_c (dt_c = sqrt(m_min/k_n) = " + sig3(dt_c) +
+        " s): above it velocity Verlet, with dashpots fed the half-step velocity, is unstable on a dense "
+        "(hexagonal) packing of the smallest grains (d = " + sig3(d_min) + " m) under this contact law; its "
+        "fastest mode is " + limit.mode;
     if (fraction)
-      t.fail("dt_over_critical", "must be <= 1: it gives dt = " + sig3(s_.dt) + " s, above " +
-                                     bound +
+      t.fail("dt_over_critical", "must be <= " + sig3(limit.dt / dt_c) + ": it gives dt = " + sig3(s_.dt) +
+                                     " s, above " + bound +
                                      "; use a smaller fraction, or set time.force_dt = true");
     t.fail_after("dt",
                  " s exceeds " + bound +

@@ -1,0 +1,50 @@
+#include "contact/contact_law.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace dem2d {
+
+double restitution_of_damping_ratio(double nu) {
+  if (!(nu >= 0.0)) throw std::invalid_argument("damping ratio " + std::to_string(nu) + " is not >= 0");
+  if (nu == 0.0) return 1.0;
+  // arccos(nu)/sqrt(1 - nu^2) continues analytically to arccosh(nu)/sqrt(nu^2 - 1)
+  // above 1; both tend to 1 at nu = 1, where a series avoids 0/0.
+  const double s = nu * nu - 1.0;
+  double g;
+  if (std::abs(s) < 1e-6)
+    g = 1.0 - s / 6.0;  // g(nu) = 1 - (nu^2 - 1)/6 + O((nu^2 - 1)^2)
+  else if (s < 0.0)
+    g = std::acos(nu) / std::sqrt(-s);
+  else
+    g = std::acosh(nu) / std::sqrt(s);
+  return std::exp(-2.0 * nu * g);
+}
+
+double damping_ratio(double restitution) {
+  const double e = restitution;
+  if (!(e > 0.0 && e <= 1.0))
+    throw std::invalid_argument("restitution " + std::to_string(e) + " is not in (0, 1]");
+  if (e == 1.0) return 0.0;
+  // e(nu) falls monotonically from 1 to 0: bisect on [0, hi] with e(hi) < e
+  double lo = 0.0, hi = 1.0;
+  while (restitution_of_damping_ratio(hi) > e) hi *= 2.0;
+  for (int k = 0; k < 200 && hi - lo > 1e-16 * hi; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (restitution_of_damping_ratio(mid) > e ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+LawCoefficients coefficients(const ContactLaw& law, double dt) {
+  return {law.kn,
+          2.0 * damping_ratio(law.restitution) * std::sqrt(law.kn),
+          law.kt * dt,
+          law.rolling_stiffness * dt,
+          law.friction,
+          law.rolling_friction,
+          2.0 * law.tangential_damping_ratio * std::sqrt(law.kt),
+          2.0 * law.rolling_damping_ratio * std::sqrt(law.rolling_stiffness)};
+}
+
+}  // namespace dem2d

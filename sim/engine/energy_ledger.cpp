@@ -1,0 +1,240 @@
+#include "engine/energy_ledger.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/diagnostics.hpp"
+#include "engine/kernels.hpp"
+
+namespace dem2d::energy {
+
+namespace {
+
+// A contact's work on its grains over half a step: 1/2 F . (dt v_rel) with the
+// force on i, the torques on its grains and their half-step velocities.
+struct HalfStep {
+  double dt, half;
+  const Particles& p;
+  double displacement_work(std::size_t i, double fx, double fy, double ti) const {  // 1/2 F.dx_i + 1/2 T dtheta_i
+    return half * dt * (fx * p.vx[i] + fy * p.vy[i] + ti * p.omega[i]);
+  }
+};
+
+// Kinematics of a touching contact at the step's end, as the kernel sees it
+// (engine/kernels.hpp): normal velocity, tangential velocity of the contact
+// points, relative spin.
+struct Motion {
+  double vn, vt, spin;
+};
+
+Motion pair_motion(const Particles& p, std::size_t i, std::size_t j, double overlap) {
+  const double dx = p.x[i] - p.x[j], dy = p.y[i] - p.y[j], dist = std::sqrt(dx * dx + dy * dy);
+  const double nx = dist > 0.0 ? dx / dist : 1.0, ny = dist > 0.0 ? dy / dist : 0.0;
+  const double rvx = p.vx[i] - p.vx[j], rvy = p.vy[i] - p.vy[j];
+  const double ai = p.radius[i] - 0.5 * overlap, aj = p.radius[j] - 0.5 * overlap;
+  return {rvx * nx + rvy * ny, -rvx * ny + rvy * nx - (ai * p.omega[i] + aj * p.omega[j]), p.omega[i] - p.omega[j]};
+}
+
+Motion wall_motion(const System& s, std::size_t i, std::size_t b, double overlap) {
+  const Particles& p = s.p;
+  const SegmentProximity g = closest_point(s.seg[b], p.x[i], p.y[i]);
+  double rvx = p.vx[i], rvy = p.vy[i];
+  if (has(s.effects, effect::moving_bodies)) {
+    rvx -= s.bodies.vx[b];
+    rvy -= s.bodies.vy[b];
+  }
+  const double a = p.radius[i] - 0.5 * overlap;
+  return {rvx * g.nx + rvy * g.ny, -rvx * g.ny + rvy * g.nx - a * p.omega[i], p.omega[i]};
+}
+
+// What the dashpots and caps took this step from one touching contact.
+struct Dissipated {
+  double normal = 0.0, tangential = 0.0, sliding = 0.0, rolling = 0.0, rolling_slip = 0.0;
+  double total() const { return normal + tangential + sliding + rolling + rolling_slip; }
+};
+
+Dissipated dissipated(const System& s, const ContactLaw& law, const LawCoefficients& c, const Motion& m,
+                      double sqrt_m, double sqrt_i, double overlap, double fn, double ft, double ft_prev, double mr,
+                      double mr_prev) {
+  Dissipated d;
+  // the normal force's non-elastic part, -c vn unless the force is clamped at 0
+  d.normal = (c.kn * overlap - fn) * m.vn * s.dt;
+  if (has(s.effects, effect::friction)) {
+    if (has(s.effects, effect::tangential_damping)) d.tangential = c.damp_t * sqrt_m * m.vt * m.vt * s.dt;
+    if (law.kt > 0.0) {
+      const double trial = ft_prev - c.kt_dt * m.vt;
+      d.sliding = 0.5 * (trial * trial - ft * ft) / law.kt;
+    }
+  }
+  if (has(s.effects, effect::rolling_resistance)) {
+    if (has(s.effects, effect::rolling_damping)) d.rolling = c.damp_r * sqrt_i * m.spin * m.spin * s.dt;
+    if (law.rolling_stiffness > 0.0) {
+      const double trial = mr_prev - c.kr_dt * m.spin;
+      d.rolling_slip = 0.5 * (trial * trial - mr * mr) / law.rolling_stiffness;
+    }
+  }
+  return d;
+}
+
+void add(EnergyLedger& e, std::size_t i, const Dissipated& d) {
+  e.normal_damping[i] += d.normal;
+  e.tangential_damping[i] += d.tangential;
+  e.sliding[i] += d.sliding;
+  e.rolling_damping[i] += d.rolling;
+  e.rolling_slip[i] += d.rolling_slip;
+}
+
+// Visits this thread's rows of the pair and wall lists, in order.
+template <class PairFn, class WallFn>
+void my_contacts(System& s, PairFn&& pair, WallFn&& wall) {
+  const auto [first, last] = kernels::my_grains(s);
+  for (std::size_t i = first; i < last; ++i) {
+    const PairList& L = s.lists.pairs;
+    for (auto sl = static_cast<std::size_t>(L.start[i]); sl < static_cast<std::size_t>(L.start[i + 1]); ++sl)
+      pair(i, sl);
+    if (!has(s.effects, effect::walls)) continue;
+    const WallList& W = s.lists.walls;
+    for (auto sl = static_cast<std::size_t>(W.start[i]); sl < static_cast<std::size_t>(W.start[i + 1]); ++sl)
+      wall(i, sl);
+  }
+}
+
+// 1/2 of the work a contact did on its grains over this step with the force
+// it holds now (the start's or the end's), split into the relative part and
+// the part the body's displacement did.
+struct Work {
+  double relative, body;
+};
+
+Work pair_work(const System& s, std::size_t sl, std::size_t i) {
+  const PairList& L = s.lists.pairs;
+  const HalfStep h{s.dt, 0.5, s.p};
+  const auto j = static_cast<std::size_t>(L.partner[sl]);
+  return {h.displacement_work(i, L.fx[sl], L.fy[sl], L.ti[sl]) + h.displacement_work(j, -L.fx[sl], -L.fy[sl], L.tj[sl]),
+          0.0};
+}
+
+Work wall_work(const System& s, std::size_t sl, std::size_t i) {
+  const WallList& W = s.lists.walls;
+  const HalfStep h{s.dt, 0.5, s.p};
+  const auto b = static_cast<std::size_t>(W.body[sl]);
+  double body = 0.0;
+  if (has(s.effects, effect::moving_bodies)) body = 0.5 * s.dt * (W.fx[sl] * s.bodies.vx[b] + W.fy[sl] * s.bodies.vy[b]);
+  return {h.displacement_work(i, W.fx[sl], W.fy[sl], W.tq[sl]) - body, body};
+}
+
+}  // namespace
+
+void start(System& s) {
+  EnergyLedger& e = s.energy;
+  for (const auto& [name, a] : accumulators(e)) a->assign(s.size(), 0.0);
+  e.removed = 0.0;
+  e.error_offset = 0.0;
+  e.error_offset = -balance(s).integration_error;
+}
+
+void open_step(System& s) {
+  EnergyLedger& e = s.energy;
+  PairList& L = s.lists.pairs;
+  WallList& W = s.lists.walls;
+  my_contacts(
+      s,
+      [&](std::size_t i, std::size_t sl) {
+        L.ft_prev[sl] = L.ft[sl];
+        L.mr_prev[sl] = L.mr[sl];
+        if (!(L.overlap[sl] > 0.0)) return;
+        const Work w = pair_work(s, sl, i);
+        e.error[i] += spring_energy(s.law_pp, s.effects, L.overlap[sl], L.ft[sl], L.mr[sl]).total() - w.relative;
+      },
+      [&](std::size_t i, std::size_t sl) {
+        W.ft_prev[sl] = W.ft[sl];
+        W.mr_prev[sl] = W.mr[sl];
+        if (!(W.overlap[sl] > 0.0)) return;
+        const Work w = wall_work(s, sl, i);
+        e.body_work[i] += w.body;
+        e.error[i] += spring_energy(s.law_pw, s.effects, W.overlap[sl], W.ft[sl], W.mr[sl]).total() - w.relative;
+      });
+}
+
+void close_step(System& s) {
+  EnergyLedger& e = s.energy;
+  const PairList& L = s.lists.pairs;
+  const WallList& W = s.lists.walls;
+  my_contacts(
+      s,
+      [&](std::size_t i, std::size_t sl) {
+        if (!(L.overlap[sl] > 0.0)) return;
+        const Work w = pair_work(s, sl, i);
+        const Motion m = pair_motion(s.p, i, static_cast<std::size_t>(L.partner[sl]), L.overlap[sl]);
+        const Dissipated d = dissipated(s, s.law_pp, s.pp, m, L.sqrt_meff[sl], L.sqrt_ieff[sl], L.overlap[sl],
+                                        L.fn[sl], L.ft[sl], L.ft_prev[sl], L.mr[sl], L.mr_prev[sl]);
+        add(e, i, d);
+        e.error[i] -= spring_energy(s.law_pp, s.effects, L.overlap[sl], L.ft[sl], L.mr[sl]).total() + w.relative +
+                      d.total();
+      },
+      [&](std::size_t i, std::size_t sl) {
+        if (!(W.overlap[sl] > 0.0)) return;
+        const Work w = wall_work(s, sl, i);
+        const Motion m = wall_motion(s, i, static_cast<std::size_t>(W.body[sl]), W.overlap[sl]);
+        const Dissipated d = dissipated(s, s.law_pw, s.pw, m, W.sqrt_m[sl], W.sqrt_i[sl], W.overlap[sl], W.fn[sl],
+                                        W.ft[sl], W.ft_prev[sl], W.mr[sl], W.mr_prev[sl]);
+        add(e, i, d);
+        e.body_work[i] += w.body;
+        e.error[i] -= spring_energy(s.law_pw, s.effects, W.overlap[sl], W.ft[sl], W.mr[sl]).total() + w.relative +
+                      d.total();
+      });
+}
+
+void remove_grain(System& s, std::size_t i) {
+  // What the grain carries out: its shadow kinetic energy at the step's start,
+  // its potential energy there, and the first half of this step's work on it
+  // (its contacts' first halves went into the ledger already; their second
+  // halves never come). Velocities are the half-step ones, forces the start's.
+  const Particles& p = s.p;
+  const double gx = has(s.effects, effect::gravity) ? s.gx : 0.0, gy = has(s.effects, effect::gravity) ? s.gy : 0.0;
+  const double ax = p.fx[i] * p.inv_mass[i] + gx, ay = p.fy[i] * p.inv_mass[i] + gy, aw = p.torque[i] * p.inv_inertia[i];
+  const double m = p.mass[i], inertia = 1.0 / p.inv_inertia[i];
+  const double ux = p.vx[i] - s.dt * ax, uy = p.vy[i] - s.dt * ay, uw = p.omega[i] - s.dt * aw;  // v^(n-1/2)
+  const double shadow = 0.5 * m * (ux * p.vx[i] + uy * p.vy[i]) + 0.5 * inertia * uw * p.omega[i];
+  const double x0 = p.x[i] - s.dt * p.vx[i], y0 = p.y[i] - s.dt * p.vy[i];
+  const double potential = -m * (gx * x0 + gy * y0);
+  const double work = 0.5 * s.dt * (p.fx[i] * p.vx[i] + p.fy[i] * p.vy[i] + p.torque[i] * p.omega[i]);
+  s.energy.removed += shadow + potential + work;
+}
+
+EnergyBalance balance(const System& s) {
+  const EnergyLedger& e = s.energy;
+  const Particles& p = s.p;
+  EnergyBalance out;
+  const SpringEnergy u = spring_energy(s);
+  out.elastic_normal = u.normal;
+  out.elastic_tangential = u.tangential;
+  out.elastic_rolling = u.rolling;
+  out.kinetic = kinetic_energy(s);
+  out.gravity = has(s.effects, effect::gravity) ? gravity_energy(s) : 0.0;
+  // physical minus shadow kinetic energy: sum 1/2 (dt/2)^2 (m a^2 + I alpha^2)
+  const double h = 0.5 * s.dt, gx = has(s.effects, effect::gravity) ? s.gx : 0.0,
+               gy = has(s.effects, effect::gravity) ? s.gy : 0.0;
+  double shadow_gap = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!p.active[i]) continue;
+    const double ax = p.fx[i] * p.inv_mass[i] + gx, ay = p.fy[i] * p.inv_mass[i] + gy;
+    const double aw = p.torque[i] * p.inv_inertia[i];
+    shadow_gap += 0.5 * h * h * (p.mass[i] * (ax * ax + ay * ay) + aw * aw / p.inv_inertia[i]);
+  }
+  if (e.error.size() == p.size())
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      out.body_work += e.body_work[i];
+      out.normal_damping += e.normal_damping[i];
+      out.tangential_damping += e.tangential_damping[i];
+      out.sliding += e.sliding[i];
+      out.rolling_damping += e.rolling_damping[i];
+      out.rolling_slip += e.rolling_slip[i];
+      out.integration_error += e.error[i];
+    }
+  out.removed = e.removed;
+  out.integration_error += e.error_offset - shadow_gap;
+  return out;
+}
+
+}  // namespace dem2d::energy

@@ -1,0 +1,108 @@
+// The energy ledger: where the energy of a run goes, step by step, so that
+//   kinetic + elastic (normal, tangential, rolling) + gravity
+//   + dissipated (normal damping, tangential damping, sliding, rolling
+//     damping, rolling slip) + removed + integration error - work of the bodies
+// stays equal to its value at the start (to round-off).
+//
+// How each term is measured (derivation: docs/energy.md):
+// - The work of every contact on its grains over a step is the trapezoid
+//   1/2 (F^n + F^(n+1)) . (relative displacement dt v^(n+1/2)) of the kernel's
+//   own contact forces and torques; with velocity Verlet this is exactly the
+//   change of the grains' "shadow" kinetic energy 1/2 m v^(n-1/2).v^(n+1/2).
+// - What a contact receives goes into its springs (their energy change), its
+//   dashpots (c v^2 dt), sliding and rolling slip (the spring energy the caps
+//   cut off, 1/2 (S_trial^2 - S^2)/k), or is left over: that remainder, per
+//   contact, is the integration error, with the difference between the
+//   physical and the shadow kinetic energy. It vanishes as dt -> 0 (second
+//   order for elastic contacts); it is not defined as what closes the balance.
+// - A moving body's work is the trapezoid force on the grain times the body's
+//   displacement v_b dt; gravity's is the change of -m g.x.
+// - Grains that leave the domain and contacts of removed bodies take their
+//   energy out of the scene: `removed`.
+// Each thread adds its own grains' contacts into per-grain accumulators (the
+// row owner's), summed in index order when read: the ledger is bitwise the
+// same for any thread count. Off unless the scene asks for it
+// (output.energy_balance): then the step runs two extra passes over the
+// contacts and two extra barriers; off, it costs nothing.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <utility>
+
+#include "core/aligned_vector.hpp"
+
+namespace dem2d {
+
+struct System;
+
+struct EnergyLedger {
+  bool on = false;
+  // per grain (J/m): the contacts of its rows; each written only by the
+  // thread that owns the grain
+  AlignedVector<double> error, normal_damping, tangential_damping, sliding, rolling_damping, rolling_slip,
+      body_work;
+  double removed = 0.0;        // energy taken out with lost grains and removed bodies' contacts (J/m)
+  double error_offset = 0.0;   // the integration error's part not kept per grain (J/m): its value
+                               // at the start, less the energy of contacts removed with their grains or bodies
+
+};
+
+// The per-grain accumulators by name (checkpoints); Ledger may be const.
+template <class Ledger>
+auto accumulators(Ledger& e) {
+  return std::array{std::pair{"error", &e.error},
+                    std::pair{"normal_damping", &e.normal_damping},
+                    std::pair{"tangential_damping", &e.tangential_damping},
+                    std::pair{"sliding", &e.sliding},
+                    std::pair{"rolling_damping", &e.rolling_damping},
+                    std::pair{"rolling_slip", &e.rolling_slip},
+                    std::pair{"body_work", &e.body_work}};
+}
+
+// Every term of the balance at the current (full) step, in J/m.
+struct EnergyBalance {
+  double kinetic = 0.0;                                                   // 1/2 m v^2 + 1/2 I w^2
+  double elastic_normal = 0.0, elastic_tangential = 0.0, elastic_rolling = 0.0;
+  double gravity = 0.0;                                                   // -sum m g.x of the active grains
+  double body_work = 0.0;                                                 // done on the grains by moving bodies
+  double normal_damping = 0.0, tangential_damping = 0.0, sliding = 0.0;   // dissipated
+  double rolling_damping = 0.0, rolling_slip = 0.0;                       // dissipated
+  double removed = 0.0;
+  double integration_error = 0.0;
+  // The terms by name (run files: /series/energy/<name>), in this order.
+  static constexpr std::size_t kTerms = 13;
+  std::array<std::pair<const char*, double>, kTerms> terms() const {
+    return {{{"kinetic", kinetic}, {"elastic_normal", elastic_normal}, {"elastic_tangential", elastic_tangential},
+             {"elastic_rolling", elastic_rolling}, {"gravity", gravity}, {"body_work", body_work},
+             {"normal_damping", normal_damping}, {"tangential_damping", tangential_damping}, {"sliding", sliding},
+             {"rolling_damping", rolling_damping}, {"rolling_slip", rolling_slip}, {"removed", removed},
+             {"integration_error", integration_error}}};
+  }
+  // constant over a run (to round-off)
+  double total() const {
+    return kinetic + elastic_normal + elastic_tangential + elastic_rolling + gravity + normal_damping +
+           tangential_damping + sliding + rolling_damping + rolling_slip + removed + integration_error - body_work;
+  }
+};
+
+namespace energy {
+
+// Starts the ledger at the current state (all accumulated terms zero).
+void start(System& s);
+// This thread's share of a step's first half: the contacts' work with the
+// forces of the step's start over this step's displacements, and their
+// stored energy then. After the drift and a barrier, before any rebuild.
+void open_step(System& s);
+// This thread's share of the second half: the same with the new forces,
+// their stored energy and what the dashpots and caps dissipated. After the
+// force evaluation and a barrier; a barrier must follow.
+void close_step(System& s);
+// Grain i leaves the scene after this step's drift (before its removal).
+void remove_grain(System& s, std::size_t i);
+// The terms at the current step (serial, index order).
+EnergyBalance balance(const System& s);
+
+}  // namespace energy
+
+}  // namespace dem2d
