@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "io/h5.hpp"
 #include "run/run.hpp"
@@ -16,20 +17,23 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Grains poured into a box, stirred by a paddle moving across, one grain
-// thrown out of the domain: history, moving bodies and lost grains all cross
-// the restart.
+// Grains poured into a box, stirred by a paddle moving across, a support
+// removed while loaded, one grain thrown out of the domain, the energy
+// ledger on: history, moving and removed bodies, lost grains and the ledger
+// all cross the restart.
 Scene stirred_box() {
   Scene s = boxed_bed(effect::gravity | effect::normal_damping | effect::friction | effect::rolling_resistance |
                           effect::moving_bodies,
                       80, 0.025);
   add_wall(s, "paddle", -0.004, 0.004, 0.0, 0.004, 2e-3, 0.1, 0.0);
+  add_wall(s, "support", 0.0126, 0.0, 0.0126, 0.012, 0.2e-3);
   s.particles[79].vy = 3.0;  // m/s: leaves through the open top
   s.text = "stirred box (built in code)";
   s.stop.duration = 0.12;
   s.output.series_interval = 1e-3;
   s.output.snapshot_interval = 0.01;
   s.output.displacement_window = 0.005;  // reference positions 0.005 s before each snapshot
+  s.output.energy_balance = true;
   return s;
 }
 
@@ -44,7 +48,9 @@ void expect_same_datasets(const std::string& a, const std::string& b) {
                            "snapshots/omega", "snapshots/theta",
                            "snapshots/body_ends", "contacts/fn", "contacts/ft", "contacts/overlap",
                            "contacts/nx", "contacts/ny", "contacts/mr", "lost/x", "lost/y"};
-  for (const char* name : numeric) {
+  std::vector<std::string> names(std::begin(numeric), std::end(numeric));
+  for (const auto& [term, v] : EnergyBalance{}.terms()) names.push_back(std::string("series/energy/") + term);
+  for (const std::string& name : names) {
     const auto va = h5::read<double>(fa, name), vb = h5::read<double>(fb, name);
     ASSERT_EQ(va.size(), vb.size()) << name;
     EXPECT_EQ(std::memcmp(va.data(), vb.data(), va.size() * sizeof(double)), 0) << name;
@@ -58,16 +64,19 @@ void expect_same_datasets(const std::string& a, const std::string& b) {
 }
 
 TEST(Checkpoint, ResumedRunIsBitwiseIdenticalToUninterrupted) {
-  const Scene s = stirred_box();
+  // interrupted twice, the second leg with two threads; both interruptions
+  // fall between a snapshot's reference positions and the snapshot itself
+  Scene s = stirred_box();
+  const auto every = std::llround(s.output.snapshot_interval / s.dt), window = std::llround(s.output.displacement_window / s.dt);
+  const std::int64_t first = 3 * every - window / 2, second = 8 * every - window / 3;
+  // the support goes at the first interruption's step: that checkpoint holds
+  // a body removed but still in the lists (its contacts act in that step)
+  s.bodies.back().remove_at = static_cast<double>(first) * s.dt;
   TempDir whole("whole"), parts("parts");
   const RunReport full = run_scene(s, {whole.path().string()});
   ASSERT_TRUE(full.complete);
   ASSERT_EQ(full.lost, 1u);
 
-  // interrupted twice, the second leg with two threads; both interruptions
-  // fall between a snapshot's reference positions and the snapshot itself
-  const auto every = std::llround(s.output.snapshot_interval / s.dt), window = std::llround(s.output.displacement_window / s.dt);
-  const std::int64_t first = 3 * every - window / 2, second = 8 * every - window / 3;
   RunOptions opt{parts.path().string()};
   opt.interrupt_at_step = first;
   RunReport r = run_scene(s, opt);
@@ -88,6 +97,10 @@ TEST(Checkpoint, ResumedRunIsBitwiseIdenticalToUninterrupted) {
   EXPECT_FALSE(fs::exists(parts.path() / ".run.work"));  // cleaned up
 
   expect_same_datasets(full.run_file, r.run_file);
+  // the support was loaded when it went: the ledger took its contacts' energy out
+  const h5::File f = h5::File::open_read(full.run_file);
+  const std::vector<double> removed = h5::read<double>(f, "series/energy/removed");
+  EXPECT_GT(removed.back(), 0.0);
 }
 
 TEST(Checkpoint, RefusesToResumeAnotherScene) {

@@ -23,14 +23,15 @@ bool all_finite(const System& sys) {
 
 double total_energy(const System& sys) { return kinetic_energy(sys) + elastic_energy(sys) + gravity_energy(sys); }
 
-// dt at 0.9 of the bound the scene parser enforces, dt_c = sqrt(m_min/k_n):
+// dt at 0.9 of the bound the scene parser enforces, the dense packing's
+// stability limit (0.577 dt_c for this law, dt_c = sqrt(m_min/k_n)):
 // a settled, frictional pile stays put and does not gain energy.
 TEST(HardCases, TimeStepAtNineTenthsOfTheBound) {
   Scene s = boxed_bed(kFull, 150, 0.03);
   System bed(s);
   run_for(bed, 0.4);
   Scene hard = with_state(s, bed);
-  hard.dt = 0.9 * hard.critical_dt();
+  hard.dt = 0.9 * hard.stability_limit().dt;
   System sys(hard);
   const double e0 = total_energy(sys);
   run_for(sys, 0.2);

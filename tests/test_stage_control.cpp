@@ -275,12 +275,48 @@ tap_duration = 0.01
 )").find("jam.bodies = [\"nope\"]: 'nope' names no [[body]]"), std::string::npos);
   EXPECT_NE(error_of(base + "[stop]\nall_below = 0.1\n").find("stop.all_below = 0.1: given but no kinetic energy criterion"),
             std::string::npos);
+  EXPECT_NE(error_of(base + "[stop]\nkinetic_energy_below = 1e-6\nkinetic_energy_per_grain_below = 1e-9\ncheck_interval = 0.01\n")
+                .find("stop.kinetic_energy_per_grain_below = 1e-09: stop.kinetic_energy_below is also given"),
+            std::string::npos);
+  const Scene per_grain =
+      parse_scene(base + jam.substr(0, jam.find("[stop]")) + "[stop]\nkinetic_energy_per_grain_below = 1e-9\ncheck_interval = 0.01\n",
+                  "stage.toml");
+  EXPECT_EQ(per_grain.stop.kinetic_energy_per_grain_below, 1e-9);
+  EXPECT_EQ(per_grain.stop.kinetic_energy_below, -1.0);
   EXPECT_NE(error_of(base + "[stop]\nbody_free = \"gate\"\ncheck_interval = 0.1\n").find("missing key stop.free_time"),
             std::string::npos);
   std::string no_move = base + jam;
   no_move.replace(no_move.find("moving_bodies = true"), 20, "moving_bodies = false");
   EXPECT_NE(error_of(no_move).find("[jam] taps hopper walls, which needs effects.moving_bodies = true"),
             std::string::npos);
+}
+
+}  // namespace
+}  // namespace dem2d::test
+
+namespace dem2d::test {
+namespace {
+
+// The per-grain criterion ends beds of different sizes at the same state of
+// rest: a total threshold would have to be rescaled with the grain count.
+TEST(Stop, KineticEnergyPerGrainIsTheSameRestForAnySize) {
+  for (const int n : {40, 160}) {
+    Scene s = boxed_bed(effect::gravity | effect::normal_damping | effect::friction | effect::rolling_resistance, n, 0.03);
+    s.stop.duration = 2.0;
+    s.stop.kinetic_energy_per_grain_below = 1e-8;  // J/m per grain: ~1 mm/s
+    s.stop.check_interval = 0.01;
+    s.output.series_interval = 0.01;
+    s.text = "settling box (built in code)";
+    TempDir dir("per_grain");
+    const RunReport r = run_scene(s, {dir.path().string()});
+    ASSERT_TRUE(r.complete);
+    EXPECT_EQ(r.stop_reason, "kinetic energy below 1e-08 J/m per grain") << n << " grains";
+    const h5::File f = h5::File::open_read(r.run_file);
+    const std::vector<double> ke = h5::read<double>(f, "series/kinetic_energy");
+    ASSERT_FALSE(ke.empty());
+    EXPECT_LT(ke.back(), 1e-8 * n);
+    EXPECT_LT(r.final_step, std::llround(2.0 / s.dt));  // ended early, at rest
+  }
 }
 
 }  // namespace

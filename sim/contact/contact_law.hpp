@@ -7,15 +7,21 @@
 // the partner's, spin = omega_i - omega_j.
 //
 //   F_n = max(0, -k_n delta - c_n vn),  c_n = 2 nu sqrt(m_eff k_n)  (never attractive)
-//   F_t = clamp(S_t - c_t vt, +-mu F_n),  S_t <- S_t - k_t vt dt     (incremental spring S_t)
-//   M_r = clamp(S_r - c_r spin, +-mu_r F_n),  S_r <- S_r - k_r spin dt
+//   S_t <- clamp(S_t - k_t vt dt, +-mu F_n)                           (incremental spring, Coulomb cap)
+//   F_t = clamp(S_t - c_t vt, +-mu F_n)
+//   S_r <- clamp(S_r - k_r spin dt, +-mu_r F_n),   M_r = clamp(S_r - c_r spin, +-mu_r F_n)
 //
 // c_t = 2 nu_t sqrt(m_eff k_t) and c_r = 2 nu_r sqrt(I_eff k_r) are the opt-in
 // tangential and rolling dashpots (effects tangential_damping and
-// rolling_damping; without them c_t = c_r = 0 and F_t = clamp(S_t), the
-// paper's law). While a cap is reached the spring is set so that spring plus
-// dashpot equals the cap, S = F_capped + c v (as LAMMPS's granular models and
-// Luding 2008 do), so sliding never stores more than the cap allows.
+// rolling_damping). Without them c_t = c_r = 0 and F_t = S_t, M_r = S_r: the
+// paper's law. With them the spring is still the paper's (capped on its
+// own), the dashpot acts beside it and the sum is capped again. This differs
+// from LAMMPS's granular models and MercuryDPM, which while sliding reset
+// the spring to S = F_cap + c v: that can load the spring beyond the cap
+// (c v > mu F_n) and hand the energy back to the grains later (the energy
+// ledger measured negative slip dissipation on a single oblique collision).
+// Here each part is passive: the spring-slider and the dashpot each
+// dissipate >= 0 at every step (docs/contact_law.md).
 //
 // In 2D the tangent direction is unique, so the stored tangential spring is a
 // scalar along the current t: it turns with the contact, keeping its magnitude,
@@ -78,9 +84,10 @@ inline double normal_force(const LawCoefficients& c, double delta, double vn, do
   return fn > 0.0 ? fn : 0.0;
 }
 
-// An incremental spring in parallel with a dashpot, their sum capped at
-// +-cap: the tangential force and the rolling moment. `increment` is the
-// spring's change this step (-k v dt), `dashpot` the dashpot's force c v.
+// An incremental spring capped at +-cap, with (Damped) a dashpot beside it
+// and their sum capped again: the tangential force and the rolling moment.
+// `increment` is the spring's change this step (-k v dt), `dashpot` the
+// dashpot's force c v.
 struct CappedSpring {
   double force;   // what acts on the grain
   double spring;  // the spring stored for the next step
@@ -88,15 +95,11 @@ struct CappedSpring {
 
 template <bool Damped>
 inline CappedSpring capped_spring(double stored, double increment, double dashpot, double cap) {
-  const double trial = stored + increment;
-  if constexpr (!Damped) {
-    const double f = std::clamp(trial, -cap, cap);
-    return {f, f};
-  } else {
-    const double total = trial - dashpot;
-    const double f = std::clamp(total, -cap, cap);
-    return {f, std::abs(total) > cap ? f + dashpot : trial};
-  }
+  const double spring = std::clamp(stored + increment, -cap, cap);
+  if constexpr (!Damped)
+    return {spring, spring};
+  else
+    return {std::clamp(spring - dashpot, -cap, cap), spring};
 }
 
 // Energy stored in one contact's springs (J/m): 1/2 k_n overlap^2, 1/2 S_t^2/k_t

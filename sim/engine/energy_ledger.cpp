@@ -25,6 +25,8 @@ struct HalfStep {
 // points, relative spin.
 struct Motion {
   double vn, vt, spin;
+  double tx, ty;  // t = z x n
+  double a;       // the grain's branch length to the contact point (m)
 };
 
 Motion pair_motion(const Particles& p, std::size_t i, std::size_t j, double overlap) {
@@ -32,7 +34,8 @@ Motion pair_motion(const Particles& p, std::size_t i, std::size_t j, double over
   const double nx = dist > 0.0 ? dx / dist : 1.0, ny = dist > 0.0 ? dy / dist : 0.0;
   const double rvx = p.vx[i] - p.vx[j], rvy = p.vy[i] - p.vy[j];
   const double ai = p.radius[i] - 0.5 * overlap, aj = p.radius[j] - 0.5 * overlap;
-  return {rvx * nx + rvy * ny, -rvx * ny + rvy * nx - (ai * p.omega[i] + aj * p.omega[j]), p.omega[i] - p.omega[j]};
+  return {rvx * nx + rvy * ny, -rvx * ny + rvy * nx - (ai * p.omega[i] + aj * p.omega[j]), p.omega[i] - p.omega[j],
+          -ny, nx, ai};
 }
 
 Motion wall_motion(const System& s, std::size_t i, std::size_t b, double overlap) {
@@ -44,7 +47,7 @@ Motion wall_motion(const System& s, std::size_t i, std::size_t b, double overlap
     rvy -= s.bodies.vy[b];
   }
   const double a = p.radius[i] - 0.5 * overlap;
-  return {rvx * g.nx + rvy * g.ny, -rvx * g.ny + rvy * g.nx - a * p.omega[i], p.omega[i]};
+  return {rvx * g.nx + rvy * g.ny, -rvx * g.ny + rvy * g.nx - a * p.omega[i], p.omega[i], -g.ny, g.nx, a};
 }
 
 // What the dashpots and caps took this step from one touching contact.
@@ -53,27 +56,56 @@ struct Dissipated {
   double total() const { return normal + tangential + sliding + rolling + rolling_slip; }
 };
 
+// One spring-slider-dashpot channel (tangential or rolling) over the step:
+// `force` acts on the grain at the step's end, `rate` is the relative motion
+// the spring integrated (v_t or the relative spin), `spring`/`spring_prev`
+// its stored value at the end and the start, k its stiffness. The slider
+// takes what the cap cut from the spring, 1/2 (S_prev + S)(S_trial - S)/k
+// (the return mapping, weighted as the ledger weighs the work: trapezoid);
+// the dashpot the power of the force's non-spring part, -(F - S) rate dt.
+// Both are >= 0 (contact_law.hpp).
+struct Channel {
+  double dashpot = 0.0, slip = 0.0;
+};
+
+Channel channel(double force, double rate, double spring, double spring_prev, double k, double k_dt, double dt) {
+  Channel c;
+  if (k > 0.0) {
+    const double trial = spring_prev - k_dt * rate;
+    c.slip = 0.5 * (spring_prev + spring) * (trial - spring) / k;
+  }
+  c.dashpot = -(force - spring) * rate * dt;
+  return c;
+}
+
+// `ft`: the tangential force on the grain, `moment`: the rolling moment on it
+// (both at the step's end, from the slot's force and torques).
 Dissipated dissipated(const System& s, const ContactLaw& law, const LawCoefficients& c, const Motion& m,
-                      double sqrt_m, double sqrt_i, double overlap, double fn, double ft, double ft_prev, double mr,
-                      double mr_prev) {
+                      double overlap, double fn, double ft, double moment, double spring_t, double spring_t_prev,
+                      double spring_r, double spring_r_prev) {
   Dissipated d;
   // the normal force's non-elastic part, -c vn unless the force is clamped at 0
   d.normal = (c.kn * overlap - fn) * m.vn * s.dt;
   if (has(s.effects, effect::friction)) {
-    if (has(s.effects, effect::tangential_damping)) d.tangential = c.damp_t * sqrt_m * m.vt * m.vt * s.dt;
-    if (law.kt > 0.0) {
-      const double trial = ft_prev - c.kt_dt * m.vt;
-      d.sliding = 0.5 * (trial * trial - ft * ft) / law.kt;
-    }
+    const Channel t = channel(ft, m.vt, spring_t, spring_t_prev, law.kt, c.kt_dt, s.dt);
+    if (has(s.effects, effect::tangential_damping)) d.tangential = t.dashpot;
+    d.sliding = t.slip;
   }
   if (has(s.effects, effect::rolling_resistance)) {
-    if (has(s.effects, effect::rolling_damping)) d.rolling = c.damp_r * sqrt_i * m.spin * m.spin * s.dt;
-    if (law.rolling_stiffness > 0.0) {
-      const double trial = mr_prev - c.kr_dt * m.spin;
-      d.rolling_slip = 0.5 * (trial * trial - mr * mr) / law.rolling_stiffness;
-    }
+    const Channel r = channel(moment, m.spin, spring_r, spring_r_prev, law.rolling_stiffness, c.kr_dt, s.dt);
+    if (has(s.effects, effect::rolling_damping)) d.rolling = r.dashpot;
+    d.rolling_slip = r.slip;
   }
   return d;
+}
+
+// A contact that opened this step: the kernel zeroed its springs, whose
+// energy the slider and the rolling slip take (the cap fell to 0 with F_n).
+void release(EnergyLedger& e, std::size_t i, const ContactLaw& law, EffectSet effects, double ft_prev, double mr_prev) {
+  const SpringEnergy u = spring_energy(law, effects, 0.0, ft_prev, mr_prev);
+  e.sliding[i] += u.tangential;
+  e.rolling_slip[i] += u.rolling;
+  e.error[i] -= u.tangential + u.rolling;
 }
 
 void add(EnergyLedger& e, std::size_t i, const Dissipated& d) {
@@ -163,20 +195,22 @@ void close_step(System& s) {
   my_contacts(
       s,
       [&](std::size_t i, std::size_t sl) {
-        if (!(L.overlap[sl] > 0.0)) return;
+        if (!(L.overlap[sl] > 0.0)) return release(e, i, s.law_pp, s.effects, L.ft_prev[sl], L.mr_prev[sl]);
         const Work w = pair_work(s, sl, i);
         const Motion m = pair_motion(s.p, i, static_cast<std::size_t>(L.partner[sl]), L.overlap[sl]);
-        const Dissipated d = dissipated(s, s.law_pp, s.pp, m, L.sqrt_meff[sl], L.sqrt_ieff[sl], L.overlap[sl],
-                                        L.fn[sl], L.ft[sl], L.ft_prev[sl], L.mr[sl], L.mr_prev[sl]);
+        const double ft = L.fx[sl] * m.tx + L.fy[sl] * m.ty;  // T_i = -a_i F_t + M_r
+        const Dissipated d = dissipated(s, s.law_pp, s.pp, m, L.overlap[sl], L.fn[sl], ft, L.ti[sl] + m.a * ft,
+                                        L.ft[sl], L.ft_prev[sl], L.mr[sl], L.mr_prev[sl]);
         add(e, i, d);
         e.error[i] -= spring_energy(s.law_pp, s.effects, L.overlap[sl], L.ft[sl], L.mr[sl]).total() + w.relative +
                       d.total();
       },
       [&](std::size_t i, std::size_t sl) {
-        if (!(W.overlap[sl] > 0.0)) return;
+        if (!(W.overlap[sl] > 0.0)) return release(e, i, s.law_pw, s.effects, W.ft_prev[sl], W.mr_prev[sl]);
         const Work w = wall_work(s, sl, i);
         const Motion m = wall_motion(s, i, static_cast<std::size_t>(W.body[sl]), W.overlap[sl]);
-        const Dissipated d = dissipated(s, s.law_pw, s.pw, m, W.sqrt_m[sl], W.sqrt_i[sl], W.overlap[sl], W.fn[sl],
+        const double ft = W.fx[sl] * m.tx + W.fy[sl] * m.ty;
+        const Dissipated d = dissipated(s, s.law_pw, s.pw, m, W.overlap[sl], W.fn[sl], ft, W.tq[sl] + m.a * ft,
                                         W.ft[sl], W.ft_prev[sl], W.mr[sl], W.mr_prev[sl]);
         add(e, i, d);
         e.body_work[i] += w.body;
