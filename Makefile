@@ -22,6 +22,9 @@
 #   make network    stage: force network, percolation, keystones             (results/<preset>/network/)
 #   make friction   stage: friction mobilisation                             (results/<preset>/friction/)
 #   make metrics figures report   the merged metrics, the figures, the report of results/<preset>/
+#   make validate   validation cases against analytic and established results (Chung & Ooi impacts,
+#                   rolling, statics, energy error order, stability limit, Janssen, Beverloo, repose):
+#                   results/validate/table.md and figures
 #   make accuracy   the accuracy/cost sweep of data/accuracy.toml (use make -j2): results/accuracy/
 #                   table.md, pareto.png (pipeline/accuracy/README.md)
 #   make clean      remove build/ (results/ stays)
@@ -38,7 +41,8 @@ CG := $(BUILD)/analysis/cg
 NETWORK := $(BUILD)/analysis/network
 FRICTION := $(BUILD)/analysis/friction
 CHECK := $(BUILD)/tests/paper_targets/check_paper_targets
-PYTHON := /usr/bin/python3
+# any Python with h5py, numpy and matplotlib (Debian's python3-* by default): make PYTHON=...
+PYTHON ?= /usr/bin/python3
 REPORT_SCRIPTS := pipeline/report
 
 PRESET ?= default
@@ -67,7 +71,7 @@ DEBIAN_PACKAGES := g++ cmake make pkg-config git \
   python3-h5py python3-numpy python3-matplotlib
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: deps build test test-release test-sanitize test-pipeline bench bench-scaling bench-compare reproduce check fill pulloff \
+.PHONY: deps build test test-release test-sanitize test-pipeline bench bench-scaling bench-compare reproduce check fill pulloff validate \
   pulloff-slice spectrum cg network friction metrics figures report accuracy clean FORCE
 
 deps:
@@ -148,8 +152,8 @@ $(RESULTS)/fill/metrics.json: $(FILL_RUN) data/bed_metrics.toml $(BED_METRICS)
 $(RESULTS)/pulloff/run.h5: $(PULLOFF_SCENE) $(OVERLAY_FILES) $(FILL_RUN) $(DEM2D)
 	$(DEM2D) run $(PULLOFF_SCENE) $(OVERLAY) --initial $(FILL_RUN) --out $(@D) --threads $(THREADS)
 
-$(RESULTS)/pulloff/metrics.json: $(RESULTS)/pulloff/run.h5 data/study.toml $(PULLOFF_METRICS)
-	$(PULLOFF_METRICS) $< --out $@ --csv $(@D)/drag.csv
+$(RESULTS)/pulloff/metrics.json: $(RESULTS)/pulloff/run.h5 $(FILL_RUN) data/study.toml $(PULLOFF_METRICS)
+	$(PULLOFF_METRICS) $< --bed $(FILL_RUN) --out $@ --csv $(@D)/drag.csv
 
 # The slice starts from the bed of preset BED_FROM (default: the same preset):
 # `make pulloff-slice PRESET=paper BED_FROM=default` measures the paper's cost
@@ -231,6 +235,11 @@ $(ACCURACY)/table.md: $(ACCURACY_TARGETS) data/accuracy.toml data/paper_targets.
 	$(PYTHON) pipeline/accuracy/table.py data/accuracy.toml $(ACCURACY)
 
 accuracy: $(ACCURACY)/table.md
+
+# --- make validate: cases with analytic or established references ---------
+# (pipeline/validate/README.md): results/validate/table.md and figures; fails on any miss
+validate: build
+	$(PYTHON) pipeline/validate/validate.py $(DEM2D) results/validate --jobs $(JOBS)
 
 reproduce: $(RESULTS)/report.md
 	@echo "make reproduce: $(RESULTS) is up to date; the report is $(RESULTS)/report.md"

@@ -3,7 +3,7 @@
 inputs (pipeline/bench_compare/compare.py): the damping handed to LAMMPS and
 the dem2d scenes. Usage: test_bench_compare.py [DEM2D] (with dem2d, the
 settling scene is also validated by `dem2d check`)."""
-import math
+import json
 import subprocess
 import sys
 import tempfile
@@ -19,16 +19,24 @@ DEM2D = sys.argv.pop(1) if len(sys.argv) > 1 else None
 
 
 class LammpsDamping(unittest.TestCase):
-    def test_tsuji_prefactor_equals_the_linear_laws_two_nu(self):
-        for e in (0.5, 0.7, 0.9, 0.95):
-            log_e = math.log(e)
-            two_nu = -2 * log_e / math.sqrt(math.pi**2 + log_e**2)
-            self.assertAlmostEqual(compare.tsuji_alpha(compare.lammps_restitution(e)), two_nu, places=10)
+    def test_tsuji_prefactor_equals_the_given_two_nu(self):
+        for two_nu in (0.068, 0.2, 0.5):
+            self.assertAlmostEqual(compare.tsuji_alpha(compare.lammps_restitution(two_nu)), two_nu, places=10)
 
     def test_the_fit_alone_would_damp_a_fifth_less_at_e_0_9(self):
-        # why the restitution is translated: LAMMPS's fit at e = 0.9 is 0.053, the exact 2 nu is 0.067
+        # why the restitution is translated: LAMMPS's fit at e = 0.9 is 0.053; dem2d's
+        # 2 nu for e = 0.9 (non-attractive law, nu = 0.03427) is 0.0685
         self.assertAlmostEqual(compare.tsuji_alpha(0.9), 0.0529, places=3)
-        self.assertAlmostEqual(compare.lammps_restitution(0.9), 0.8756, places=4)
+        self.assertAlmostEqual(compare.lammps_restitution(2 * 0.0342652), 0.8726, places=3)
+
+    @unittest.skipIf(DEM2D is None, "no dem2d given")
+    def test_two_nu_comes_from_dem2d(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            path = Path(tmp) / "settle.toml"
+            path.write_text(compare.dem2d_scene(compare.read_toml(ROOT / "data" / "bench" / "compare.toml"), settle=True))
+            done = subprocess.run([DEM2D, "check", str(path), "--json"], capture_output=True, text=True)
+            self.assertEqual(done.returncode, 0, done.stderr)
+            self.assertAlmostEqual(json.loads(done.stdout)["normal_damping_ratio"]["grains"], 0.0342652, places=6)
 
 
 class Dem2dScenes(unittest.TestCase):

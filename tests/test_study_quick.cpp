@@ -104,6 +104,22 @@ TEST_F(QuickStudy, DragIsPositiveWhileBuriedAndVanishesOnceClear) {
   EXPECT_GT(p.height.back(), bed);
 }
 
+// The static load is the bed's at rest (the fill's last row); the pull-off's
+// first row already has the intruder moving: its dashpots add c V, so it is
+// a little larger, by about as much as a row's interval of the pull.
+TEST_F(QuickStudy, StaticLoadIsTheBedsAtRestNotThePullsFirstRow) {
+  const RunReader run(pull.run_file), bed(fill.run_file);
+  const analysis::Study study;
+  const double at_rest = analysis::static_load(bed, study);
+  const analysis::DragProfile p = analysis::read_drag_profile(run, study);
+  EXPECT_GT(at_rest, 0.0);  // the grains above press on it
+  EXPECT_GT(p.drag.front(), at_rest);
+  EXPECT_LT(p.drag.front(), 1.2 * at_rest);
+  const auto m = analysis::pulloff_metrics(run, p, study, &bed)["pulloff"];
+  EXPECT_EQ(m["drag_static_N_per_m"].get<double>(), at_rest);
+  EXPECT_TRUE(analysis::pulloff_metrics(run, p, study)["pulloff"]["drag_static_N_per_m"].is_null());
+}
+
 TEST_F(QuickStudy, ResumedPullOffEqualsUninterrupted) {
   const Scene s = scene("quick_pulloff.toml", fill.run_file);
   RunOptions opt{(dir / "pulloff_resumed").string()};

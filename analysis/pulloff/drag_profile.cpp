@@ -37,7 +37,18 @@ DragProfile read_drag_profile(const RunReader& run, const Study& study) {
   return p;
 }
 
-nlohmann::ordered_json pulloff_metrics(const RunReader& run, const DragProfile& p, const Study& study) {
+double static_load(const RunReader& bed, const Study& study) {
+  const h5::File& f = bed.file();
+  const std::size_t b = body_index(bed, study.intruder);
+  const std::size_t nb = h5::shape(f, "bodies/name")[0];
+  const auto force = h5::read<double>(f, "series/body_force_mean");  // [T, B, 2]
+  if (force.size() < nb * 2 || nb == 0)
+    throw std::runtime_error(bed.path() + ": the run has no time series to take the intruder's load at rest from");
+  return -force[force.size() - 2 * nb + 2 * b + 1];
+}
+
+nlohmann::ordered_json pulloff_metrics(const RunReader& run, const DragProfile& p, const Study& study,
+                                       const RunReader* bed) {
   const h5::File& f = run.file();
   const auto max_it = std::max_element(p.drag.begin(), p.drag.end());
   const auto k_max = static_cast<std::size_t>(max_it - p.drag.begin());
@@ -60,7 +71,9 @@ nlohmann::ordered_json pulloff_metrics(const RunReader& run, const DragProfile& 
             {"drag_max_N_per_m", *max_it},
             {"drag_max_N", *max_it * study.intruder_depth},
             {"height_at_drag_max_mm", 1e3 * p.height[k_max]},
-            {"drag_start_N_per_m", p.drag.front()},
+            {"drag_static_N_per_m", bed ? nlohmann::ordered_json(static_load(*bed, study)) : nullptr},
+            {"drag_static_from", bed ? bed->path() : ""},
+            {"drag_start_N_per_m", p.drag.front()},  // the first row: the intruder already moving
             {"drag_final_N_per_m", p.drag.back()},
             {"max_overlap_over_d", *std::max_element(overlap.begin(), overlap.end()) / d_mean},
             {"particles", run.particles()},

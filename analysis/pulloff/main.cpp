@@ -1,6 +1,6 @@
 // pulloff_metrics: the drag on the intruder along a pull-off run and the
 // run's summary (analysis/pulloff/drag_profile.hpp for the definitions).
-//   pulloff_metrics RUN.h5 --out METRICS.json [--csv DRAG.csv] [--study data/study.toml]
+//   pulloff_metrics RUN.h5 --out METRICS.json [--csv DRAG.csv] [--bed FILL_RUN.h5] [--study data/study.toml]
 // Exit codes: 0 done; 1 an output could not be written; 2 bad input.
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -16,10 +16,11 @@ constexpr int kExitFailed = 1, kExitBadInput = 2;
 
 int main(int argc, char** argv) {
   CLI::App app{"pulloff_metrics: drag force against intruder height, and the pull-off's summary"};
-  std::string run_path, out_path, csv_path, study_path = DEM2D_DATA_DIR "/study.toml";
+  std::string run_path, out_path, csv_path, bed_path, study_path = DEM2D_DATA_DIR "/study.toml";
   app.add_option("run", run_path, "Pull-off run file (HDF5) written by dem2d")->required();
   app.add_option("--out", out_path, "Metrics file to write (JSON)")->required();
   app.add_option("--csv", csv_path, "Also write the drag profile: time_s,height_mm,drag_N_per_m,drag_N");
+  app.add_option("--bed", bed_path, "The run the pull-off started from (the fill): the intruder's load at rest");
   app.add_option("--study", study_path, "The study's constants (TOML)")->capture_default_str();
   try {
     app.parse(argc, argv);
@@ -33,7 +34,12 @@ int main(int argc, char** argv) {
     const Study study = load_study(study_path);
     const dem2d::RunReader run(run_path);
     const DragProfile profile = read_drag_profile(run, study);
-    metrics = pulloff_metrics(run, profile, study);
+    if (bed_path.empty()) {
+      metrics = pulloff_metrics(run, profile, study);
+    } else {
+      const dem2d::RunReader bed(bed_path);
+      metrics = pulloff_metrics(run, profile, study, &bed);
+    }
     csv = drag_csv(profile, study);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "pulloff_metrics: %s\n", e.what());

@@ -14,8 +14,10 @@ comparison is of equal work. Exit status 1 if they do not agree.
 The contact laws are made identical where the codes allow:
 - normal: k_n delta - eta v_n with eta = 2 nu sqrt(m_eff k_n). LAMMPS's
   `damping tsuji` has this form with its own fit alpha(e) for 2 nu; the
-  restitution handed to LAMMPS is the e' with alpha(e') = 2 nu(e).
-  `limit_damping` keeps the normal force non-attractive, as in dem2d.
+  restitution handed to LAMMPS is the e' with alpha(e') = 2 nu, nu being
+  the damping ratio dem2d uses for the scene's e (`dem2d check --json`: the
+  non-attractive law's, contact/contact_law.hpp). `limit_damping` keeps the
+  normal force non-attractive, as in dem2d.
 - tangential: an incremental spring k_t with a Coulomb cap mu F_n, no
   tangential damping (LAMMPS `linear_history k_t 0 mu`).
 - disks of unit depth: mass rho pi r^2 (`set density/disc`), I = m r^2 / 2
@@ -49,17 +51,24 @@ def tsuji_alpha(e: float) -> float:
     return 1.2728 - 4.2783 * e + 11.087 * e**2 - 22.348 * e**3 + 27.467 * e**4 - 18.022 * e**5 + 4.8218 * e**6
 
 
-def lammps_restitution(e: float) -> float:
-    """The e' for which LAMMPS's tsuji alpha equals the linear law's exact 2 nu(e)."""
-    log_e = math.log(e)
-    two_nu = -2.0 * log_e / math.sqrt(math.pi**2 + log_e**2)
+def lammps_restitution(two_nu: float) -> float:
+    """The e' for which LAMMPS's tsuji alpha equals dem2d's damping prefactor 2 nu."""
     lo, hi = 0.0, 1.0  # alpha falls from 1.27 to 3e-4 over [0, 1]
     if not tsuji_alpha(hi) < two_nu < tsuji_alpha(lo):
-        fail(f"restitution {e}: no restitution for LAMMPS's tsuji damping gives 2 nu = {two_nu}")
+        fail(f"no restitution for LAMMPS's tsuji damping gives 2 nu = {two_nu}")
     for _ in range(60):
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if tsuji_alpha(mid) > two_nu else (lo, mid)
     return 0.5 * (lo + hi)
+
+
+def dem2d_damping_ratio(dem2d: str, scene: Path, initial: Path) -> float:
+    """The normal damping ratio dem2d uses for the scene's grains (`dem2d check --json`)."""
+    cmd = [dem2d, "check", str(scene), "--initial", str(initial), "--json"]
+    done = subprocess.run(cmd, capture_output=True, text=True)
+    if done.returncode != 0:
+        fail(f"{' '.join(cmd)} failed:\n{done.stderr}")
+    return float(json.loads(done.stdout)["normal_damping_ratio"]["grains"])
 
 
 def dem2d_scene(d: dict, settle: bool, steps: int = 0, dt: float = 0.0) -> str:
@@ -149,7 +158,7 @@ def final_state(run: Path) -> dict:
                 "pair_contacts": int(np.count_nonzero((j >= 0) & (overlap > 0)))}
 
 
-def lammps_inputs(d: dict, bed: dict, out: Path, steps: int) -> Path:
+def lammps_inputs(d: dict, bed: dict, out: Path, steps: int, two_nu: float) -> Path:
     """The LAMMPS data file and input script for the timed run; returns the script."""
     c, w = d["contact"], d["bed"]["cell_width"]
     n = len(bed["diameter"])
@@ -165,7 +174,7 @@ def lammps_inputs(d: dict, bed: dict, out: Path, steps: int) -> Path:
         vx, vy = bed["velocity"][i]
         lines.append(f"{i + 1} {vx!r} {vy!r} 0.0 0.0 0.0 {bed['omega'][i]!r}")
     write_atomic(out / "bed.data", "\n".join(lines) + "\n")
-    law = (f"hooke {c['kn']} {lammps_restitution(c['restitution']):.10f} "
+    law = (f"hooke {c['kn']} {lammps_restitution(two_nu):.10f} "
            f"tangential linear_history {c['kt']} 0.0 {c['friction']} damping tsuji limit_damping")
     script = f"""# Written by pipeline/bench_compare/compare.py from data/bench/compare.toml: edit that.
 units si
@@ -246,7 +255,8 @@ def main() -> None:
     bed = final_state(settled)
     timed_scene = out / "timed.toml"
     write_atomic(timed_scene, dem2d_scene(d, settle=False, steps=steps, dt=bed["dt"]))
-    script = lammps_inputs(d, bed, out, steps)
+    two_nu = 2.0 * dem2d_damping_ratio(dem2d, timed_scene, settled)
+    script = lammps_inputs(d, bed, out, steps, two_nu)
 
     rows = []
     for cores in d["timing"]["cores"]:
@@ -266,7 +276,7 @@ def main() -> None:
             agree &= r[f"{key}_rel_diff"] <= tol[name]
     one = {r["cores"]: r for r in rows}
     result = {"description": str(description), "particles": len(bed["diameter"]), "steps": steps,
-              "dt_s": bed["dt"], "lammps_restitution": lammps_restitution(d["contact"]["restitution"]),
+              "dt_s": bed["dt"], "lammps_restitution": lammps_restitution(two_nu),
               "rows": rows, "agree": agree}
     if 1 in one and 2 in one:
         result["dem2d_two_core_speedup"] = (one[1]["dem2d"]["ns_per_particle_step"] /

@@ -1,11 +1,12 @@
 // dem2d: the command line.
 //   dem2d run SCENE.toml --out DIR [--overlay FILE]... [--initial RUN.h5] [--threads N] [--fresh]
-//   dem2d check SCENE.toml [--overlay FILE]... [--initial RUN.h5]
+//   dem2d check SCENE.toml [--overlay FILE]... [--initial RUN.h5] [--json]
 //   dem2d bench [--scene FILE] [--steps N] [--threads 1,2]
 // Exit codes: 0 done, 1 run failed, 2 bad input, 3 interrupted (checkpoint written).
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <csignal>
 #include <cstdio>
 #include <exception>
@@ -26,20 +27,37 @@ extern "C" void on_signal(int sig) {
   std::signal(sig, SIG_DFL);  // a second signal stops at once
 }
 
-int cmd_check(const std::string& path, const dem2d::SceneSources& extra) {
+int cmd_check(const std::string& path, const dem2d::SceneSources& extra, bool json) {
   const dem2d::Scene s = dem2d::load_scene(path, extra);
+  const dem2d::StabilityLimit limit = s.stability_limit();
+  const bool damped = dem2d::has(s.effects, dem2d::effect::normal_damping);
+  const double nu_pp = damped ? dem2d::damping_ratio(s.particle_particle.restitution) : 0.0;
+  const double nu_pw = damped ? dem2d::damping_ratio(s.particle_wall.restitution) : 0.0;
+  const auto steps = static_cast<long long>(s.stop.duration / s.dt + 0.5);
+  if (json) {  // the same numbers for scripts (e.g. make bench-compare's LAMMPS input)
+    const nlohmann::json j = {{"scene", path},
+                              {"particles", s.particles.size()},
+                              {"bodies", s.bodies.size()},
+                              {"effects", dem2d::effect_names(s.effects)},
+                              {"dt_s", s.dt},
+                              {"critical_dt_s", s.critical_dt()},
+                              {"stable_dt_s", limit.dt},
+                              {"stable_dt_over_critical", limit.dt_over_critical},
+                              {"fastest_mode", limit.mode},
+                              {"steps", steps},
+                              {"normal_damping_ratio", {{"grains", nu_pp}, {"walls", nu_pw}}}};
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
   std::printf("%s: valid\n  particles %zu, bodies %zu\n  effects: %s\n", path.c_str(), s.particles.size(),
               s.bodies.size(), s.effects ? dem2d::effect_names(s.effects, ", ").c_str() : "none");
-  std::printf("  dt = %.6g s = dt_c/%.4g (dt_c = %.6g s), %lld steps for %.6g s\n", s.dt,
-              s.critical_dt() / s.dt, s.critical_dt(), static_cast<long long>(s.stop.duration / s.dt + 0.5),
-              s.stop.duration);
-  const dem2d::StabilityLimit limit = s.stability_limit();
+  std::printf("  dt = %.6g s = dt_c/%.4g (dt_c = %.6g s), %lld steps for %.6g s\n", s.dt, s.critical_dt() / s.dt,
+              s.critical_dt(), steps, s.stop.duration);
   std::printf("  stability limit dt_s = %.6g s = %.4g dt_c (fastest mode: %s); dt = %.3g dt_s\n", limit.dt,
               limit.dt_over_critical, limit.mode.c_str(), s.dt / limit.dt);
-  if (dem2d::has(s.effects, dem2d::effect::normal_damping))
-    std::printf("  normal damping ratio nu = %.6g for e = %.6g (grains), %.6g for e = %.6g (walls)\n",
-                dem2d::damping_ratio(s.particle_particle.restitution), s.particle_particle.restitution,
-                dem2d::damping_ratio(s.particle_wall.restitution), s.particle_wall.restitution);
+  if (damped)
+    std::printf("  normal damping ratio nu = %.6g for e = %.6g (grains), %.6g for e = %.6g (walls)\n", nu_pp,
+                s.particle_particle.restitution, nu_pw, s.particle_wall.restitution);
   return 0;
 }
 
@@ -91,6 +109,8 @@ int main(int argc, char** argv) {
 
   auto* check = app.add_subcommand("check", "Validate a scene file and print its summary");
   scene_options(check);
+  bool check_json = false;
+  check->add_flag("--json", check_json, "Print the summary as JSON (stdout)");
 
   dem2d::BenchOptions bench_opt;
   auto* bench = app.add_subcommand("bench", "ns per particle-step on a settled bed, per effect set and thread count");
@@ -110,7 +130,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     if (*run) return cmd_run(scene_path, extra, run_opt, threads);
-    if (*check) return cmd_check(scene_path, extra);
+    if (*check) return cmd_check(scene_path, extra, check_json);
     if (*bench) return dem2d::run_bench(bench_opt);
   } catch (const dem2d::SceneError& e) {
     std::fprintf(stderr, "dem2d: %s\n", e.what());
