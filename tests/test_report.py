@@ -58,5 +58,20 @@ class FillIn(unittest.TestCase):
                 self.assertIn(number, allowed, entry["metric"])
 
 
+class Misses(unittest.TestCase):
+    def test_a_miss_without_an_entry_says_plainly_that_no_reason_is_known(self):
+        lines = report.deviations("quick", [{"name": "x", "metric": "cg.no_such_metric", "ours": 1.0}], METRICS)
+        line = next(x for x in lines if "cg.no_such_metric" in x)
+        self.assertIn(report.NO_REASON, line)
+        self.assertNotIn("not analysed yet", line)
+
+    def test_every_target_has_a_reason_should_it_miss(self):
+        with open(ROOT / "data" / "paper_targets.toml", "rb") as f:
+            targets = {t["metric"] for t in tomllib.load(f)["target"]}
+        with open(ROOT / "pipeline" / "report" / "deviations.toml", "rb") as f:
+            reasons = {m["metric"] for m in tomllib.load(f)["miss"]}
+        self.assertLessEqual(reasons, targets)  # no reason for a metric that is not a target
+
+
 if __name__ == "__main__":
     unittest.main()
