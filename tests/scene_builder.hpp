@@ -79,6 +79,28 @@ inline Scene boxed_bed(EffectSet effects, int n, double width, double kn = 1.92e
   return s;
 }
 
+// A hexagonal crystal of nx x ny disks (odd rows one shorter) at pitch p
+// (p < d: compressed) in a closed box whose walls' faces touch the outer
+// grains: diameters uniform in [d_lo, d_hi], velocity components uniform in
+// [-v, v] (m/s), drawn from `seed`. Walls 2 mm thick; the domain 1 cm larger.
+inline void crystal_in_box(Scene& s, int nx, int ny, double p, double d_lo, double d_hi, double v,
+                           std::uint64_t seed = 3) {
+  const double row = p * std::sqrt(3.0) / 2.0;
+  std::mt19937_64 rng(seed);
+  auto uniform = [&rng](double a, double b) { return a + (b - a) * static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+  for (int r = 0; r < ny; ++r)
+    for (int c = 0; c < nx - (r % 2); ++c) {
+      const double d = uniform(d_lo, d_hi), vx = uniform(-v, v), vy = uniform(-v, v);
+      add_disk(s, (0.5 + c + 0.5 * (r % 2)) * p, 0.5 * p + r * row, d, vx, vy);
+    }
+  const double width = nx * p, height = p + (ny - 1) * row;
+  add_wall(s, "floor", -1e-3, -1e-3, width + 1e-3, -1e-3);
+  add_wall(s, "lid", -1e-3, height + 1e-3, width + 1e-3, height + 1e-3);
+  add_wall(s, "left", -1e-3, -1e-3, -1e-3, height + 1e-3);
+  add_wall(s, "right", width + 1e-3, -1e-3, width + 1e-3, height + 1e-3);
+  s.domain = {-0.01, -0.01, width + 0.01, height + 0.01};
+}
+
 // Advances until `seconds` of simulated time have passed.
 inline void run_for(System& sys, double seconds) {
   sys.advance(std::llround(seconds / sys.dt));

@@ -20,20 +20,7 @@ namespace {
 // largest instantaneous deviation, bounded separately.
 TEST(Energy, UndampedFrictionlessDensePackingConserves) {
   Scene s = glass_scene(effect::walls);
-  const double p = 2.985e-3, row = p * std::sqrt(3.0) / 2.0;  // lattice pitch < d: compressed
-  const int nx = 30, ny = 20;
-  std::mt19937_64 rng(3);
-  auto uniform = [&rng](double a, double b) { return a + (b - a) * static_cast<double>(rng() >> 11) * 0x1.0p-53; };
-  for (int r = 0; r < ny; ++r)
-    for (int c = 0; c < nx - (r % 2); ++c)
-      add_disk(s, (0.5 + c + 0.5 * (r % 2)) * p, 0.5 * p + r * row, uniform(2.995e-3, 3.005e-3),
-               uniform(-0.05, 0.05), uniform(-0.05, 0.05));
-  const double width = nx * p, height = p + (ny - 1) * row;
-  add_wall(s, "floor", -1e-3, -1e-3, width + 1e-3, -1e-3);
-  add_wall(s, "lid", -1e-3, height + 1e-3, width + 1e-3, height + 1e-3);
-  add_wall(s, "left", -1e-3, -1e-3, -1e-3, height + 1e-3);
-  add_wall(s, "right", width + 1e-3, -1e-3, width + 1e-3, height + 1e-3);
-  s.domain = {-0.01, -0.01, width + 0.01, height + 0.01};
+  crystal_in_box(s, 30, 20, 2.985e-3, 2.995e-3, 3.005e-3, 0.05);  // lattice pitch < d: compressed
   set_dt_fraction(s, 20.0);
   System sys(s);
   ASSERT_GT(contact_count(sys), 2 * s.particles.size());  // dense: > 2 contacts per grain

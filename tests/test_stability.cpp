@@ -75,16 +75,7 @@ const Scene& settled_crystal() {
   static const Scene settled = [] {
     Scene s = glass_scene(effect::normal_damping | effect::walls);
     s.particle_particle.restitution = s.particle_wall.restitution = 0.5;
-    const double p = 0.999 * kD, row = p * std::sqrt(3.0) / 2.0;
-    const int nx = 24, ny = 20;
-    for (int r = 0; r < ny; ++r)
-      for (int c = 0; c < nx - (r % 2); ++c) add_disk(s, (0.5 + c + 0.5 * (r % 2)) * p, 0.5 * p + r * row, kD);
-    const double width = nx * p, height = p + (ny - 1) * row, t = 2e-3;
-    add_wall(s, "floor", -t, -0.5 * t, width + t, -0.5 * t, t);
-    add_wall(s, "lid", -t, height + 0.5 * t, width + t, height + 0.5 * t, t);
-    add_wall(s, "left", -0.5 * t, -t, -0.5 * t, height + t, t);
-    add_wall(s, "right", width + 0.5 * t, -t, width + 0.5 * t, height + t, t);
-    s.domain = {-0.01, -0.01, width + 0.01, height + 0.01};
+    crystal_in_box(s, 24, 20, 0.999 * kD, kD, kD, 0.0);
     set_dt_fraction(s, 20.0);
     System sys(s);
     run_for(sys, 0.3);

@@ -49,7 +49,8 @@ def elastic_gas(ctx) -> list:
     law = {"kn": KN}
     errors = {}
     closure = 0.0
-    for divisor in (20, 40, 80):
+    divisors = (20, 40, 80, 160)
+    for divisor in divisors:
         scene = crystal("elastic_gas", law, {}, 0.02, spacing=0.9975, seed_speed=0.05)
         scene["time"]["dt_over_critical"] = 1.0 / divisor
         scene["output"]["energy_balance"] = True
@@ -60,11 +61,12 @@ def elastic_gas(ctx) -> list:
         closure = max(closure, float(np.max(np.abs(total - total[0])) / scale))
         errors[divisor] = float(np.max(np.abs(e["integration_error"])) / e["kinetic"][0])
     ctx.figures["elastic_gas"] = errors
+    # the largest error over a run picks an oscillation's phase, so one ratio
+    # of two dt scatters: the slope over four dt
+    order = float(np.polyfit(np.log([1.0 / k for k in divisors]), np.log([errors[k] for k in divisors]), 1)[0])
     case = "elastic gas (a vibrating crystal, undamped, frictionless)"
-    return [Check(case, "order of the energy error (dt_c/20 -> /40)", 2.0, math.log2(errors[20] / errors[40]), 0.2,
-                  kind="abs", reference="velocity Verlet: O(dt^2)"),
-            Check(case, "order of the energy error (dt_c/40 -> /80)", 2.0, math.log2(errors[40] / errors[80]), 0.2,
-                  kind="abs", reference="velocity Verlet: O(dt^2)"),
+    return [Check(case, "order of the energy error (slope over dt_c/20 ... /160)", 2.0, order, 0.15, kind="abs",
+                  reference="velocity Verlet: O(dt^2)"),
             Check(case, "energy error at dt_c/20 / kinetic energy", 1e-3, errors[20], 0.0, kind="below",
                   reference="small at the presets' dt"),
             Check(case, "energy ledger: the sum of its terms moves by (/ largest term)", 1e-10, closure, 0.0, kind="below",

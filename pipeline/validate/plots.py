@@ -12,6 +12,12 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 
+def save(fig, path: Path) -> None:
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def figure_data(results: dict) -> dict:
     out = {}
     for r in results.values():
@@ -56,9 +62,7 @@ def impacts(f: dict, path: Path) -> None:
             ax.plot([r["w0"] for r in sel], [r["ref_vy1"] for r in sel], "-", lw=0.8)
     ax.set(xlabel="spin before impact (rad/s)", ylabel="tangential velocity after (m/s)", title="C&O 6-8: spin")
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save(fig, path)
 
 
 def numerics(f: dict, path: Path) -> None:
@@ -67,8 +71,7 @@ def numerics(f: dict, path: Path) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     if "elastic_gas" in f:
         div = np.array(sorted(float(k) for k in f["elastic_gas"]))
-        err = np.array([f["elastic_gas"][str(int(k))] if str(int(k)) in f["elastic_gas"] else f["elastic_gas"][int(k)]
-                        for k in div])
+        err = np.array([f["elastic_gas"].get(int(k), f["elastic_gas"].get(str(int(k)))) for k in div])
         ax = axes[0]
         ax.loglog(1 / div, err, "o-", label="dem2d")
         ax.loglog(1 / div, err[0] * (div[0] / div) ** 2, "k--", lw=0.8, label="slope 2")
@@ -82,9 +85,7 @@ def numerics(f: dict, path: Path) -> None:
         ax.set(xlabel="dt / stability limit", ylabel="kinetic energy growth over 4000 steps",
                title="dense packing: stability limit")
         ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save(fig, path)
 
 
 def bulk(f: dict, path: Path) -> None:
@@ -118,9 +119,7 @@ def bulk(f: dict, path: Path) -> None:
         ax.plot([r for r, a in rr_sweep], [a for r, a in rr_sweep], "s-", label="against mu_r/r (mu = 0.5)")
         ax.set(xlabel="mu, or mu_r/r", ylabel="angle of repose (deg)", title="heap on a fixed base")
         ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save(fig, path)
 
 
 def draw(results: dict, out: Path) -> None:
