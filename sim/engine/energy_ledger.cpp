@@ -1,7 +1,7 @@
 #include "engine/energy_ledger.hpp"
 
-#include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "engine/diagnostics.hpp"
 #include "engine/kernels.hpp"
@@ -10,15 +10,17 @@ namespace dem2d::energy {
 
 namespace {
 
-// A contact's work on its grains over half a step: 1/2 F . (dt v_rel) with the
-// force on i, the torques on its grains and their half-step velocities.
-struct HalfStep {
-  double dt, half;
-  const Particles& p;
-  double displacement_work(std::size_t i, double fx, double fy, double ti) const {  // 1/2 F.dx_i + 1/2 T dtheta_i
-    return half * dt * (fx * p.vx[i] + fy * p.vy[i] + ti * p.omega[i]);
-  }
-};
+// Half the work of a force (fx, fy) and torque t on grain i over this step:
+// 1/2 (F.dx + t dtheta), the displacements being dt times the half-step
+// velocities.
+double half_work(const System& s, std::size_t i, double fx, double fy, double t) {
+  return 0.5 * s.dt * (fx * s.p.vx[i] + fy * s.p.vy[i] + t * s.p.omega[i]);
+}
+
+// The gravity vector the grains feel (m/s^2): zero without the effect.
+std::pair<double, double> gravity_of(const System& s) {
+  return has(s.effects, effect::gravity) ? std::pair{s.gx, s.gy} : std::pair{0.0, 0.0};
+}
 
 // Kinematics of a touching contact at the step's end, as the kernel sees it
 // (engine/kernels.hpp): normal velocity, tangential velocity of the contact
@@ -140,19 +142,16 @@ struct Work {
 
 Work pair_work(const System& s, std::size_t sl, std::size_t i) {
   const PairList& L = s.lists.pairs;
-  const HalfStep h{s.dt, 0.5, s.p};
   const auto j = static_cast<std::size_t>(L.partner[sl]);
-  return {h.displacement_work(i, L.fx[sl], L.fy[sl], L.ti[sl]) + h.displacement_work(j, -L.fx[sl], -L.fy[sl], L.tj[sl]),
-          0.0};
+  return {half_work(s, i, L.fx[sl], L.fy[sl], L.ti[sl]) + half_work(s, j, -L.fx[sl], -L.fy[sl], L.tj[sl]), 0.0};
 }
 
 Work wall_work(const System& s, std::size_t sl, std::size_t i) {
   const WallList& W = s.lists.walls;
-  const HalfStep h{s.dt, 0.5, s.p};
   const auto b = static_cast<std::size_t>(W.body[sl]);
   double body = 0.0;
   if (has(s.effects, effect::moving_bodies)) body = 0.5 * s.dt * (W.fx[sl] * s.bodies.vx[b] + W.fy[sl] * s.bodies.vy[b]);
-  return {h.displacement_work(i, W.fx[sl], W.fy[sl], W.tq[sl]) - body, body};
+  return {half_work(s, i, W.fx[sl], W.fy[sl], W.tq[sl]) - body, body};
 }
 
 }  // namespace
@@ -225,15 +224,14 @@ void remove_grain(System& s, std::size_t i) {
   // (its contacts' first halves went into the ledger already; their second
   // halves never come). Velocities are the half-step ones, forces the start's.
   const Particles& p = s.p;
-  const double gx = has(s.effects, effect::gravity) ? s.gx : 0.0, gy = has(s.effects, effect::gravity) ? s.gy : 0.0;
+  const auto [gx, gy] = gravity_of(s);
   const double ax = p.fx[i] * p.inv_mass[i] + gx, ay = p.fy[i] * p.inv_mass[i] + gy, aw = p.torque[i] * p.inv_inertia[i];
   const double m = p.mass[i], inertia = 1.0 / p.inv_inertia[i];
   const double ux = p.vx[i] - s.dt * ax, uy = p.vy[i] - s.dt * ay, uw = p.omega[i] - s.dt * aw;  // v^(n-1/2)
   const double shadow = 0.5 * m * (ux * p.vx[i] + uy * p.vy[i]) + 0.5 * inertia * uw * p.omega[i];
   const double x0 = p.x[i] - s.dt * p.vx[i], y0 = p.y[i] - s.dt * p.vy[i];
   const double potential = -m * (gx * x0 + gy * y0);
-  const double work = 0.5 * s.dt * (p.fx[i] * p.vx[i] + p.fy[i] * p.vy[i] + p.torque[i] * p.omega[i]);
-  s.energy.removed += shadow + potential + work;
+  s.energy.removed += shadow + potential + half_work(s, i, p.fx[i], p.fy[i], p.torque[i]);
 }
 
 EnergyBalance balance(const System& s) {
@@ -247,8 +245,8 @@ EnergyBalance balance(const System& s) {
   out.kinetic = kinetic_energy(s);
   out.gravity = has(s.effects, effect::gravity) ? gravity_energy(s) : 0.0;
   // physical minus shadow kinetic energy: sum 1/2 (dt/2)^2 (m a^2 + I alpha^2)
-  const double h = 0.5 * s.dt, gx = has(s.effects, effect::gravity) ? s.gx : 0.0,
-               gy = has(s.effects, effect::gravity) ? s.gy : 0.0;
+  const double h = 0.5 * s.dt;
+  const auto [gx, gy] = gravity_of(s);
   double shadow_gap = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (!p.active[i]) continue;
