@@ -20,17 +20,24 @@ using Clock = std::chrono::steady_clock;
 // do nothing (mu_r = k_r = 0, mu = k_t = 0, e = 1); the case after it has the
 // effect compiled out. The two follow the same trajectory, so their difference
 // is what the kernel selection saves.
+// The first two cases measure the opt-in extras against the scene: the
+// tangential and rolling dashpots compiled in with nu = 0 (the same
+// trajectory), and the energy ledger.
 struct Case {
   const char* name;
   EffectSet removed;   // effects taken out of the scene's set
   EffectSet zeroed;    // effects kept, with zero coefficients
+  EffectSet added = 0; // effects added with zero coefficients (dashpots with nu = 0)
+  bool ledger = false; // the energy ledger on (output.energy_balance)
 };
 
 constexpr EffectSet kRolling = effect::rolling_resistance, kFriction = effect::friction,
-                    kDamping = effect::normal_damping;
+                    kDamping = effect::normal_damping, kDashpots = effect::tangential_damping | effect::rolling_damping;
 
 constexpr Case kCases[] = {
     {"full contact law (scene)", 0, 0},
+    {"+ tangential, rolling dashpots, nu = 0", 0, 0, kDashpots},
+    {"+ energy ledger", 0, 0, 0, true},
     {"rolling compiled in, mu_r = k_r = 0", 0, kRolling},
     {"rolling compiled out", kRolling, 0},
     {"friction+rolling compiled in, all zero", 0, kRolling | kFriction},
@@ -175,7 +182,8 @@ int run_bench(const BenchOptions& opt) {
   for (const Case& c : kCases) {
     for (const int threads : opt.threads) {
       Scene s = settled;
-      s.effects &= ~c.removed;
+      s.effects = (s.effects & ~c.removed) | c.added;
+      s.output.energy_balance = c.ledger;
       s.threads = threads;
       zero(s.particle_particle, c.zeroed);
       zero(s.particle_wall, c.zeroed);
