@@ -93,6 +93,7 @@ const std::vector<Key>& keys() {
       num("output", "tip_window_height_mm", &CgConfig::tip_window_height_mm),
       list("sensitivity", "levels", &CgConfig::levels),
       list("sensitivity", "fit_starts_w", &CgConfig::fit_starts_w),
+      list("sensitivity", "max_edge_angles_deg", &CgConfig::max_edge_angles_deg),
       list("sensitivity", "wall_bands_d", &CgConfig::wall_bands_d),
       list("sensitivity", "after_travels_d", &CgConfig::after_travels_d),
       list("sensitivity", "region_heights_d", &CgConfig::region_heights_d),
@@ -145,6 +146,9 @@ void check_ranges(const CgConfig& c, const std::function<std::string(const std::
   check(c.bands_mm.size() >= 2, "output.bands_mm", static_cast<double>(c.bands_mm.size()), "needs >= 2 edges");
   for (double v : c.levels) check(v > 0.0, "sensitivity.levels", v, "must be > 0 (v*)");
   for (double v : c.fit_starts_w) check(v >= 0.0, "sensitivity.fit_starts_w", v, "must be >= 0");
+  for (double v : c.max_edge_angles_deg)
+    check(v > 0.0 && v <= 180.0, "sensitivity.max_edge_angles_deg", v,
+          "must be in (0, 180] (degrees from the horizontal; 180: every edge)");
   for (double v : c.wall_bands_d) check(v > 0.0, "sensitivity.wall_bands_d", v, "must be > 0");
   for (double v : c.after_travels_d) check(v > 0.0, "sensitivity.after_travels_d", v, "must be > 0");
   for (double v : c.region_heights_d) check(v > 0.0, "sensitivity.region_heights_d", v, "must be > 0");

@@ -52,6 +52,7 @@ struct CgConfig {
   // [sensitivity]: each list is varied one at a time around the values above
   std::vector<double> levels = {0.2, 0.25, 0.3};
   std::vector<double> fit_starts_w = {0.0, 1.0};
+  std::vector<double> max_edge_angles_deg = {180.0, 90.0, 85.0, 80.0};  // beta cut-off for the cone's edges (180: all)
   std::vector<double> wall_bands_d = {1.0, 2.0};
   std::vector<double> after_travels_d = {0.5, 1.0, 2.0};
   std::vector<double> region_heights_d = {5.0, 10.0, 20.0};

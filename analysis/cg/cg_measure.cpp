@@ -90,19 +90,25 @@ void fit_line(const std::vector<double>& ys, const std::vector<double>& xs, doub
   e.slope = b * outward;
   e.x_at_y0 = a + b * y0;
   e.rms = std::sqrt(ss / n);
-  e.beta_deg = std::atan2(1.0, e.slope) * 180.0 / std::numbers::pi;
+  // = atan2(1, slope) in degrees, but exactly 90 for a vertical edge (slope 0 or -0)
+  e.beta_deg = kVerticalEdgeDeg - std::atan(e.slope) * 180.0 / std::numbers::pi;
+}
+
+// Mean of the values a and b that are used (NaN if neither).
+double mean_of_used(double a, bool use_a, double b, bool use_b) {
+  return use_a && use_b ? 0.5 * (a + b) : use_a ? a : use_b ? b : kNaN;
 }
 
 }  // namespace
 
-double ConeFit::beta_deg() const {
-  const bool l = !std::isnan(left.beta_deg), r = !std::isnan(right.beta_deg);
-  return l && r ? 0.5 * (left.beta_deg + right.beta_deg) : l ? left.beta_deg : r ? right.beta_deg : kNaN;
+double ConeFit::beta_deg(double max_deg) const {
+  return mean_of_used(left.beta_deg, !std::isnan(left.beta_deg) && !left.excluded(max_deg), right.beta_deg,
+                      !std::isnan(right.beta_deg) && !right.excluded(max_deg));
 }
 
-double ConeFit::wall_y() const {
-  const bool l = left.meets_wall, r = right.meets_wall;
-  return l && r ? 0.5 * (left.wall_y + right.wall_y) : l ? left.wall_y : r ? right.wall_y : kNaN;
+double ConeFit::wall_y(double max_deg) const {
+  return mean_of_used(left.wall_y, left.meets_wall && !left.excluded(max_deg), right.wall_y,
+                      right.meets_wall && !right.excluded(max_deg));
 }
 
 ConeFit fit_cone(const Grid& g, const std::vector<std::uint8_t>& zone, const Intruder& in, double y_start,

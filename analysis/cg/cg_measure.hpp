@@ -45,12 +45,19 @@ struct ZoneExtent {
 };
 ZoneExtent zone_extent(const Grid& g, const std::vector<std::uint8_t>& zone, const Intruder& in);
 
+// beta of a vertical edge. An edge with beta above it leans inwards: the zone
+// narrows upwards, which is not the paper's cone, so the cone's statistics
+// leave such edges out. A definition (90 degrees = vertical), not a setting;
+// the sensitivity to other cut-offs is sensitivity.max_edge_angles_deg.
+inline constexpr double kVerticalEdgeDeg = 90.0;
+
 // One edge of the mobilised zone, row by row from y_start upwards: the zone's
 // outermost node on that side of the intruder's centre, until the zone leaves
 // the row, reaches the grid's column next to the wall (meets_wall, at wall_y)
 // or crosses the centre. A least-squares line x = a + b y through these points
-// gives beta = atan2(1, b * outward) (degrees from the horizontal; 90 = vertical
-// edge; below 90 the zone widens upwards). NaN if the points span less than min_span.
+// gives beta = 90 - atan(b * outward) (degrees from the horizontal; exactly 90
+// for a vertical edge; below 90 the zone widens upwards, above it narrows).
+// NaN if the points span less than min_span.
 struct EdgeFit {
   double beta_deg = kNaN;
   double slope = kNaN;   // dx/dy, outward positive
@@ -59,11 +66,15 @@ struct EdgeFit {
   int points = 0;
   bool meets_wall = false;
   double wall_y = kNaN;  // y of the first row where the zone reaches the wall column (m)
+  // Left out by the cut-off max_deg: the edge has an angle and it is above max_deg.
+  bool excluded(double max_deg) const { return beta_deg > max_deg; }
 };
+// The two edges. Both means are over the sides not excluded by max_deg (an
+// edge without an angle is not excluded: its wall meeting still counts).
 struct ConeFit {
   EdgeFit left, right;
-  double beta_deg() const;    // mean of the sides that have one (NaN if none)
-  double wall_y() const;      // mean of the sides' wall_y that meet the wall (NaN if none)
+  double beta_deg(double max_deg) const;  // mean beta of those sides (NaN if none has one)
+  double wall_y(double max_deg) const;    // mean wall_y of those that meet the wall (NaN if none)
 };
 ConeFit fit_cone(const Grid& g, const std::vector<std::uint8_t>& zone, const Intruder& in, double y_start,
                  double min_span);

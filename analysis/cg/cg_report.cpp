@@ -31,33 +31,60 @@ double std_of(const std::vector<double>& v) {
   return std::sqrt(s / static_cast<double>(n - 1));
 }
 
-// The cone over a selection of snapshots: the fitted angle; where the edges
-// meet the walls (above the intruder's centre) and the angle of the chord from
-// the tip to that point, atan(meet / half_gap); how far outside the tips the
-// fitted lines pass at the intruder's top face.
+// A cut-off that keeps every edge: any fitted edge has beta < 180 degrees.
+constexpr double kEveryEdgeDeg = 180.0;
+
+double fraction(std::size_t part, std::size_t whole) {
+  return whole ? static_cast<double>(part) / static_cast<double>(whole) : kNaN;
+}
+
+// The cone over a selection of snapshots, from the edges that the cut-off
+// max_deg keeps (EdgeFit::excluded; kVerticalEdgeDeg leaves out the edges that
+// narrow upwards, kEveryEdgeDeg none): a snapshot's angle is the mean of its
+// kept edges, and mean, sd and count are over the snapshots that have one;
+// left and right over each side's kept edges; where the kept edges meet the
+// walls (above the intruder's centre) and the angle of the chord from the tip
+// to that point, atan(meet / half_gap); how far outside the tips the kept
+// fitted lines pass at the intruder's top face. Then the excluded edges: their
+// number and angles, and the snapshots that have one.
 struct BetaStats {
   double mean = kNaN, sd = kNaN, left = kNaN, right = kNaN;
   std::size_t count = 0;
   double meet = kNaN, chord = kNaN, offset = kNaN;
   std::size_t meet_count = 0;
+  std::size_t edges = 0, excluded = 0;              // edges with an angle; of them excluded
+  double excluded_mean = kNaN, excluded_sd = kNaN;  // the excluded edges' angles
+  std::size_t fitted_snapshots = 0;                 // snapshots with an edge angle; of them those with
+  std::size_t with_excluded = 0, all_excluded = 0;  // one excluded edge or more, and with every edge excluded
 };
 
 BetaStats beta_stats(const std::vector<SnapshotMeasure>& ms, const std::vector<std::size_t>& sel, std::size_t src,
-                     std::size_t cone, double half_gap) {
-  std::vector<double> b, l, r, meet, chord, offset;
+                     std::size_t cone, double half_gap, double max_deg) {
+  std::vector<double> b, l, r, meet, chord, offset, out;
+  BetaStats st;
   for (const std::size_t k : sel) {
     const SourceMeasure& s = ms[k].src[src];
     if (!s.valid) continue;
     const ConeFit& c = s.cone[cone];
     const Intruder& in = ms[k].intruder;
-    b.push_back(c.beta_deg());
-    l.push_back(c.left.beta_deg);
-    r.push_back(c.right.beta_deg);
-    meet.push_back(c.wall_y() - in.yc);
+    const auto kept = [&](const EdgeFit& e, double v) { return e.excluded(max_deg) ? kNaN : v; };
+    b.push_back(c.beta_deg(max_deg));
+    l.push_back(kept(c.left, c.left.beta_deg));
+    r.push_back(kept(c.right, c.right.beta_deg));
+    meet.push_back(c.wall_y(max_deg) - in.yc);
     chord.push_back(std::atan2(meet.back(), half_gap) * kDeg);
-    offset.push_back(mean_of({in.left - c.left.x_at_y0, c.right.x_at_y0 - in.right}));
+    offset.push_back(mean_of({kept(c.left, in.left - c.left.x_at_y0), kept(c.right, c.right.x_at_y0 - in.right)}));
+    std::size_t fitted = 0, excluded = 0;
+    for (const EdgeFit* e : {&c.left, &c.right}) {
+      if (std::isnan(e->beta_deg)) continue;
+      ++fitted;
+      if (e->excluded(max_deg)) ++excluded, out.push_back(e->beta_deg);
+    }
+    st.edges += fitted, st.excluded += excluded;
+    st.fitted_snapshots += fitted > 0;
+    st.with_excluded += excluded > 0;
+    st.all_excluded += excluded > 0 && excluded == fitted;
   }
-  BetaStats st;
   st.mean = mean_of(b, &st.count);
   st.sd = std_of(b);
   st.left = mean_of(l);
@@ -65,6 +92,8 @@ BetaStats beta_stats(const std::vector<SnapshotMeasure>& ms, const std::vector<s
   st.meet = mean_of(meet, &st.meet_count);
   st.chord = mean_of(chord);
   st.offset = mean_of(offset);
+  st.excluded_mean = mean_of(out);
+  st.excluded_sd = std_of(out);
   return st;
 }
 
@@ -139,7 +168,8 @@ json cg_metrics(const StageRecord& r) {
   const std::size_t nstart = su.starts.size(), nband = su.bands.size();
   const std::size_t cone0 = su.cone0(), wall0 = su.wall0();
   const double gap = half_gap(su), dx = su.grid.dx;
-  const BetaStats beta = beta_stats(ms, sel, primary, cone0, gap);
+  const BetaStats beta = beta_stats(ms, sel, primary, cone0, gap, kVerticalEdgeDeg);
+  const BetaStats every_edge = beta_stats(ms, sel, primary, cone0, gap, kEveryEdgeDeg);
   const double hc_beta = gap * std::tan(beta.mean / kDeg);
   const WallLoss wall = wall_loss(ms, sel, primary, wall0, c.wall_min_mobile_d * su.d);
 
@@ -174,7 +204,22 @@ json cg_metrics(const StageRecord& r) {
   m["cone_angle_left_deg"] = nullable(beta.left);
   m["cone_angle_right_deg"] = nullable(beta.right);
   m["cone_opening_angle_deg"] = nullable(180.0 - 2.0 * beta.mean);
-  m["cone_angle_all_snapshots_deg"] = nullable(beta_stats(ms, all, primary, cone0, gap).mean);
+  m["cone_angle_all_snapshots_deg"] = nullable(beta_stats(ms, all, primary, cone0, gap, kVerticalEdgeDeg).mean);
+  m["cone_edge_note"] = "every cone number (angle, sides, bands, wall meeting, chord, offset, H_c from beta) uses "
+                        "the fitted edges that do not narrow upwards (beta <= 90 deg; vertical kept); the narrowing "
+                        "ones (beta > 90) are left out, counted and described by the metrics named *narrowing*";
+  m["cone_fitted_edges"] = beta.edges;
+  m["cone_narrowing_edges"] = beta.excluded;
+  m["cone_narrowing_edge_fraction"] = nullable(fraction(beta.excluded, beta.edges));
+  m["cone_angle_narrowing_mean_deg"] = nullable(beta.excluded_mean);
+  m["cone_angle_narrowing_sd_deg"] = nullable(beta.excluded_sd);
+  m["cone_fitted_snapshots"] = beta.fitted_snapshots;
+  m["cone_snapshots_with_narrowing_edge"] = beta.with_excluded;
+  m["cone_narrowing_snapshot_fraction"] = nullable(fraction(beta.with_excluded, beta.fitted_snapshots));
+  m["cone_snapshots_only_narrowing"] = beta.all_excluded;
+  m["cone_excluded_snapshot_fraction"] = nullable(fraction(beta.all_excluded, beta.fitted_snapshots));
+  m["cone_angle_including_narrowing_deg"] = nullable(every_edge.mean);
+  m["cone_angle_including_narrowing_sd_deg"] = nullable(every_edge.sd);
   m["cone_wall_meet_above_intruder_mm"] = nullable(beta.meet * kMm);
   m["cone_wall_meet_snapshots"] = beta.meet_count;
   m["cone_angle_from_wall_meet_deg"] = nullable(beta.chord);
@@ -233,12 +278,13 @@ json cg_metrics(const StageRecord& r) {
           if (ms[k].src[primary].valid)
             red.push_back(ms[k].src[primary].red.height), cone_area.push_back(ms[k].src[primary].zones.cone);
         }
-      const BetaStats bs = beta_stats(ms, in_band, primary, cone0, gap);
+      const BetaStats bs = beta_stats(ms, in_band, primary, cone0, gap, kVerticalEdgeDeg);
       bands.push_back({{"height_mm", {c.bands_mm[b], c.bands_mm[b + 1]}},
                        {"snapshots", in_band.size()},
                        {"cone_angle_deg", nullable(bs.mean)},
                        {"cone_angle_sd_deg", nullable(bs.sd)},
                        {"cone_angle_snapshots", bs.count},
+                       {"narrowing_edge_fraction", nullable(fraction(bs.excluded, bs.edges))},
                        {"red_zone_extent_mm", nullable(mean_of(red) * kMm)},
                        {"zone_area_cone_mm2", nullable(mean_of(cone_area) * kMm * kMm)}});
     }
@@ -253,20 +299,32 @@ json cg_metrics(const StageRecord& r) {
   }
   // sensitivity: one parameter at a time around the configured values
   {
-    json beta_rows = json::array(), wall_rows = json::array(), dil_rows = json::array();
+    json beta_rows = json::array(), cut_rows = json::array(), wall_rows = json::array(), dil_rows = json::array();
+    for (const double max_deg : c.max_edge_angles_deg) {
+      const BetaStats a = beta_stats(ms, sel, primary, cone0, gap, max_deg);
+      cut_rows.push_back({{"max_edge_angle_deg", max_deg},
+                          {"excluded_edge_fraction", nullable(fraction(a.excluded, a.edges))},
+                          {"cone_angle_deg", nullable(a.mean)},
+                          {"sd_deg", nullable(a.sd)},
+                          {"snapshots", a.count},
+                          {"cone_angle_from_wall_meet_deg", nullable(a.chord)},
+                          {"wall_meet_snapshots", a.meet_count},
+                          {"wall_mobility_length_from_beta_mm", nullable(gap * std::tan(a.mean / kDeg) * kMm)}});
+    }
     for (const std::size_t set : {kInst, kPiv}) {
       if (set == kPiv && !r.has_piv) continue;
       for (std::size_t l = 0; l < su.levels.size(); ++l)
         for (std::size_t st = 0; st < nstart; ++st) {
           if (l != su.level0 && st != su.start0) continue;
-          const BetaStats a = beta_stats(ms, sel, set, l * nstart + st, gap);
-          const BetaStats b = beta_stats(ms, all, set, l * nstart + st, gap);
+          const BetaStats a = beta_stats(ms, sel, set, l * nstart + st, gap, kVerticalEdgeDeg);
+          const BetaStats b = beta_stats(ms, all, set, l * nstart + st, gap, kVerticalEdgeDeg);
           beta_rows.push_back({{"velocity", kSourceName[set]},
                                {"level", su.levels[l]},
                                {"fit_start_w", su.starts[st] / su.kernel.w},
                                {"cone_angle_deg", nullable(a.mean)},
                                {"sd_deg", nullable(a.sd)},
                                {"snapshots", a.count},
+                               {"narrowing_edge_fraction", nullable(fraction(a.excluded, a.edges))},
                                {"cone_angle_all_snapshots_deg", nullable(b.mean)},
                                {"cone_angle_from_wall_meet_deg", nullable(a.chord)},
                                {"wall_meet_snapshots", a.meet_count},
@@ -295,7 +353,10 @@ json cg_metrics(const StageRecord& r) {
                               {"region", follow ? "following the intruder" : "fixed at its start position"},
                               {"delta_phi", nullable(dphi(first_after_travel(heights, t * su.d), h, follow))}});
         }
-    m["sensitivity"] = {{"cone_angle", beta_rows}, {"wall_mobility", wall_rows}, {"dilatancy", dil_rows}};
+    m["sensitivity"] = {{"cone_angle", beta_rows},
+                        {"cone_angle_edge_cutoff", cut_rows},
+                        {"wall_mobility", wall_rows},
+                        {"dilatancy", dil_rows}};
   }
   m["grid"] = {{"nx", su.grid.nx},
                {"ny", su.grid.ny},
@@ -383,11 +444,13 @@ std::vector<Dataset> cg_datasets(const StageRecord& r) {
     f64(p + "area_dragged", "m^2", src([](const SourceMeasure& s) { return s.zones.dragged; }));
     f64(p + "red_extent", "m", src([](const SourceMeasure& s) { return s.red.height; }), {},
         "highest node of the dragged zone grown from the intruder, above its top face");
-    f64(p + "beta", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].beta_deg(); }));
-    f64(p + "beta_left", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].left.beta_deg; }));
+    f64(p + "beta", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].beta_deg(kVerticalEdgeDeg); }), {},
+        "mean of the snapshot's edge angles that widen upwards (<= 90 deg); NaN if none");
+    f64(p + "beta_left", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].left.beta_deg; }), {},
+        "fitted edge angle from the horizontal, narrowing edges (> 90 deg) included");
     f64(p + "beta_right", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].right.beta_deg; }));
-    f64(p + "wall_meet_y", "m", src([&](const SourceMeasure& s) { return s.cone[cone0].wall_y(); }), {},
-        "y where the cone's edge reaches the wall column (mean of the sides that do)");
+    f64(p + "wall_meet_y", "m", src([&](const SourceMeasure& s) { return s.cone[cone0].wall_y(kVerticalEdgeDeg); }), {},
+        "y where the cone's edge reaches the wall column (mean of the sides that do, narrowing edges left out)");
     f64(p + "wall_mobile_left", "m", src([&](const SourceMeasure& s) { return s.wall_left[wall0]; }));
     f64(p + "wall_mobile_right", "m", src([&](const SourceMeasure& s) { return s.wall_right[wall0]; }));
     f64(p + "median_vstar", "-", src([](const SourceMeasure& s) { return s.median_vstar; }));

@@ -59,10 +59,12 @@ int main(int argc, char** argv) {
   }
   const auto& m = result.metrics["cg"];
   std::fprintf(stderr,
-               "cg: %s: %zu snapshots, %s velocities, %s: cone angle %s, wall-mobility length %s (from beta %s), "
-               "dilatancy %s -> %s/{metrics.json,cg.h5}\n",
+               "cg: %s: %zu snapshots, %s velocities, %s: cone angle %s (%zu of %zu edges narrow, left out; with "
+               "them %s), wall-mobility length %s (from beta %s), dilatancy %s -> %s/{metrics.json,cg.h5}\n",
                in.run_path.c_str(), m["snapshots"].get<std::size_t>(), m["velocity_source"].get<std::string>().c_str(),
                m["loading_selection"].get<std::string>().c_str(), show(m["cone_angle_deg"], " deg").c_str(),
+               m["cone_narrowing_edges"].get<std::size_t>(), m["cone_fitted_edges"].get<std::size_t>(),
+               show(m["cone_angle_including_narrowing_deg"], " deg").c_str(),
                show(m["wall_mobility_length_mm"], " mm").c_str(),
                show(m["wall_mobility_length_from_beta_mm"], " mm").c_str(), show(m["dilatancy_delta_phi"], "").c_str(),
                out_dir.c_str());

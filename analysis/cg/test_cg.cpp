@@ -1,7 +1,7 @@
 // Tests of the stage `cg`: the kernel and the fields it gives (mass, uniform
 // and sheared velocities, one grain, no grain, walls), bad parameters, the
-// cone fit on a synthetic v* field with a known cone, the wall-mobility step
-// fit, the events contract, the config file, and the stage on the quick
+// cone fit on a synthetic v* field with a known cone, the cone statistics
+// leaving out edges that narrow upwards, the wall-mobility step fit, the events contract, the config file, and the stage on the quick
 // pull-off run (results/quick/pulloff/run.h5, skipped if absent).
 #include <gtest/gtest.h>
 
@@ -13,6 +13,7 @@
 
 #include "cg/cg_field.hpp"
 #include "cg/cg_measure.hpp"
+#include "cg/cg_report.hpp"
 #include "cg/cg_stage.hpp"
 #include "io/h5.hpp"
 #include "temp_dir.hpp"
@@ -168,7 +169,7 @@ TEST(CgField, EmptyAndInactiveSnapshots) {
   EXPECT_EQ(a.immobile + a.cone + a.dragged, 0.0);
   const Intruder in{0.01, 0.002, 0.005, 0.015, 0.003};
   const ConeFit c = fit_cone(g, zone_from_intruder(g, vstar, 0.25, in, 0.003), in, in.top, 0.006);
-  EXPECT_TRUE(std::isnan(c.beta_deg()));
+  EXPECT_TRUE(std::isnan(c.beta_deg(kVerticalEdgeDeg)));
   EXPECT_TRUE(std::isnan(region_mean(g, vstar, 0, 1, 0, 1)));
   // a grain far outside the grid contributes nothing
   Bed far;
@@ -228,12 +229,12 @@ TEST(CgCone, FitRecoversAKnownCone) {
     const ConeFit c = fit_cone(g, zone, in, in.top, 0.006);
     EXPECT_NEAR(c.left.beta_deg, beta, 0.5) << beta;
     EXPECT_NEAR(c.right.beta_deg, beta, 0.5) << beta;
-    EXPECT_NEAR(c.beta_deg(), beta, 0.5);
+    EXPECT_NEAR(c.beta_deg(kVerticalEdgeDeg), beta, 0.5);
     // the edge meets the wall where the line from the tip does: 45 mm x tan(beta) above the top
     const double meet = in.top + 0.045 * std::tan(beta * std::numbers::pi / 180);
     if (meet < 0.14) {
       EXPECT_TRUE(c.left.meets_wall && c.right.meets_wall);
-      EXPECT_NEAR(c.wall_y(), meet, 0.002) << beta;
+      EXPECT_NEAR(c.wall_y(kVerticalEdgeDeg), meet, 0.002) << beta;
     }
     EXPECT_NEAR(c.left.x_at_y0, in.left, 0.001);
     EXPECT_NEAR(c.right.x_at_y0, in.right, 0.001);
@@ -255,9 +256,94 @@ TEST(CgCone, FitRecoversAKnownCone) {
   const ConeFit n = fit_cone(g, zone_from_intruder(g, column, 0.25, in, 0.003), in, in.top, 0.006);
   EXPECT_GT(n.left.beta_deg, 90.0);
   EXPECT_FALSE(n.left.meets_wall);
+  // narrowing edges are left out of the snapshot's beta (none left: NaN), kept by the cut-off 180
+  EXPECT_TRUE(n.left.excluded(kVerticalEdgeDeg) && n.right.excluded(kVerticalEdgeDeg));
+  EXPECT_TRUE(std::isnan(n.beta_deg(kVerticalEdgeDeg)));
+  EXPECT_NEAR(n.beta_deg(180.0), 0.5 * (n.left.beta_deg + n.right.beta_deg), 1e-12);
+  // a vertical edge is exactly 90 degrees and kept: it does not narrow
+  const ConeFit v = fit_cone(g, zone_from_intruder(g, cone_field(g, in, 90.0, 90.0, 0.06), 0.25, in, 0.003), in,
+                             in.top, 0.006);
+  EXPECT_EQ(v.left.beta_deg, 90.0);
+  EXPECT_EQ(v.right.beta_deg, 90.0);
+  EXPECT_EQ(v.beta_deg(kVerticalEdgeDeg), 90.0);
   // a span shorter than min_span gives no angle
   const ConeFit s = fit_cone(g, zone_from_intruder(g, column, 0.25, in, 0.003), in, in.top, 0.2);
-  EXPECT_TRUE(std::isnan(s.beta_deg()));
+  EXPECT_TRUE(std::isnan(s.beta_deg(180.0)));
+}
+
+// The stage's record of snapshots with the given cones (beta of the left and
+// right edge), each fitted on its synthetic v* field as the stage does; no run
+// file. Selection: all snapshots (no events); walls never mobile.
+StageRecord cone_record(const std::vector<std::pair<double, double>>& cones) {
+  const Intruder in{0.05, 0.02, 0.045, 0.055, 0.021};
+  StageRecord r;
+  Setup& su = r.setup;
+  su.grid = make_grid(0.0, 0.1, 0.0, 0.168, 0.0004);
+  su.kernel = make_kernel(0.0045, 4.0);
+  su.cell.left = 0.0, su.cell.right = 0.1;
+  su.d = 0.003, su.v_ref = 0.0012, su.start = in;
+  su.levels = {0.25}, su.starts = {0.0}, su.bands = {0.003}, su.heights = {0.03};
+  r.primary = kPiv, r.has_piv = true;
+  for (const auto& [left, right] : cones) {
+    SnapshotMeasure m;
+    m.height = in.yc, m.surface = 0.14, m.intruder = in;
+    m.phi_follow = m.phi_fixed = {0.8};
+    SourceMeasure& s = m.src[kPiv];
+    s.valid = true;
+    s.cone = {fit_cone(su.grid, zone_from_intruder(su.grid, cone_field(su.grid, in, left, right, 0.14), 0.25, in, 0.003),
+                       in, in.top, 0.006)};
+    s.wall_left = s.wall_right = {0.0};
+    r.times.push_back(static_cast<double>(r.ms.size()));
+    r.heights.push_back(m.height);
+    r.piv_ok.push_back(1);
+    r.ms.push_back(m);
+  }
+  return r;
+}
+
+TEST(CgCone, NarrowingEdgesAreLeftOutOfBeta) {
+  // 8 snapshots: 5 cones widening at 60 degrees on both sides, 2 with the right
+  // edge narrowing at 100 degrees, 1 narrowing on both sides: 16 edges, 4 narrow
+  std::vector<std::pair<double, double>> cones(5, {60.0, 60.0});
+  cones.insert(cones.end(), 2, {60.0, 100.0});
+  cones.push_back({100.0, 100.0});
+  const auto m = cg_metrics(cone_record(cones));
+  // beta: the widening edges only, over the 7 snapshots that have one
+  EXPECT_NEAR(m["cone_angle_deg"].get<double>(), 60.0, 0.5);
+  EXPECT_LT(m["cone_angle_sd_deg"].get<double>(), 0.5);
+  EXPECT_EQ(m["cone_angle_snapshots"], 7);
+  EXPECT_NEAR(m["cone_angle_left_deg"].get<double>(), 60.0, 0.5);
+  EXPECT_NEAR(m["cone_angle_right_deg"].get<double>(), 60.0, 0.5);
+  EXPECT_NEAR(m["cone_angle_all_snapshots_deg"].get<double>(), 60.0, 0.5);
+  // the narrowing edges: counted, with their own statistics
+  EXPECT_EQ(m["cone_fitted_edges"], 16);
+  EXPECT_EQ(m["cone_narrowing_edges"], 4);
+  EXPECT_DOUBLE_EQ(m["cone_narrowing_edge_fraction"].get<double>(), 0.25);
+  EXPECT_NEAR(m["cone_angle_narrowing_mean_deg"].get<double>(), 100.0, 0.5);
+  EXPECT_LT(m["cone_angle_narrowing_sd_deg"].get<double>(), 0.5);
+  EXPECT_EQ(m["cone_snapshots_with_narrowing_edge"], 3);
+  EXPECT_DOUBLE_EQ(m["cone_narrowing_snapshot_fraction"].get<double>(), 3.0 / 8.0);
+  EXPECT_EQ(m["cone_snapshots_only_narrowing"], 1);
+  EXPECT_DOUBLE_EQ(m["cone_excluded_snapshot_fraction"].get<double>(), 1.0 / 8.0);
+  // the old definition, every edge: (5 x 60 + 2 x 80 + 100) / 8 = 70 degrees
+  EXPECT_NEAR(m["cone_angle_including_narrowing_deg"].get<double>(), 70.0, 0.5);
+  // what follows from beta: the paper's H_c = 45 mm x tan 60 = 77.9 mm, the chord
+  // to where the 60-degree edges meet the walls, lines through the tips
+  EXPECT_NEAR(m["wall_mobility_length_from_beta_mm"].get<double>(), 45.0 * std::tan(std::numbers::pi / 3), 0.5);
+  EXPECT_NEAR(m["cone_angle_from_wall_meet_deg"].get<double>(), 60.0, 0.5);
+  EXPECT_NEAR(m["cone_edge_offset_at_intruder_mm"].get<double>(), 0.0, 0.4);  // one node
+  // the sensitivity to the cut-off: every edge (180), then 90, 85, 80: the same 60 degrees
+  const auto& rows = m["sensitivity"]["cone_angle_edge_cutoff"];
+  ASSERT_EQ(rows.size(), 4u);
+  EXPECT_EQ(rows[0]["max_edge_angle_deg"], 180.0);
+  EXPECT_EQ(rows[0]["excluded_edge_fraction"], 0.0);
+  EXPECT_NEAR(rows[0]["cone_angle_deg"].get<double>(), 70.0, 0.5);
+  for (std::size_t k = 1; k < 4; ++k) {
+    EXPECT_DOUBLE_EQ(rows[k]["excluded_edge_fraction"].get<double>(), 0.25);
+    EXPECT_NEAR(rows[k]["cone_angle_deg"].get<double>(), 60.0, 0.5);
+  }
+  EXPECT_DOUBLE_EQ(m["by_height_band"][0]["narrowing_edge_fraction"].get<double>(), 0.25);
+  EXPECT_NEAR(m["by_height_band"][0]["cone_angle_deg"].get<double>(), 60.0, 0.5);
 }
 
 TEST(CgCone, ZonesAndRedExtent) {
@@ -345,6 +431,9 @@ TEST(CgConfigFile, DefaultsAndErrors) {
   EXPECT_EQ(error("[grid]\nspacing_mm = \"a\"\n"), ":2:14: grid.spacing_mm = 'a': wrong type, expected a number");
   EXPECT_EQ(error("[output]\nbands_mm = [0, 10, 5]\n"), ":2:12: output.bands_mm = 5: must increase");
   EXPECT_EQ(error("[grid]\naverage_snapshots = 0\n"), ":2:21: grid.average_snapshots = 0: must be an integer >= 1");
+  EXPECT_EQ(error("[sensitivity]\nmax_edge_angles_deg = [90, 200]\n"),
+            ":2:23: sensitivity.max_edge_angles_deg = 200: must be in (0, 180] (degrees from the horizontal; 180: "
+            "every edge)");
 }
 
 // The stage on the quick pull-off run (200 grains, 40 mm cell, 20 mm/s, PIV window 3 ms).
@@ -390,7 +479,11 @@ TEST(CgStage, QuickPulloffRun) {
   EXPECT_GT(m["cone_angle_snapshots"].get<int>(), 0);
   const double beta = m["cone_angle_deg"].get<double>();
   EXPECT_GT(beta, 0.0);
-  EXPECT_LT(beta, 180.0);
+  EXPECT_LE(beta, kVerticalEdgeDeg);  // widening edges only
+  // every snapshot with a fitted edge either has a beta or only narrowing edges
+  EXPECT_EQ(m["cone_angle_snapshots"].get<int>() + m["cone_snapshots_only_narrowing"].get<int>(),
+            m["cone_fitted_snapshots"].get<int>());
+  EXPECT_EQ(m["cone_angle_including_narrowing_deg"], m["sensitivity"]["cone_angle_edge_cutoff"][0]["cone_angle_deg"]);
   EXPECT_TRUE(m["dilatancy_delta_phi"].is_number());
   EXPECT_GT(m["snapshots_with_piv"].get<int>(), 100);
   // results do not depend on the thread count
