@@ -176,7 +176,7 @@ Band make_band(const std::string& name, double low, double high, const SpectrumR
   const std::vector<double> x(r.fluctuation.begin() + static_cast<std::ptrdiff_t>(b.begin),
                               r.fluctuation.begin() + static_cast<std::ptrdiff_t>(b.end));
   b.psd = welch_psd(x, samples_per_d, std::min(samples(c.segment_d, samples_per_d), x.size()), c.overlap, c.window);
-  b.peak = dominant_peak(b.psd, c.min_period_d, c.max_period_d, c.false_alarm);
+  b.peak = dominant_peak(b.psd, 1.0 / c.max_period_d, 1.0 / c.min_period_d, c.false_alarm);
   return b;
 }
 
@@ -235,7 +235,7 @@ LinearFit linear_fit(const std::vector<double>& x, const std::vector<double>& y)
   return f;
 }
 
-Psd welch_psd(const std::vector<double>& x, double samples_per_d, std::size_t n, double overlap,
+Psd welch_psd(const std::vector<double>& x, double sample_rate, std::size_t n, double overlap,
               const std::string& window) {
   Psd p;
   if (n < 4 || x.size() < n) return p;
@@ -251,9 +251,9 @@ Psd welch_psd(const std::vector<double>& x, double samples_per_d, std::size_t n,
     for (std::size_t i = 0; i < n; ++i) fft.input()[i] = (seg[i] - mean) * w[i];
     fft.add_power(acc);
   }
-  const double scale = 1.0 / (dbl(segments) * samples_per_d * w2);
+  const double scale = 1.0 / (dbl(segments) * sample_rate * w2);
   for (std::size_t j = 1; j <= n / 2; ++j) {
-    p.wavenumber.push_back(dbl(j) * samples_per_d / dbl(n));
+    p.frequency.push_back(dbl(j) * sample_rate / dbl(n));
     p.power.push_back((2 * j == n ? 1.0 : 2.0) * acc[j] * scale);
   }
   // Equivalent degrees of freedom (Welch 1967): 2K / (1 + 2 sum_j (1 - j/K) rho(j shift)^2).
@@ -269,11 +269,11 @@ Psd welch_psd(const std::vector<double>& x, double samples_per_d, std::size_t n,
   return p;
 }
 
-DominantPeak dominant_peak(const Psd& psd, double min_period_d, double max_period_d, double false_alarm) {
+DominantPeak dominant_peak(const Psd& psd, double low, double high, double false_alarm) {
   DominantPeak r;
-  const auto& k = psd.wavenumber;
-  const std::size_t j0 = static_cast<std::size_t>(std::lower_bound(k.begin(), k.end(), 1.0 / max_period_d) - k.begin());
-  const std::size_t j1 = static_cast<std::size_t>(std::upper_bound(k.begin(), k.end(), 1.0 / min_period_d) - k.begin());
+  const auto& k = psd.frequency;
+  const std::size_t j0 = static_cast<std::size_t>(std::lower_bound(k.begin(), k.end(), low) - k.begin());
+  const std::size_t j1 = static_cast<std::size_t>(std::upper_bound(k.begin(), k.end(), high) - k.begin());
   if (j1 < j0 + 3) return r;
   r.found = true;
   r.bins = j1 - j0;
@@ -301,8 +301,8 @@ DominantPeak dominant_peak(const Psd& psd, double min_period_d, double max_perio
     const double a = std::log(excess[m - 1]), b = std::log(excess[m]), c = std::log(excess[m + 1]);
     if (a - 2.0 * b + c < 0.0) shift = std::clamp(0.5 * (a - c) / (a - 2.0 * b + c), -0.5, 0.5);
   }
-  r.wavenumber = k[j0 + m] + shift * dk;
-  r.period_d = 1.0 / r.wavenumber;
+  r.frequency = k[j0 + m] + shift * dk;
+  r.period = 1.0 / r.frequency;
   r.peak_to_background = excess[m];
   r.peak_to_median = power[m] / median(power);
   const double per_bin = -std::expm1(std::log1p(-false_alarm) / dbl(r.bins));
@@ -315,8 +315,10 @@ DominantPeak dominant_peak(const Psd& psd, double min_period_d, double max_perio
   while (hi + 1 < r.bins && excess[hi + 1] > half) ++hi;
   const double k_lo = k[j0 + lo] - (lo > 0 ? (excess[lo] - half) / (excess[lo] - excess[lo - 1]) * dk : 0.0);
   const double k_hi = k[j0 + hi] + (hi + 1 < r.bins ? (excess[hi] - half) / (excess[hi] - excess[hi + 1]) * dk : 0.0);
-  r.half_width_d = 0.5 * (1.0 / k_lo - 1.0 / k_hi);
-  r.quality = r.wavenumber / (k_hi - k_lo);
+  r.half_max_low = k_lo;
+  r.half_max_high = k_hi;
+  r.half_width = 0.5 * (1.0 / k_lo - 1.0 / k_hi);
+  r.quality = r.frequency / (k_hi - k_lo);
   return r;
 }
 
@@ -452,16 +454,16 @@ Json peak_json(const Band& b, const SpectrumScales& s, const SpectrumResult& r) 
   return {{"range_mm", {1e3 * b.low, 1e3 * b.high}},
           {"travel_d", dbl(b.end - b.begin) * r.height_step / s.d},
           {"found", k.found},
-          {"dominant_period_d", k.period_d},
-          {"dominant_period_mm", 1e3 * k.period_d * s.d},
-          {"frequency_hz_at_run_v", at_speed(k.period_d, s.d, run_speed)},
-          {"frequency_hz_at_paper_v", at_speed(k.period_d, s.d, s.paper_speed)},
+          {"dominant_period_d", k.period},
+          {"dominant_period_mm", 1e3 * k.period * s.d},
+          {"frequency_hz_at_run_v", at_speed(k.period, s.d, run_speed)},
+          {"frequency_hz_at_paper_v", at_speed(k.period, s.d, s.paper_speed)},
           {"significant", k.significant},
           {"peak_to_background", k.peak_to_background},
           {"significance_threshold", k.threshold},
           {"peak_to_median", k.peak_to_median},
           {"background_exponent", k.background_exponent},
-          {"half_width_d", k.half_width_d},
+          {"half_width_d", k.half_width},
           {"quality_factor", k.quality},
           {"at_range_edge", k.at_edge},
           {"segments", b.psd.segments},
@@ -519,8 +521,8 @@ nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumS
   m["noise_level_N"] = r.noise * intruder_depth;
   m["drop_delta_N_per_m"] = r.drop_delta;
   // spectrum
-  m["dominant_period_d"] = r.second_part.peak.period_d;
-  m["dominant_frequency_hz_at_1p2mm_s"] = at_speed(r.second_part.peak.period_d, s.d, s.paper_speed);
+  m["dominant_period_d"] = r.second_part.peak.period;
+  m["dominant_frequency_hz_at_1p2mm_s"] = at_speed(r.second_part.peak.period, s.d, s.paper_speed);
   m["dominant_period_significant"] = r.second_part.peak.significant;
   m["psd"] = peak_json(r.second_part, s, r);
   for (const Band& b : r.bands) m["bands"][b.name] = peak_json(b, s, r);

@@ -43,37 +43,40 @@ LinearFit linear_fit(const std::vector<double>& x, const std::vector<double>& y)
 
 // One-sided power spectral density by Welch's method: segments of
 // segment_samples with the given overlap, each windowed after removing its
-// mean; |FFT|^2 averaged. Wavenumbers (cycles per d) from 1/segment up to
-// Nyquist (the zero bin is left out); power in (unit of x)^2 per (cycle per d),
-// so that sum(power) * dk = variance.
+// mean; |FFT|^2 averaged. x is sampled `sample_rate` times per unit of its
+// axis: per d of travel (frequency = wavenumber, cycles per d) or per second
+// (frequency in Hz). Frequencies from 1/segment up to Nyquist (the zero bin is
+// left out); power in (unit of x)^2 per (cycle per unit of the axis), so that
+// sum(power) * df = variance.
 struct Psd {
-  std::vector<double> wavenumber, power;
+  std::vector<double> frequency, power;
   std::size_t segments = 0, segment_samples = 0;
   double dof = 0.0;  // equivalent degrees of freedom of one bin (chi-square), overlap included
 };
-Psd welch_psd(const std::vector<double>& x, double samples_per_d, std::size_t segment_samples, double overlap,
+Psd welch_psd(const std::vector<double>& x, double sample_rate, std::size_t segment_samples, double overlap,
               const std::string& window);
 
-// The dominant period: among the bins with wavelength in [min_period_d,
-// max_period_d], the one whose power stands highest above a power law fitted
-// to the PSD over that range (log-log least squares, corrected for the mean of
-// log chi-square), refined by a parabola through ln(excess) at it and its
-// neighbours. Significant when that excess exceeds the chi-square quantile
-// that pure noise with that background exceeds in any of the M bins with
-// probability false_alarm, and the bin is not at the range's edge (there it
-// need not be a local maximum).
+// The dominant peak of a PSD in the frequency range [low, high] (the PSD's
+// axis: cycles per d, or Hz): among the bins in that range, the one whose power
+// stands highest above a power law fitted to the PSD over the range (log-log
+// least squares, corrected for the mean of log chi-square), refined by a
+// parabola through ln(excess) at it and its neighbours. Significant when that
+// excess exceeds the chi-square quantile that pure noise with that background
+// exceeds in any of the M bins with probability false_alarm, and the bin is not
+// at the range's edge (there it need not be a local maximum).
 struct DominantPeak {
   bool found = false;  // false when the range holds fewer than 3 bins
-  double period_d = kNaN, wavenumber = kNaN;
+  double frequency = kNaN, period = kNaN;  // in the PSD's axis: cycles per d and d, or Hz and s
   double peak_to_background = kNaN, threshold = kNaN;  // excess ratio and its significance threshold
   double peak_to_median = kNaN;                        // peak power / median power of the range
-  double background_exponent = kNaN;                   // the background is P ~ k^exponent
-  double half_width_d = kNaN;   // half the width (in wavelength) where the excess is above half its peak
-  double quality = kNaN;        // wavenumber / full width at half maximum (in wavenumber)
+  double background_exponent = kNaN;                   // the background is P ~ frequency^exponent
+  double half_max_low = kNaN, half_max_high = kNaN;    // frequencies where the excess falls to half its peak
+  double half_width = kNaN;  // half the width, in period, where the excess is above half its peak
+  double quality = kNaN;     // frequency / full width at half maximum (in frequency)
   bool significant = false, at_edge = false;
   std::size_t bins = 0;
 };
-DominantPeak dominant_peak(const Psd& psd, double min_period_d, double max_period_d, double false_alarm);
+DominantPeak dominant_peak(const Psd& psd, double low, double high, double false_alarm);
 
 // Alternating extrema of x from `begin` on with hysteresis delta: a peak is
 // confirmed when x falls more than delta below it, a trough when x rises more

@@ -70,12 +70,12 @@ void put(const h5::File& f, const std::string& name, const std::vector<double>& 
 
 void write_psd(const h5::File& f, const std::string& group, const Band& b, const SpectrumScales& s, double speed) {
   std::vector<double> wavelength, f_paper, f_run;
-  for (const double k : b.psd.wavenumber) {
+  for (const double k : b.psd.frequency) {
     wavelength.push_back(1.0 / k);
     f_paper.push_back(k * s.paper_speed / s.d);
     f_run.push_back(k * speed / s.d);
   }
-  put(f, group + "/wavenumber_per_d", b.psd.wavenumber, "cycles per d of travel");
+  put(f, group + "/wavenumber_per_d", b.psd.frequency, "cycles per d of travel");
   put(f, group + "/wavelength_d", wavelength, "d of travel");
   put(f, group + "/frequency_hz_at_paper_v", f_paper, "Hz");
   put(f, group + "/frequency_hz_at_run_v", f_run, "Hz");
@@ -84,7 +84,7 @@ void write_psd(const h5::File& f, const std::string& group, const Band& b, const
   h5::write_attr(f, group, "high_m", b.high);
   h5::write_attr(f, group, "segments", static_cast<std::int64_t>(b.psd.segments));
   h5::write_attr(f, group, "dof", b.psd.dof);
-  h5::write_attr(f, group, "dominant_period_d", b.peak.period_d);
+  h5::write_attr(f, group, "dominant_period_d", b.peak.period);
   h5::write_attr(f, group, "peak_to_background", b.peak.peak_to_background);
   h5::write_attr(f, group, "significance_threshold", b.peak.threshold);
   h5::write_attr(f, group, "significant", static_cast<std::int64_t>(b.peak.significant));

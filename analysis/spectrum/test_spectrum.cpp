@@ -56,7 +56,7 @@ TEST(SpectrumBlocks, WelchPsdIntegratesToTheVarianceAndNoiseLevelIsSigma) {
   std::vector<double> x(20000);
   for (double& v : x) v = gauss(rng);
   const Psd p = welch_psd(x, 125.0, 1000, 0.5, "hann");
-  const double dk = p.wavenumber[1] - p.wavenumber[0];
+  const double dk = p.frequency[1] - p.frequency[0];
   EXPECT_NEAR(std::accumulate(p.power.begin(), p.power.end(), 0.0) * dk, 4.0, 0.1);
   EXPECT_EQ(p.segments, 39u);
   EXPECT_NEAR(p.dof, 36.0 * 39 * 39 / (19.0 * 39 - 1), 0.5);  // Welch's Hann, 50 % overlap
@@ -77,7 +77,7 @@ TEST(Spectrum, SawtoothOnADecayingTrendGivesItsPeriodAndEvents) {
   const SpectrumResult r = analyse(synthetic(sawtooth(period, 10.0), 0.2), kScales, {}, "synthetic");
   const DominantPeak& k = r.second_part.peak;
   EXPECT_TRUE(k.significant);
-  EXPECT_NEAR(k.period_d, 0.5, 0.01) << "within 2 %";
+  EXPECT_NEAR(k.period, 0.5, 0.01) << "within 2 %";
   const double drops = std::floor(0.150 / period) - std::floor(0.001 / period);
   EXPECT_NEAR(static_cast<double>(r.events.size()), drops, 0.02 * drops);
   ASSERT_FALSE(r.spacing_d.empty());
