@@ -176,7 +176,7 @@ Band make_band(const std::string& name, double low, double high, const SpectrumR
   const std::vector<double> x(r.fluctuation.begin() + static_cast<std::ptrdiff_t>(b.begin),
                               r.fluctuation.begin() + static_cast<std::ptrdiff_t>(b.end));
   b.psd = welch_psd(x, samples_per_d, std::min(samples(c.segment_d, samples_per_d), x.size()), c.overlap, c.window);
-  b.peak = dominant_peak(b.psd, 1.0 / c.max_period_d, 1.0 / c.min_period_d, c.false_alarm);
+  b.peak = dominant_peak(b.psd, 1.0 / c.max_period_d, 1.0 / r.min_period_d, c.false_alarm);
   return b;
 }
 
@@ -322,6 +322,23 @@ DominantPeak dominant_peak(const Psd& psd, double low, double high, double false
   return r;
 }
 
+Ringing find_ringing(const std::vector<double>& x, double time_step, const SpectrumConfig& c) {
+  Ringing g;
+  g.nyquist = 0.5 / time_step;
+  g.resolved = g.nyquist >= (1.0 - 1e-9) * c.ringing_max_frequency_hz;
+  if (!g.resolved) return g;
+  const double rate = 1.0 / time_step;
+  g.psd = welch_psd(x, rate, std::min(samples(c.ringing_segment_s, rate), x.size()), c.overlap, c.window);
+  g.peak = dominant_peak(g.psd, c.ringing_min_frequency_hz, c.ringing_max_frequency_hz, c.false_alarm);
+  g.searched = g.peak.found;
+  if (!g.searched) return g;
+  double power = 0.0;
+  for (std::size_t j = 0; j < g.psd.frequency.size(); ++j)
+    if (g.psd.frequency[j] >= g.peak.half_max_low && g.psd.frequency[j] <= g.peak.half_max_high) power += g.psd.power[j];
+  g.line_rms = std::sqrt(power * g.psd.frequency[0]);  // bins are 1/segment apart, from 1/segment on
+  return g;
+}
+
 std::vector<Pivot> zigzag(const std::vector<double>& x, double delta, std::size_t begin) {
   std::vector<Pivot> out;
   enum class Dir { unknown, rising, falling } dir = Dir::unknown;
@@ -377,6 +394,17 @@ SpectrumResult analyse(const DragProfile& profile, const SpectrumScales& s, cons
   const std::size_t env_half = samples(0.5 * c.envelope_window_d, fs);
   r.envelope = running_rms(r.fluctuation, env_half);
 
+  // The ringing, against time in the loading/rupture part; a significant one
+  // bounds the geometric search: only wavelengths with V / wavelength <= cutoff.
+  const auto [ring_begin, ring_end] = rows_between(h, c.bottom_top * hb, c.upper_top * hb);
+  r.ringing = find_ringing({r.fluctuation.begin() + static_cast<std::ptrdiff_t>(ring_begin),
+                            r.fluctuation.begin() + static_cast<std::ptrdiff_t>(ring_end)},
+                           (p.time.back() - p.time.front()) / dbl(n - 1), c);
+  r.min_period_d = c.min_period_d;
+  if (r.ringing.peak.significant) {
+    r.geometric_cutoff = c.ringing_cutoff_fraction * r.ringing.peak.frequency;
+    r.min_period_d = std::max(c.min_period_d, r.speed / (r.geometric_cutoff * s.d));
+  }
   r.second_part = make_band("second_part", c.bottom_top * hb, c.upper_top * hb, r, fs, c);
   const double span_d = dbl(r.second_part.end - r.second_part.begin) / fs;
   if (span_d < 2.0 * c.max_period_d)
@@ -472,6 +500,40 @@ Json peak_json(const Band& b, const SpectrumScales& s, const SpectrumResult& r) 
           {"bins_searched", k.bins}};
 }
 
+Json ringing_json(const SpectrumResult& r, const SpectrumConfig& c) {
+  const Ringing& g = r.ringing;
+  const DominantPeak& k = g.peak;
+  const std::string note =
+      !g.resolved ? "not resolved: the series' Nyquist frequency " + num(g.nyquist, " Hz") +
+                " is below ringing.max_frequency_hz = " + num(c.ringing_max_frequency_hz, " Hz") +
+                " (rows too far apart in time); no cutoff on the geometric search"
+      : !g.searched    ? "the loading/rupture part holds fewer than 3 bins of the band; no cutoff on the geometric search"
+      : !k.significant ? "no significant peak in the band; no cutoff on the geometric search"
+                       : "significant: the geometric search keeps wavelengths with V / wavelength <= geometric_cutoff_hz";
+  return {{"band_hz", {c.ringing_min_frequency_hz, c.ringing_max_frequency_hz}},
+          {"nyquist_hz", g.nyquist},
+          {"resolved", g.resolved},
+          {"searched", g.searched},
+          {"frequency_hz", k.frequency},
+          {"period_s", k.period},
+          {"significant", k.significant},
+          {"peak_to_background", k.peak_to_background},
+          {"significance_threshold", k.threshold},
+          {"peak_to_median", k.peak_to_median},
+          {"background_exponent", k.background_exponent},
+          {"half_width_hz", 0.5 * (k.half_max_high - k.half_max_low)},
+          {"quality_factor", k.quality},
+          {"at_band_edge", k.at_edge},
+          {"line_rms_N_per_m", g.line_rms},
+          {"segments", g.psd.segments},
+          {"segment_s", 0.5 * dbl(g.psd.segment_samples) / g.nyquist},
+          {"dof", g.psd.dof},
+          {"bins_searched", k.bins},
+          {"cutoff_fraction", c.ringing_cutoff_fraction},
+          {"geometric_cutoff_hz", r.geometric_cutoff},
+          {"note", note}};
+}
+
 Json stats_json(const std::vector<double>& v) {
   const double mean = v.empty() ? kNaN : std::accumulate(v.begin(), v.end(), 0.0) / dbl(v.size());
   return {{"count", v.size()}, {"mean", mean}, {"median", median(v)}, {"q1", quantile(v, 0.25)}, {"q3", quantile(v, 0.75)}};
@@ -524,8 +586,16 @@ nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumS
   m["dominant_period_d"] = r.second_part.peak.period;
   m["dominant_frequency_hz_at_1p2mm_s"] = at_speed(r.second_part.peak.period, s.d, s.paper_speed);
   m["dominant_period_significant"] = r.second_part.peak.significant;
+  m["dominant_period_search_range_d"] = {r.min_period_d, c.max_period_d};
+  m["dominant_period_search_max_frequency_hz_at_run_v"] = at_speed(r.min_period_d, s.d, r.speed);
   m["psd"] = peak_json(r.second_part, s, r);
   for (const Band& b : r.bands) m["bands"][b.name] = peak_json(b, s, r);
+  // the bed's ringing, in time frequency (kept out of the dominant-period search)
+  const double ringing_hz = r.ringing.peak.frequency;
+  m["ringing_frequency_hz"] = ringing_hz;
+  m["ringing_significant"] = r.ringing.peak.significant;
+  m["ringing_period_d_at_run_speed"] = r.speed / (ringing_hz * s.d);  // its wavelength in travel
+  m["ringing"] = ringing_json(r, c);
   // events
   m["event_count"] = r.events.size();
   m["rupture_spacing"] = {{"unit", "d"}, {"stats", spacing_stats}};
@@ -569,6 +639,7 @@ nlohmann::ordered_json sensitivity_table(const DragProfile& profile, const Spect
                          {"amplitude_fit_r2_upper", m["amplitude_fit_r2_upper"]},
                          {"dominant_period_d", m["dominant_period_d"]},
                          {"dominant_period_significant", m["dominant_period_significant"]},
+                         {"dominant_period_search_min_d", m["dominant_period_search_range_d"][0]},
                          {"top_layer_height_mm", m["top_layer_height_mm"]},
                          {"top_layer_depth_fit_r2", m["top_layer_depth_fit_r2"]}});
     }
@@ -576,6 +647,7 @@ nlohmann::ordered_json sensitivity_table(const DragProfile& profile, const Spect
   vary("drop_threshold", c.drop_thresholds, &SpectrumConfig::drop_threshold);
   vary("floor_factor", c.floor_factors, &SpectrumConfig::floor_factor);
   vary("trend_window_d", c.trend_windows_d, &SpectrumConfig::trend_window_d);
+  vary("ringing_cutoff_fraction", c.ringing_cutoff_fractions, &SpectrumConfig::ringing_cutoff_fraction);
   return t;
 }
 

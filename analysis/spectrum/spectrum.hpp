@@ -7,7 +7,9 @@
 // Everything here works on a DragProfile in memory (no files), so that it can
 // be tested on synthetic signals. Units: SI (m, s, N/m) unless a name says
 // otherwise; "_d" means in units of d, the mean grain diameter, as a length
-// of travel; wavenumbers are in cycles per d.
+// of travel; wavenumbers are in cycles per d. The series is uniform in time and
+// in travel (constant V): the geometric periods are sought against travel, the
+// bed's elastic ringing against time.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -78,6 +80,22 @@ struct DominantPeak {
 };
 DominantPeak dominant_peak(const Psd& psd, double low, double high, double false_alarm);
 
+// The bed's elastic ringing after slips: a fixed time frequency (tens of Hz),
+// whatever the pull speed. The dominant peak of the spectrum of x (the drag
+// fluctuation, rows every time_step seconds) against time frequency (Welch,
+// segments of ringing.segment_s, overlap and window as [psd]) in
+// [ringing.min_frequency_hz, ringing.max_frequency_hz]; searched only when the
+// series resolves that band (Nyquist frequency >= max_frequency_hz).
+struct Ringing {
+  double nyquist = kNaN;   // Hz, 1 / (2 time_step)
+  bool resolved = false;   // nyquist >= max_frequency_hz (a coarser series would fold the band)
+  bool searched = false;   // resolved, and the band holds at least 3 bins
+  Psd psd;                 // frequency in Hz, power in (unit of x)^2 per Hz
+  DominantPeak peak;       // frequency in Hz, period in s
+  double line_rms = kNaN;  // unit of x: sqrt(sum power df) over the peak's full width at half maximum
+};
+Ringing find_ringing(const std::vector<double>& x, double time_step, const SpectrumConfig& c);
+
 // Alternating extrema of x from `begin` on with hysteresis delta: a peak is
 // confirmed when x falls more than delta below it, a trough when x rises more
 // than delta above it. A last trough not yet confirmed by a rise is kept.
@@ -120,6 +138,10 @@ struct SpectrumResult {
   std::vector<double> trend, fluctuation, envelope;  // N/m
   double noise = 0.0;            // N/m, sigma of the fluctuation in the second part
   double drop_delta = 0.0;       // N/m, drop_threshold x sigma
+  Ringing ringing;               // the bed's ringing, found in the second part's time spectrum
+  double geometric_cutoff = kNaN;  // Hz: cutoff_fraction x a significant ringing's frequency (NaN: no cutoff)
+  double min_period_d = kNaN;    // d: the dominant-period search's lower bound: psd.min_period_d, raised to
+                                 // V / (geometric_cutoff d) so that no searched period lies in the ringing
   Band second_part;              // [bottom_top, upper_top) H_bed: the loading/rupture regime
   std::vector<Band> bands;       // bottom, middle, upper, top_layer
   std::vector<Event> events;     // over the whole profile

@@ -105,7 +105,20 @@ void write_h5(const std::string& path, const SpectrumStage& st) {
   put(f, "profile/fluctuation", r.fluctuation, "N/m");
   put(f, "profile/envelope", r.envelope, "N/m");
   write_psd(f, "psd", r.second_part, st.scales, r.speed);
+  h5::write_attr(f, "psd", "search_min_period_d", r.min_period_d);  // the bands' search too
   for (const Band& b : r.bands) write_psd(f, "psd/bands/" + b.name, b, st.scales, r.speed);
+  // /ringing: the second part's spectrum against time frequency and its peak
+  put(f, "ringing/frequency_hz", r.ringing.psd.frequency, "Hz");
+  put(f, "ringing/power", r.ringing.psd.power, "(N/m)^2 per Hz");
+  h5::write_attr(f, "ringing", "nyquist_hz", r.ringing.nyquist);
+  h5::write_attr(f, "ringing", "searched", static_cast<std::int64_t>(r.ringing.searched));
+  h5::write_attr(f, "ringing", "frequency_hz", r.ringing.peak.frequency);
+  h5::write_attr(f, "ringing", "peak_to_background", r.ringing.peak.peak_to_background);
+  h5::write_attr(f, "ringing", "significance_threshold", r.ringing.peak.threshold);
+  h5::write_attr(f, "ringing", "significant", static_cast<std::int64_t>(r.ringing.peak.significant));
+  h5::write_attr(f, "ringing", "line_rms_N_per_m", r.ringing.line_rms);
+  h5::write_attr(f, "ringing", "dof", r.ringing.psd.dof);
+  h5::write_attr(f, "ringing", "geometric_cutoff_hz", r.geometric_cutoff);
   // /events: a contract with the stages cg and network (names, units).
   std::vector<double> load_start_time, peak_time, peak_height, peak_drag, drop_end_time, drop, duration,
       load_start_height, drop_end_height;
