@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
   }
   const auto& m = stage.metrics["spectrum"];
   auto num = [&m](const char* key) { return m[key].is_number() ? m[key].get<double>() : -1.0; };
-  char ringing[64] = "not resolved by the series";
+  char ringing[64] = "not searched";
   if (m["ringing_frequency_hz"].is_number())
     std::snprintf(ringing, sizeof ringing, "%.3g Hz (%s)", num("ringing_frequency_hz"),
                   m["ringing_significant"].get<bool>() ? "significant" : "not significant");

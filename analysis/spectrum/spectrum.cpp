@@ -325,11 +325,9 @@ DominantPeak dominant_peak(const Psd& psd, double low, double high, double false
 Ringing find_ringing(const std::vector<double>& x, double time_step, const SpectrumConfig& c) {
   Ringing g;
   g.nyquist = 0.5 / time_step;
-  g.resolved = g.nyquist >= (1.0 - 1e-9) * c.ringing_max_frequency_hz;
-  if (!g.resolved) return g;
   const double rate = 1.0 / time_step;
   g.psd = welch_psd(x, rate, std::min(samples(c.ringing_segment_s, rate), x.size()), c.overlap, c.window);
-  g.peak = dominant_peak(g.psd, c.ringing_min_frequency_hz, c.ringing_max_frequency_hz, c.false_alarm);
+  g.peak = dominant_peak(g.psd, c.ringing_min_frequency_hz, g.nyquist, c.false_alarm);
   g.searched = g.peak.found;
   if (!g.searched) return g;
   double power = 0.0;
@@ -504,15 +502,11 @@ Json ringing_json(const SpectrumResult& r, const SpectrumConfig& c) {
   const Ringing& g = r.ringing;
   const DominantPeak& k = g.peak;
   const std::string note =
-      !g.resolved ? "not resolved: the series' Nyquist frequency " + num(g.nyquist, " Hz") +
-                " is below ringing.max_frequency_hz = " + num(c.ringing_max_frequency_hz, " Hz") +
-                " (rows too far apart in time); no cutoff on the geometric search"
-      : !g.searched    ? "the loading/rupture part holds fewer than 3 bins of the band; no cutoff on the geometric search"
+      !g.searched      ? "fewer than 3 bins between min_frequency_hz and the Nyquist frequency; no cutoff on the geometric search"
       : !k.significant ? "no significant peak in the band; no cutoff on the geometric search"
                        : "significant: the geometric search keeps wavelengths with V / wavelength <= geometric_cutoff_hz";
-  return {{"band_hz", {c.ringing_min_frequency_hz, c.ringing_max_frequency_hz}},
+  return {{"band_hz", {c.ringing_min_frequency_hz, g.nyquist}},
           {"nyquist_hz", g.nyquist},
-          {"resolved", g.resolved},
           {"searched", g.searched},
           {"frequency_hz", k.frequency},
           {"period_s", k.period},

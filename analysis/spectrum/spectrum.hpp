@@ -80,16 +80,15 @@ struct DominantPeak {
 };
 DominantPeak dominant_peak(const Psd& psd, double low, double high, double false_alarm);
 
-// The bed's elastic ringing after slips: a fixed time frequency (tens of Hz),
-// whatever the pull speed. The dominant peak of the spectrum of x (the drag
-// fluctuation, rows every time_step seconds) against time frequency (Welch,
-// segments of ringing.segment_s, overlap and window as [psd]) in
-// [ringing.min_frequency_hz, ringing.max_frequency_hz]; searched only when the
-// series resolves that band (Nyquist frequency >= max_frequency_hz).
+// The bed's elastic ringing after slips: a fixed time frequency (tens to
+// hundreds of Hz, growing with the contact stiffness), whatever the pull speed.
+// The dominant peak of the spectrum of x (the drag fluctuation, rows every
+// time_step seconds) against time frequency (Welch, segments of
+// ringing.segment_s, overlap and window as [psd]) between
+// ringing.min_frequency_hz and the series' Nyquist frequency.
 struct Ringing {
-  double nyquist = kNaN;   // Hz, 1 / (2 time_step)
-  bool resolved = false;   // nyquist >= max_frequency_hz (a coarser series would fold the band)
-  bool searched = false;   // resolved, and the band holds at least 3 bins
+  double nyquist = kNaN;   // Hz, 1 / (2 time_step): a ringing above it appears folded below it
+  bool searched = false;   // the band holds at least 3 bins
   Psd psd;                 // frequency in Hz, power in (unit of x)^2 per Hz
   DominantPeak peak;       // frequency in Hz, period in s
   double line_rms = kNaN;  // unit of x: sqrt(sum power df) over the peak's full width at half maximum

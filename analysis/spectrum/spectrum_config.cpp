@@ -42,7 +42,6 @@ constexpr double kInf = HUGE_VAL;
 const Range kPositiveD{0.0, kInf, true, true, "d of travel"};
 const Range kFraction{0.0, 1.0, true, false, "fraction of the bed height"};
 const Range kFactor{0.0, kInf, true, true, "multiple of the noise level"};
-const Range kPositiveHz{0.0, kInf, true, true, "Hz"};
 const Range kCutoff{0.0, 1.0, true, true, "fraction of the ringing frequency"};
 
 double read_number(const std::string& path, const std::string& key, const toml::node& n, const Range& r) {
@@ -96,8 +95,7 @@ SpectrumConfig load_spectrum_config(const std::string& path) {
         {"max_period_d", number(c.max_period_d, kPositiveD)},
         {"false_alarm", number(c.false_alarm, {0.0, 1.0, true, true, "probability"})}}},
       {"ringing",
-       {{"min_frequency_hz", number(c.ringing_min_frequency_hz, kPositiveHz)},
-        {"max_frequency_hz", number(c.ringing_max_frequency_hz, kPositiveHz)},
+       {{"min_frequency_hz", number(c.ringing_min_frequency_hz, {0.0, kInf, true, true, "Hz"})},
         {"segment_s", number(c.ringing_segment_s, {0.0, kInf, true, true, "s"})},
         {"cutoff_fraction", number(c.ringing_cutoff_fraction, kCutoff)}}},
       {"events",
@@ -149,7 +147,6 @@ void check_spectrum_config(const SpectrumConfig& c, const std::string& source) {
           "bands: need bottom_top < middle_top < upper_top (fractions of the bed height)");
   require(c.min_period_d < c.max_period_d, "psd: need min_period_d < max_period_d");
   require(c.max_period_d < c.segment_d, "psd: need max_period_d < segment_d (a segment must hold the longest period)");
-  require(c.ringing_min_frequency_hz < c.ringing_max_frequency_hz, "ringing: need min_frequency_hz < max_frequency_hz");
 }
 
 }  // namespace dem2d::analysis

@@ -24,7 +24,7 @@ struct SpectrumConfig {
   double min_period_d = 0.1, max_period_d = 2.0;  // d
   double false_alarm = 0.01;                      // -
   // [ringing]: the bed's elastic ringing, in time frequency
-  double ringing_min_frequency_hz = 10.0, ringing_max_frequency_hz = 200.0;  // Hz, the band searched
+  double ringing_min_frequency_hz = 10.0;  // Hz: searched from here up to the series' Nyquist frequency
   double ringing_segment_s = 1.0;        // s, Welch segment in time
   double ringing_cutoff_fraction = 0.5;  // geometric periods only below this fraction of the ringing frequency
   // [events]
