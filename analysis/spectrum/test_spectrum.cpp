@@ -182,7 +182,7 @@ TEST(Spectrum, BottomZoneFindsPeakCollapseAndReload) {
 // A pull-off at speed v, rows every `interval` s (means over 8 instants each), from 1 mm to 110 mm of a
 // 150 mm bed: slips every d/2 (+-20 %) and a 35 Hz ringing of 25 N/m after each, noise 0.2 N/m. The
 // ringing is strong enough that the old search (wavelengths 0.1-2 d, whatever their time frequency)
-// takes it for the dominant period at 12 mm/s, as it did on the real 12 mm/s run.
+// takes it for the dominant period at 12 mm/s, as it did on the fast preset's bed at 12 mm/s.
 constexpr double kRingHz = 35.0;
 SpectrumResult ringing_run(double v, double interval, const SpectrumConfig& c = {}) {
   const Slips slips(0.5 * kD, 0.2, v, kRingHz, 25.0, 7);
