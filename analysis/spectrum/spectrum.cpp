@@ -504,7 +504,8 @@ Json ringing_json(const SpectrumResult& r, const SpectrumConfig& c) {
   const std::string note =
       !g.searched      ? "fewer than 3 bins between min_frequency_hz and the Nyquist frequency; no cutoff on the geometric search"
       : !k.significant ? "no significant peak in the band; no cutoff on the geometric search"
-                       : "significant: the geometric search keeps wavelengths with V / wavelength <= geometric_cutoff_hz";
+                       : "significant: the geometric search keeps wavelengths with V / wavelength <= geometric_cutoff_hz "
+                         "(a line above nyquist_hz appears folded below it: frequency_hz may be such an alias)";
   return {{"band_hz", {c.ringing_min_frequency_hz, g.nyquist}},
           {"nyquist_hz", g.nyquist},
           {"searched", g.searched},
