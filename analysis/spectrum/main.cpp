@@ -48,12 +48,17 @@ int main(int argc, char** argv) {
   }
   const auto& m = stage.metrics["spectrum"];
   auto num = [&m](const char* key) { return m[key].is_number() ? m[key].get<double>() : -1.0; };
+  char ringing[64] = "not searched";
+  if (m["ringing_frequency_hz"].is_number())
+    std::snprintf(ringing, sizeof ringing, "%.3g Hz (%s)", num("ringing_frequency_hz"),
+                  m["ringing_significant"].get<bool>() ? "significant" : "not significant");
   std::fprintf(stderr,
-               "spectrum: %s: %zu events, rupture spacing %.3g d (%.3g Hz at 1.2 mm/s), dominant period %.3g d%s, "
-               "top layer from %.1f mm -> %s\n",
+               "spectrum: %s: %zu events, rupture spacing %.3g d (%.3g Hz at 1.2 mm/s), dominant period %.3g d%s "
+               "(searched from %.3g d), ringing %s, top layer from %.1f mm -> %s\n",
                in.run.c_str(), m["event_count"].get<std::size_t>(), num("rupture_spacing_d"),
                num("rupture_frequency_hz_at_1p2mm_s"), num("dominant_period_d"),
                m["dominant_period_significant"].get<bool>() ? " (significant)" : " (not significant)",
-               num("top_layer_height_mm"), out_dir.c_str());
+               m["dominant_period_search_range_d"][0].get<double>(), ringing, num("top_layer_height_mm"),
+               out_dir.c_str());
   return 0;
 }

@@ -176,7 +176,7 @@ Band make_band(const std::string& name, double low, double high, const SpectrumR
   const std::vector<double> x(r.fluctuation.begin() + static_cast<std::ptrdiff_t>(b.begin),
                               r.fluctuation.begin() + static_cast<std::ptrdiff_t>(b.end));
   b.psd = welch_psd(x, samples_per_d, std::min(samples(c.segment_d, samples_per_d), x.size()), c.overlap, c.window);
-  b.peak = dominant_peak(b.psd, c.min_period_d, c.max_period_d, c.false_alarm);
+  b.peak = dominant_peak(b.psd, 1.0 / c.max_period_d, 1.0 / r.min_period_d, c.false_alarm);
   return b;
 }
 
@@ -235,7 +235,7 @@ LinearFit linear_fit(const std::vector<double>& x, const std::vector<double>& y)
   return f;
 }
 
-Psd welch_psd(const std::vector<double>& x, double samples_per_d, std::size_t n, double overlap,
+Psd welch_psd(const std::vector<double>& x, double sample_rate, std::size_t n, double overlap,
               const std::string& window) {
   Psd p;
   if (n < 4 || x.size() < n) return p;
@@ -251,9 +251,9 @@ Psd welch_psd(const std::vector<double>& x, double samples_per_d, std::size_t n,
     for (std::size_t i = 0; i < n; ++i) fft.input()[i] = (seg[i] - mean) * w[i];
     fft.add_power(acc);
   }
-  const double scale = 1.0 / (dbl(segments) * samples_per_d * w2);
+  const double scale = 1.0 / (dbl(segments) * sample_rate * w2);
   for (std::size_t j = 1; j <= n / 2; ++j) {
-    p.wavenumber.push_back(dbl(j) * samples_per_d / dbl(n));
+    p.frequency.push_back(dbl(j) * sample_rate / dbl(n));
     p.power.push_back((2 * j == n ? 1.0 : 2.0) * acc[j] * scale);
   }
   // Equivalent degrees of freedom (Welch 1967): 2K / (1 + 2 sum_j (1 - j/K) rho(j shift)^2).
@@ -269,11 +269,11 @@ Psd welch_psd(const std::vector<double>& x, double samples_per_d, std::size_t n,
   return p;
 }
 
-DominantPeak dominant_peak(const Psd& psd, double min_period_d, double max_period_d, double false_alarm) {
+DominantPeak dominant_peak(const Psd& psd, double low, double high, double false_alarm) {
   DominantPeak r;
-  const auto& k = psd.wavenumber;
-  const std::size_t j0 = static_cast<std::size_t>(std::lower_bound(k.begin(), k.end(), 1.0 / max_period_d) - k.begin());
-  const std::size_t j1 = static_cast<std::size_t>(std::upper_bound(k.begin(), k.end(), 1.0 / min_period_d) - k.begin());
+  const auto& k = psd.frequency;
+  const std::size_t j0 = static_cast<std::size_t>(std::lower_bound(k.begin(), k.end(), low) - k.begin());
+  const std::size_t j1 = static_cast<std::size_t>(std::upper_bound(k.begin(), k.end(), high) - k.begin());
   if (j1 < j0 + 3) return r;
   r.found = true;
   r.bins = j1 - j0;
@@ -301,8 +301,8 @@ DominantPeak dominant_peak(const Psd& psd, double min_period_d, double max_perio
     const double a = std::log(excess[m - 1]), b = std::log(excess[m]), c = std::log(excess[m + 1]);
     if (a - 2.0 * b + c < 0.0) shift = std::clamp(0.5 * (a - c) / (a - 2.0 * b + c), -0.5, 0.5);
   }
-  r.wavenumber = k[j0 + m] + shift * dk;
-  r.period_d = 1.0 / r.wavenumber;
+  r.frequency = k[j0 + m] + shift * dk;
+  r.period = 1.0 / r.frequency;
   r.peak_to_background = excess[m];
   r.peak_to_median = power[m] / median(power);
   const double per_bin = -std::expm1(std::log1p(-false_alarm) / dbl(r.bins));
@@ -315,9 +315,26 @@ DominantPeak dominant_peak(const Psd& psd, double min_period_d, double max_perio
   while (hi + 1 < r.bins && excess[hi + 1] > half) ++hi;
   const double k_lo = k[j0 + lo] - (lo > 0 ? (excess[lo] - half) / (excess[lo] - excess[lo - 1]) * dk : 0.0);
   const double k_hi = k[j0 + hi] + (hi + 1 < r.bins ? (excess[hi] - half) / (excess[hi] - excess[hi + 1]) * dk : 0.0);
-  r.half_width_d = 0.5 * (1.0 / k_lo - 1.0 / k_hi);
-  r.quality = r.wavenumber / (k_hi - k_lo);
+  r.half_max_low = k_lo;
+  r.half_max_high = k_hi;
+  r.half_width = 0.5 * (1.0 / k_lo - 1.0 / k_hi);
+  r.quality = r.frequency / (k_hi - k_lo);
   return r;
+}
+
+Ringing find_ringing(const std::vector<double>& x, double time_step, const SpectrumConfig& c) {
+  Ringing g;
+  g.nyquist = 0.5 / time_step;
+  const double rate = 1.0 / time_step;
+  g.psd = welch_psd(x, rate, std::min(samples(c.ringing_segment_s, rate), x.size()), c.overlap, c.window);
+  g.peak = dominant_peak(g.psd, c.ringing_min_frequency_hz, g.nyquist, c.false_alarm);
+  g.searched = g.peak.found;
+  if (!g.searched) return g;
+  double power = 0.0;
+  for (std::size_t j = 0; j < g.psd.frequency.size(); ++j)
+    if (g.psd.frequency[j] >= g.peak.half_max_low && g.psd.frequency[j] <= g.peak.half_max_high) power += g.psd.power[j];
+  g.line_rms = std::sqrt(power * g.psd.frequency[0]);  // bins are 1/segment apart, from 1/segment on
+  return g;
 }
 
 std::vector<Pivot> zigzag(const std::vector<double>& x, double delta, std::size_t begin) {
@@ -375,6 +392,17 @@ SpectrumResult analyse(const DragProfile& profile, const SpectrumScales& s, cons
   const std::size_t env_half = samples(0.5 * c.envelope_window_d, fs);
   r.envelope = running_rms(r.fluctuation, env_half);
 
+  // The ringing, against time in the loading/rupture part; a significant one
+  // bounds the geometric search: only wavelengths with V / wavelength <= cutoff.
+  const auto [ring_begin, ring_end] = rows_between(h, c.bottom_top * hb, c.upper_top * hb);
+  r.ringing = find_ringing({r.fluctuation.begin() + static_cast<std::ptrdiff_t>(ring_begin),
+                            r.fluctuation.begin() + static_cast<std::ptrdiff_t>(ring_end)},
+                           (p.time.back() - p.time.front()) / dbl(n - 1), c);
+  r.min_period_d = c.min_period_d;
+  if (r.ringing.peak.significant) {
+    r.geometric_cutoff = c.ringing_cutoff_fraction * r.ringing.peak.frequency;
+    r.min_period_d = std::max(c.min_period_d, r.speed / (r.geometric_cutoff * s.d));
+  }
   r.second_part = make_band("second_part", c.bottom_top * hb, c.upper_top * hb, r, fs, c);
   const double span_d = dbl(r.second_part.end - r.second_part.begin) / fs;
   if (span_d < 2.0 * c.max_period_d)
@@ -452,22 +480,53 @@ Json peak_json(const Band& b, const SpectrumScales& s, const SpectrumResult& r) 
   return {{"range_mm", {1e3 * b.low, 1e3 * b.high}},
           {"travel_d", dbl(b.end - b.begin) * r.height_step / s.d},
           {"found", k.found},
-          {"dominant_period_d", k.period_d},
-          {"dominant_period_mm", 1e3 * k.period_d * s.d},
-          {"frequency_hz_at_run_v", at_speed(k.period_d, s.d, run_speed)},
-          {"frequency_hz_at_paper_v", at_speed(k.period_d, s.d, s.paper_speed)},
+          {"dominant_period_d", k.period},
+          {"dominant_period_mm", 1e3 * k.period * s.d},
+          {"frequency_hz_at_run_v", at_speed(k.period, s.d, run_speed)},
+          {"frequency_hz_at_paper_v", at_speed(k.period, s.d, s.paper_speed)},
           {"significant", k.significant},
           {"peak_to_background", k.peak_to_background},
           {"significance_threshold", k.threshold},
           {"peak_to_median", k.peak_to_median},
           {"background_exponent", k.background_exponent},
-          {"half_width_d", k.half_width_d},
+          {"half_width_d", k.half_width},
           {"quality_factor", k.quality},
           {"at_range_edge", k.at_edge},
           {"segments", b.psd.segments},
           {"segment_d", dbl(b.psd.segment_samples) * r.height_step / s.d},
           {"dof", b.psd.dof},
           {"bins_searched", k.bins}};
+}
+
+Json ringing_json(const SpectrumResult& r, const SpectrumConfig& c) {
+  const Ringing& g = r.ringing;
+  const DominantPeak& k = g.peak;
+  const std::string note =
+      !g.searched      ? "fewer than 3 bins between min_frequency_hz and the Nyquist frequency; no cutoff on the geometric search"
+      : !k.significant ? "no significant peak in the band; no cutoff on the geometric search"
+                       : "significant: the geometric search keeps wavelengths with V / wavelength <= geometric_cutoff_hz "
+                         "(a line above nyquist_hz appears folded below it: frequency_hz may be such an alias)";
+  return {{"band_hz", {c.ringing_min_frequency_hz, g.nyquist}},
+          {"nyquist_hz", g.nyquist},
+          {"searched", g.searched},
+          {"frequency_hz", k.frequency},
+          {"period_s", k.period},
+          {"significant", k.significant},
+          {"peak_to_background", k.peak_to_background},
+          {"significance_threshold", k.threshold},
+          {"peak_to_median", k.peak_to_median},
+          {"background_exponent", k.background_exponent},
+          {"half_width_hz", 0.5 * (k.half_max_high - k.half_max_low)},
+          {"quality_factor", k.quality},
+          {"at_band_edge", k.at_edge},
+          {"line_rms_N_per_m", g.line_rms},
+          {"segments", g.psd.segments},
+          {"segment_s", 0.5 * dbl(g.psd.segment_samples) / g.nyquist},
+          {"dof", g.psd.dof},
+          {"bins_searched", k.bins},
+          {"cutoff_fraction", c.ringing_cutoff_fraction},
+          {"geometric_cutoff_hz", r.geometric_cutoff},
+          {"note", note}};
 }
 
 Json stats_json(const std::vector<double>& v) {
@@ -519,11 +578,19 @@ nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumS
   m["noise_level_N"] = r.noise * intruder_depth;
   m["drop_delta_N_per_m"] = r.drop_delta;
   // spectrum
-  m["dominant_period_d"] = r.second_part.peak.period_d;
-  m["dominant_frequency_hz_at_1p2mm_s"] = at_speed(r.second_part.peak.period_d, s.d, s.paper_speed);
+  m["dominant_period_d"] = r.second_part.peak.period;
+  m["dominant_frequency_hz_at_1p2mm_s"] = at_speed(r.second_part.peak.period, s.d, s.paper_speed);
   m["dominant_period_significant"] = r.second_part.peak.significant;
+  m["dominant_period_search_range_d"] = {r.min_period_d, c.max_period_d};
+  m["dominant_period_search_max_frequency_hz_at_run_v"] = at_speed(r.min_period_d, s.d, r.speed);
   m["psd"] = peak_json(r.second_part, s, r);
   for (const Band& b : r.bands) m["bands"][b.name] = peak_json(b, s, r);
+  // the bed's ringing, in time frequency (kept out of the dominant-period search)
+  const double ringing_hz = r.ringing.peak.frequency;
+  m["ringing_frequency_hz"] = ringing_hz;
+  m["ringing_significant"] = r.ringing.peak.significant;
+  m["ringing_period_d_at_run_speed"] = r.speed / (ringing_hz * s.d);  // its wavelength in travel
+  m["ringing"] = ringing_json(r, c);
   // events
   m["event_count"] = r.events.size();
   m["rupture_spacing"] = {{"unit", "d"}, {"stats", spacing_stats}};
@@ -567,6 +634,7 @@ nlohmann::ordered_json sensitivity_table(const DragProfile& profile, const Spect
                          {"amplitude_fit_r2_upper", m["amplitude_fit_r2_upper"]},
                          {"dominant_period_d", m["dominant_period_d"]},
                          {"dominant_period_significant", m["dominant_period_significant"]},
+                         {"dominant_period_search_min_d", m["dominant_period_search_range_d"][0]},
                          {"top_layer_height_mm", m["top_layer_height_mm"]},
                          {"top_layer_depth_fit_r2", m["top_layer_depth_fit_r2"]}});
     }
@@ -574,6 +642,7 @@ nlohmann::ordered_json sensitivity_table(const DragProfile& profile, const Spect
   vary("drop_threshold", c.drop_thresholds, &SpectrumConfig::drop_threshold);
   vary("floor_factor", c.floor_factors, &SpectrumConfig::floor_factor);
   vary("trend_window_d", c.trend_windows_d, &SpectrumConfig::trend_window_d);
+  vary("ringing_cutoff_fraction", c.ringing_cutoff_fractions, &SpectrumConfig::ringing_cutoff_fraction);
   return t;
 }
 

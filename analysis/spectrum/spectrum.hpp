@@ -7,7 +7,9 @@
 // Everything here works on a DragProfile in memory (no files), so that it can
 // be tested on synthetic signals. Units: SI (m, s, N/m) unless a name says
 // otherwise; "_d" means in units of d, the mean grain diameter, as a length
-// of travel; wavenumbers are in cycles per d.
+// of travel; wavenumbers are in cycles per d. The series is uniform in time and
+// in travel (constant V): the geometric periods are sought against travel, the
+// bed's elastic ringing against time.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -43,37 +45,55 @@ LinearFit linear_fit(const std::vector<double>& x, const std::vector<double>& y)
 
 // One-sided power spectral density by Welch's method: segments of
 // segment_samples with the given overlap, each windowed after removing its
-// mean; |FFT|^2 averaged. Wavenumbers (cycles per d) from 1/segment up to
-// Nyquist (the zero bin is left out); power in (unit of x)^2 per (cycle per d),
-// so that sum(power) * dk = variance.
+// mean; |FFT|^2 averaged. x is sampled `sample_rate` times per unit of its
+// axis: per d of travel (frequency = wavenumber, cycles per d) or per second
+// (frequency in Hz). Frequencies from 1/segment up to Nyquist (the zero bin is
+// left out); power in (unit of x)^2 per (cycle per unit of the axis), so that
+// sum(power) * df = variance.
 struct Psd {
-  std::vector<double> wavenumber, power;
+  std::vector<double> frequency, power;
   std::size_t segments = 0, segment_samples = 0;
   double dof = 0.0;  // equivalent degrees of freedom of one bin (chi-square), overlap included
 };
-Psd welch_psd(const std::vector<double>& x, double samples_per_d, std::size_t segment_samples, double overlap,
+Psd welch_psd(const std::vector<double>& x, double sample_rate, std::size_t segment_samples, double overlap,
               const std::string& window);
 
-// The dominant period: among the bins with wavelength in [min_period_d,
-// max_period_d], the one whose power stands highest above a power law fitted
-// to the PSD over that range (log-log least squares, corrected for the mean of
-// log chi-square), refined by a parabola through ln(excess) at it and its
-// neighbours. Significant when that excess exceeds the chi-square quantile
-// that pure noise with that background exceeds in any of the M bins with
-// probability false_alarm, and the bin is not at the range's edge (there it
-// need not be a local maximum).
+// The dominant peak of a PSD in the frequency range [low, high] (the PSD's
+// axis: cycles per d, or Hz): among the bins in that range, the one whose power
+// stands highest above a power law fitted to the PSD over the range (log-log
+// least squares, corrected for the mean of log chi-square), refined by a
+// parabola through ln(excess) at it and its neighbours. Significant when that
+// excess exceeds the chi-square quantile that pure noise with that background
+// exceeds in any of the M bins with probability false_alarm, and the bin is not
+// at the range's edge (there it need not be a local maximum).
 struct DominantPeak {
   bool found = false;  // false when the range holds fewer than 3 bins
-  double period_d = kNaN, wavenumber = kNaN;
+  double frequency = kNaN, period = kNaN;  // in the PSD's axis: cycles per d and d, or Hz and s
   double peak_to_background = kNaN, threshold = kNaN;  // excess ratio and its significance threshold
   double peak_to_median = kNaN;                        // peak power / median power of the range
-  double background_exponent = kNaN;                   // the background is P ~ k^exponent
-  double half_width_d = kNaN;   // half the width (in wavelength) where the excess is above half its peak
-  double quality = kNaN;        // wavenumber / full width at half maximum (in wavenumber)
+  double background_exponent = kNaN;                   // the background is P ~ frequency^exponent
+  double half_max_low = kNaN, half_max_high = kNaN;    // frequencies where the excess falls to half its peak
+  double half_width = kNaN;  // half the width, in period, where the excess is above half its peak
+  double quality = kNaN;     // frequency / full width at half maximum (in frequency)
   bool significant = false, at_edge = false;
   std::size_t bins = 0;
 };
-DominantPeak dominant_peak(const Psd& psd, double min_period_d, double max_period_d, double false_alarm);
+DominantPeak dominant_peak(const Psd& psd, double low, double high, double false_alarm);
+
+// The bed's elastic ringing after slips: a fixed time frequency (tens to
+// hundreds of Hz, growing with the contact stiffness), whatever the pull speed.
+// The dominant peak of the spectrum of x (the drag fluctuation, rows every
+// time_step seconds) against time frequency (Welch, segments of
+// ringing.segment_s, overlap and window as [psd]) between
+// ringing.min_frequency_hz and the series' Nyquist frequency.
+struct Ringing {
+  double nyquist = kNaN;   // Hz, 1 / (2 time_step): a ringing above it appears folded below it
+  bool searched = false;   // the band holds at least 3 bins
+  Psd psd;                 // frequency in Hz, power in (unit of x)^2 per Hz
+  DominantPeak peak;       // frequency in Hz, period in s
+  double line_rms = kNaN;  // unit of x: sqrt(sum power df) over the peak's full width at half maximum
+};
+Ringing find_ringing(const std::vector<double>& x, double time_step, const SpectrumConfig& c);
 
 // Alternating extrema of x from `begin` on with hysteresis delta: a peak is
 // confirmed when x falls more than delta below it, a trough when x rises more
@@ -117,6 +137,10 @@ struct SpectrumResult {
   std::vector<double> trend, fluctuation, envelope;  // N/m
   double noise = 0.0;            // N/m, sigma of the fluctuation in the second part
   double drop_delta = 0.0;       // N/m, drop_threshold x sigma
+  Ringing ringing;               // the bed's ringing, found in the second part's time spectrum
+  double geometric_cutoff = kNaN;  // Hz: cutoff_fraction x a significant ringing's frequency (NaN: no cutoff)
+  double min_period_d = kNaN;    // d: the dominant-period search's lower bound: psd.min_period_d, raised to
+                                 // V / (geometric_cutoff d) so that no searched period lies in the ringing
   Band second_part;              // [bottom_top, upper_top) H_bed: the loading/rupture regime
   std::vector<Band> bands;       // bottom, middle, upper, top_layer
   std::vector<Event> events;     // over the whole profile

@@ -42,6 +42,7 @@ constexpr double kInf = HUGE_VAL;
 const Range kPositiveD{0.0, kInf, true, true, "d of travel"};
 const Range kFraction{0.0, 1.0, true, false, "fraction of the bed height"};
 const Range kFactor{0.0, kInf, true, true, "multiple of the noise level"};
+const Range kCutoff{0.0, 1.0, true, true, "fraction of the ringing frequency"};
 
 double read_number(const std::string& path, const std::string& key, const toml::node& n, const Range& r) {
   const std::optional<double> v = n.value<double>();
@@ -93,6 +94,10 @@ SpectrumConfig load_spectrum_config(const std::string& path) {
         {"min_period_d", number(c.min_period_d, kPositiveD)},
         {"max_period_d", number(c.max_period_d, kPositiveD)},
         {"false_alarm", number(c.false_alarm, {0.0, 1.0, true, true, "probability"})}}},
+      {"ringing",
+       {{"min_frequency_hz", number(c.ringing_min_frequency_hz, {0.0, kInf, true, true, "Hz"})},
+        {"segment_s", number(c.ringing_segment_s, {0.0, kInf, true, true, "s"})},
+        {"cutoff_fraction", number(c.ringing_cutoff_fraction, kCutoff)}}},
       {"events",
        {{"drop_threshold", number(c.drop_threshold, kFactor)}, {"drop_window_d", number(c.drop_window_d, kPositiveD)}}},
       {"top_layer",
@@ -107,7 +112,8 @@ SpectrumConfig load_spectrum_config(const std::string& path) {
       {"sensitivity",
        {{"drop_thresholds", list(c.drop_thresholds, kFactor)},
         {"floor_factors", list(c.floor_factors, kFactor)},
-        {"trend_windows_d", list(c.trend_windows_d, kPositiveD)}}},
+        {"trend_windows_d", list(c.trend_windows_d, kPositiveD)},
+        {"ringing_cutoff_fractions", list(c.ringing_cutoff_fractions, kCutoff)}}},
   };
   auto names = [](const auto& m) {
     std::string s;

@@ -23,6 +23,10 @@ struct SpectrumConfig {
   std::string window = "hann";
   double min_period_d = 0.1, max_period_d = 2.0;  // d
   double false_alarm = 0.01;                      // -
+  // [ringing]: the bed's elastic ringing, in time frequency
+  double ringing_min_frequency_hz = 10.0;  // Hz: searched from here up to the series' Nyquist frequency
+  double ringing_segment_s = 1.0;        // s, Welch segment in time
+  double ringing_cutoff_fraction = 0.5;  // geometric periods only below this fraction of the ringing frequency
   // [events]
   double drop_threshold = 7.0;  // x sigma
   double drop_window_d = 0.1;   // d
@@ -38,6 +42,7 @@ struct SpectrumConfig {
   std::vector<double> drop_thresholds{5.0, 7.0, 10.0, 15.0, 20.0};
   std::vector<double> floor_factors{1.5, 2.0, 3.0};
   std::vector<double> trend_windows_d{3.0, 4.0, 6.0};
+  std::vector<double> ringing_cutoff_fractions{0.35, 0.5, 0.7};
 };
 
 // Reads a config file; keys not given keep their defaults. Unknown keys, wrong

@@ -70,12 +70,12 @@ void put(const h5::File& f, const std::string& name, const std::vector<double>& 
 
 void write_psd(const h5::File& f, const std::string& group, const Band& b, const SpectrumScales& s, double speed) {
   std::vector<double> wavelength, f_paper, f_run;
-  for (const double k : b.psd.wavenumber) {
+  for (const double k : b.psd.frequency) {
     wavelength.push_back(1.0 / k);
     f_paper.push_back(k * s.paper_speed / s.d);
     f_run.push_back(k * speed / s.d);
   }
-  put(f, group + "/wavenumber_per_d", b.psd.wavenumber, "cycles per d of travel");
+  put(f, group + "/wavenumber_per_d", b.psd.frequency, "cycles per d of travel");
   put(f, group + "/wavelength_d", wavelength, "d of travel");
   put(f, group + "/frequency_hz_at_paper_v", f_paper, "Hz");
   put(f, group + "/frequency_hz_at_run_v", f_run, "Hz");
@@ -84,7 +84,7 @@ void write_psd(const h5::File& f, const std::string& group, const Band& b, const
   h5::write_attr(f, group, "high_m", b.high);
   h5::write_attr(f, group, "segments", static_cast<std::int64_t>(b.psd.segments));
   h5::write_attr(f, group, "dof", b.psd.dof);
-  h5::write_attr(f, group, "dominant_period_d", b.peak.period_d);
+  h5::write_attr(f, group, "dominant_period_d", b.peak.period);
   h5::write_attr(f, group, "peak_to_background", b.peak.peak_to_background);
   h5::write_attr(f, group, "significance_threshold", b.peak.threshold);
   h5::write_attr(f, group, "significant", static_cast<std::int64_t>(b.peak.significant));
@@ -105,7 +105,20 @@ void write_h5(const std::string& path, const SpectrumStage& st) {
   put(f, "profile/fluctuation", r.fluctuation, "N/m");
   put(f, "profile/envelope", r.envelope, "N/m");
   write_psd(f, "psd", r.second_part, st.scales, r.speed);
+  h5::write_attr(f, "psd", "search_min_period_d", r.min_period_d);  // the bands' search too
   for (const Band& b : r.bands) write_psd(f, "psd/bands/" + b.name, b, st.scales, r.speed);
+  // /ringing: the second part's spectrum against time frequency and its peak
+  put(f, "ringing/frequency_hz", r.ringing.psd.frequency, "Hz");
+  put(f, "ringing/power", r.ringing.psd.power, "(N/m)^2 per Hz");
+  h5::write_attr(f, "ringing", "nyquist_hz", r.ringing.nyquist);
+  h5::write_attr(f, "ringing", "searched", static_cast<std::int64_t>(r.ringing.searched));
+  h5::write_attr(f, "ringing", "frequency_hz", r.ringing.peak.frequency);
+  h5::write_attr(f, "ringing", "peak_to_background", r.ringing.peak.peak_to_background);
+  h5::write_attr(f, "ringing", "significance_threshold", r.ringing.peak.threshold);
+  h5::write_attr(f, "ringing", "significant", static_cast<std::int64_t>(r.ringing.peak.significant));
+  h5::write_attr(f, "ringing", "line_rms_N_per_m", r.ringing.line_rms);
+  h5::write_attr(f, "ringing", "dof", r.ringing.psd.dof);
+  h5::write_attr(f, "ringing", "geometric_cutoff_hz", r.geometric_cutoff);
   // /events: a contract with the stages cg and network (names, units).
   std::vector<double> load_start_time, peak_time, peak_height, peak_drag, drop_end_time, drop, duration,
       load_start_height, drop_end_height;

@@ -21,18 +21,33 @@ constexpr double kV = 0.0012;           // m/s
 
 const SpectrumScales kScales{kD, 0.150, kV};
 
-// A pull-off from 1 mm to 150 mm: drag(H) from `shape`, plus Gaussian noise.
-DragProfile synthetic(const std::function<double(double)>& shape, double noise, unsigned seed = 1,
-                      double top = 0.150) {
+// A pull-off at speed v from 1 mm to `top`, one row every `interval` seconds, plus Gaussian noise. A row
+// holds the mean of drag(t, H) over `subsamples` instants of the interval ending at it, as the run's
+// /series/body_force_mean (an interval mean: a line above the Nyquist frequency is attenuated and folded).
+DragProfile pulled(const std::function<double(double, double)>& drag, double v, double interval, double noise,
+                   unsigned seed, double top, int subsamples) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> gauss(0.0, noise);
   DragProfile p;
-  for (double h = 0.001; h <= top; h += kStep) {
+  for (std::size_t k = 0;; ++k) {
+    const double t = static_cast<double>(k) * interval, h = 0.001 + v * t;
+    if (h > top) break;
+    double mean = 0.0;
+    for (int j = 0; j < subsamples; ++j) {
+      const double tj = t - interval * j / subsamples;
+      mean += drag(tj, 0.001 + v * tj) / subsamples;
+    }
+    p.time.push_back(t);
     p.height.push_back(h);
-    p.time.push_back((h - 0.001) / kV);
-    p.drag.push_back(shape(h) + gauss(rng));
+    p.drag.push_back(mean + gauss(rng));
   }
   return p;
+}
+
+// The study's pull-off from 1 mm to `top`: drag(H) from `shape` sampled every d/125 (0.02 s), plus noise.
+DragProfile synthetic(const std::function<double(double)>& shape, double noise, unsigned seed = 1,
+                      double top = 0.150) {
+  return pulled([&shape](double, double h) { return shape(h); }, kV, kStep / kV, noise, seed, top, 1);
 }
 
 double trend(double h) { return 40.0 * std::exp(-h / 0.05) + 5.0 * (0.150 - h) / 0.150; }
@@ -41,6 +56,40 @@ double trend(double h) { return 40.0 * std::exp(-h / 0.05) + 5.0 * (0.150 - h) /
 std::function<double(double)> sawtooth(double period, double a, double stop = 1.0) {
   return [=](double h) { return trend(h) + (h < stop ? a * std::fmod(h, period) / period : 0.0); };
 }
+
+// Slips every `period` of travel (m), each spacing drawn uniformly within +-jitter x period (the drag of
+// a granular pull-out is not a perfect sawtooth: jitter smears the harmonics), each ending a loading ramp
+// of 10 N/m on the trend and exciting the bed's ringing: a burst at ring_hz with a random phase and an
+// amplitude uniform in [0.5, 1.5] x ring_amplitude (N/m), decaying with the contacts' damping ratio
+// (e = 0.9: zeta = 0.0335, decay time 1 / (2 pi zeta f) = 0.14 s at 35 Hz). drag(t, H) at speed v.
+struct Slips {
+  struct Burst {
+    double time, amplitude, phase;
+  };
+  std::vector<double> heights;  // m, of the slips
+  std::vector<Burst> bursts;
+  double ring_hz, decay;
+
+  Slips(double period, double jitter, double v, double ring_hz_, double ring_amplitude, unsigned seed)
+      : ring_hz(ring_hz_), decay(1.0 / (2.0 * 3.14159265358979 * 0.0335 * ring_hz_)) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (double h = 0.001 + period * u(rng); h < 0.3; h += period * (1.0 + jitter * (2.0 * u(rng) - 1.0))) {
+      heights.push_back(h);
+      bursts.push_back({(h - 0.001) / v, ring_amplitude * (0.5 + u(rng)), 2.0 * 3.14159265358979 * u(rng)});
+    }
+  }
+  double operator()(double t, double h) const {
+    const std::size_t i = static_cast<std::size_t>(std::upper_bound(heights.begin(), heights.end(), h) - heights.begin());
+    const double last = i > 0 ? heights[i - 1] : 0.001;
+    double drag = trend(h) + 10.0 * (h - last) / (heights[i] - last);
+    for (std::size_t j = i; j-- > 0 && t - bursts[j].time < 10.0 * decay;) {
+      const double dt = t - bursts[j].time;
+      drag += bursts[j].amplitude * std::exp(-dt / decay) * std::sin(2.0 * 3.14159265358979 * ring_hz * dt + bursts[j].phase);
+    }
+    return drag;
+  }
+};
 
 TEST(SpectrumBlocks, RunningMedianKeepsAMonotoneSignalAndRemovesSpikes) {
   std::vector<double> x(50);
@@ -56,7 +105,7 @@ TEST(SpectrumBlocks, WelchPsdIntegratesToTheVarianceAndNoiseLevelIsSigma) {
   std::vector<double> x(20000);
   for (double& v : x) v = gauss(rng);
   const Psd p = welch_psd(x, 125.0, 1000, 0.5, "hann");
-  const double dk = p.wavenumber[1] - p.wavenumber[0];
+  const double dk = p.frequency[1] - p.frequency[0];
   EXPECT_NEAR(std::accumulate(p.power.begin(), p.power.end(), 0.0) * dk, 4.0, 0.1);
   EXPECT_EQ(p.segments, 39u);
   EXPECT_NEAR(p.dof, 36.0 * 39 * 39 / (19.0 * 39 - 1), 0.5);  // Welch's Hann, 50 % overlap
@@ -77,7 +126,7 @@ TEST(Spectrum, SawtoothOnADecayingTrendGivesItsPeriodAndEvents) {
   const SpectrumResult r = analyse(synthetic(sawtooth(period, 10.0), 0.2), kScales, {}, "synthetic");
   const DominantPeak& k = r.second_part.peak;
   EXPECT_TRUE(k.significant);
-  EXPECT_NEAR(k.period_d, 0.5, 0.01) << "within 2 %";
+  EXPECT_NEAR(k.period, 0.5, 0.01) << "within 2 %";
   const double drops = std::floor(0.150 / period) - std::floor(0.001 / period);
   EXPECT_NEAR(static_cast<double>(r.events.size()), drops, 0.02 * drops);
   ASSERT_FALSE(r.spacing_d.empty());
@@ -130,6 +179,95 @@ TEST(Spectrum, BottomZoneFindsPeakCollapseAndReload) {
   EXPECT_NEAR(r.profile.height[r.bottom_reload], 0.010, 0.0002);
 }
 
+// A pull-off at speed v, rows every `interval` s (means over 8 instants each), from 1 mm to 110 mm of a
+// 150 mm bed: slips every d/2 (+-20 %) and a 35 Hz ringing of 25 N/m after each, noise 0.2 N/m. The
+// ringing is strong enough that the old search (wavelengths 0.1-2 d, whatever their time frequency)
+// takes it for the dominant period at 12 mm/s, as it did on the fast preset's bed at 12 mm/s.
+constexpr double kRingHz = 35.0;
+SpectrumResult ringing_run(double v, double interval, const SpectrumConfig& c = {}) {
+  const Slips slips(0.5 * kD, 0.2, v, kRingHz, 25.0, 7);
+  return analyse(pulled(slips, v, interval, 0.2, 1, 0.110, 8), kScales, c, "synthetic");
+}
+
+// Tolerances. Ringing: +-1 Hz, one bin of the 1 s time segments (the line is 2 zeta f = 2.3 Hz wide and
+// its highest bin can be a neighbour of the centre's in a chi-square spectrum). Geometric period: +-0.03 d,
+// one bin of the 8 d travel segments at 2 cycles per d (0.125 cycle per d); the +-20 % jitter of the
+// spacings broadens the line to several bins, and over 8 seeds its maximum fell within 0.48-0.51 d.
+constexpr double kRingTolHz = 1.0, kPeriodTolD = 0.03;
+
+TEST(SpectrumRinging, AtTheStudysRowsTheRingingIsFoldedAndTheSearchIsUnchanged) {
+  // 1.2 mm/s, rows every 0.02 s (Nyquist 25 Hz): the 35 Hz ringing is attenuated (interval mean: x 0.37)
+  // and folded to 50 - 35 = 15 Hz, where the search over [10, 25] Hz finds it. Any line found there cuts
+  // at >= 5 Hz, i.e. at wavelengths <= 1.2 mm/s / (5 Hz d) = 0.08 d: the search stays [0.1, 2] d.
+  const SpectrumResult r = ringing_run(kV, kStep / kV);
+  EXPECT_NEAR(r.ringing.nyquist, 25.0, 1e-9);
+  EXPECT_TRUE(r.ringing.peak.significant);
+  EXPECT_NEAR(r.ringing.peak.frequency, 2.0 * r.ringing.nyquist - kRingHz, kRingTolHz);
+  EXPECT_EQ(r.min_period_d, SpectrumConfig{}.min_period_d);
+  EXPECT_TRUE(r.second_part.peak.significant);
+  EXPECT_NEAR(r.second_part.peak.period, 0.5, kPeriodTolD);
+}
+
+TEST(SpectrumRinging, FoundAt35HzAndKeptOutOfTheGeometricSearchAtEverySpeed) {
+  for (const double v : {0.0012, 0.012}) {  // rows every 2 ms: Nyquist 250 Hz
+    SCOPED_TRACE("V = " + std::to_string(1e3 * v) + " mm/s");
+    const SpectrumResult r = ringing_run(v, 0.002);
+    ASSERT_TRUE(r.ringing.searched);
+    EXPECT_TRUE(r.ringing.peak.significant);
+    EXPECT_NEAR(r.ringing.peak.frequency, kRingHz, kRingTolHz);
+    EXPECT_NEAR(r.geometric_cutoff, 0.5 * r.ringing.peak.frequency, 1e-12);
+    // the search starts where V / wavelength = the cutoff (at 1.2 mm/s that is 0.023 d: 0.1 d stays)
+    EXPECT_NEAR(r.min_period_d, std::max(0.1, v / (r.geometric_cutoff * kD)), 1e-12);
+    EXPECT_TRUE(r.second_part.peak.significant);
+    EXPECT_NEAR(r.second_part.peak.period, 0.5, kPeriodTolD);
+  }
+}
+
+TEST(SpectrumRinging, TheOldSearchTakesTheRingingForTheDominantPeriodAt12mmPerS) {
+  // What the stage did before: the dominant peak over the configured 0.1-2 d alone. At 12 mm/s the
+  // ringing's wavelength V / f = 0.114 d lies in that range and stands highest.
+  const double v = 0.012;
+  const SpectrumResult r = ringing_run(v, 0.002);
+  const SpectrumConfig c;
+  const DominantPeak old = dominant_peak(r.second_part.psd, 1.0 / c.max_period_d, 1.0 / c.min_period_d, c.false_alarm);
+  EXPECT_TRUE(old.significant);
+  EXPECT_NEAR(old.period, v / (kRingHz * kD), v / (kRingHz * kD) * kRingTolHz / kRingHz) << "the ringing";
+  EXPECT_NEAR(r.second_part.peak.period, 0.5, kPeriodTolD) << "the slips, once the ringing is kept out";
+}
+
+TEST(SpectrumRinging, At30mmPerSDOverTwoIsBeyondTheCutoffAndNoPeriodIsClaimed) {
+  // d/2 at 30 mm/s is 20 Hz, above f_ring / 2 = 17.5 Hz: the search starts at ~0.57 d and can find
+  // neither d/2 nor the ringing (0.29 d); the stage then reports no significant period rather than the
+  // ringing's. (A wider cutoff would not help here: this ringing's flank at 20 Hz, ~1 % of its peak power
+  // density, is above the slips' line.)
+  const double v = 0.030;
+  const SpectrumResult r = ringing_run(v, kD / 125.0 / v);  // rows every d/125 of travel (0.8 ms)
+  EXPECT_NEAR(r.ringing.peak.frequency, kRingHz, kRingTolHz);
+  EXPECT_NEAR(r.min_period_d, v / (0.5 * r.ringing.peak.frequency * kD), 1e-12);
+  EXPECT_GT(r.min_period_d, 0.5);
+  EXPECT_GE(r.second_part.peak.period, r.min_period_d);
+  EXPECT_FALSE(r.second_part.peak.significant);
+}
+
+TEST(SpectrumRinging, TheMetricsAndTheSensitivityTableReportTheRingingAndTheSearchRange) {
+  const double v = 0.012;
+  const SpectrumResult r = ringing_run(v, 0.002);
+  const SpectrumConfig c;
+  const auto m = spectrum_metrics(r, kScales, c, 0.049);
+  EXPECT_NEAR(m["ringing_frequency_hz"].get<double>(), kRingHz, kRingTolHz);
+  EXPECT_TRUE(m["ringing_significant"].get<bool>());
+  EXPECT_NEAR(m["ringing_period_d_at_run_speed"].get<double>(), v / (r.ringing.peak.frequency * kD), 1e-9);
+  EXPECT_EQ(m["dominant_period_search_range_d"][0].get<double>(), r.min_period_d);
+  EXPECT_NEAR(m["dominant_period_search_max_frequency_hz_at_run_v"].get<double>(), r.geometric_cutoff, 1e-9);
+  EXPECT_GT(m["ringing"]["line_rms_N_per_m"].get<double>(), 0.0);
+  const auto t = sensitivity_table(pulled(Slips(0.5 * kD, 0.2, v, kRingHz, 25.0, 7), v, 0.002, 0.2, 1, 0.110, 8),
+                                   kScales, c, "synthetic");
+  ASSERT_EQ(t["ringing_cutoff_fraction"].size(), c.ringing_cutoff_fractions.size());
+  for (const auto& row : t["ringing_cutoff_fraction"])
+    EXPECT_NEAR(row["dominant_period_search_min_d"].get<double>(),
+                v / (row["value"].get<double>() * r.ringing.peak.frequency * kD), 1e-9);
+}
+
 void expect_error(const DragProfile& p, const std::string& what) {
   try {
     analyse(p, kScales, {}, "in.h5");
@@ -179,6 +317,10 @@ TEST(SpectrumConfigFile, TheShippedConfigHoldsTheDefaults) {
   EXPECT_EQ(c.upper_top, d.upper_top);
   EXPECT_EQ(c.window, d.window);
   EXPECT_EQ(c.drop_thresholds, d.drop_thresholds);
+  EXPECT_EQ(c.ringing_min_frequency_hz, d.ringing_min_frequency_hz);
+  EXPECT_EQ(c.ringing_segment_s, d.ringing_segment_s);
+  EXPECT_EQ(c.ringing_cutoff_fraction, d.ringing_cutoff_fraction);
+  EXPECT_EQ(c.ringing_cutoff_fractions, d.ringing_cutoff_fractions);
 }
 
 TEST(SpectrumConfigFile, UnknownKeysAndBadValuesNameFileKeyAndValue) {
@@ -203,6 +345,14 @@ TEST(SpectrumConfigFile, UnknownKeysAndBadValuesNameFileKeyAndValue) {
   EXPECT_NE(error("[bands]\nmiddle_top = 0.8\n").find("bottom_top < middle_top < upper_top"), std::string::npos);
   EXPECT_NE(error("[sensitivity]\nfloor_factors = [1, -2]\n").find("sensitivity.floor_factors[] = -2"),
             std::string::npos);
+  EXPECT_NE(error("[ringing]\ncutoff_fraction = 1.5\n")
+                .find("c.toml:2:19: ringing.cutoff_fraction = 1.5: must be in (0, 1) (fraction of the ringing frequency)"),
+            std::string::npos);
+  EXPECT_NE(error("[ringing]\nmin_frequency_hz = 0\n").find("ringing.min_frequency_hz = 0: must be in (0, inf) (Hz)"),
+            std::string::npos);
+  const std::string segment = error("[ringing]\nsegment_s = \"1 s\"\n");
+  EXPECT_NE(segment.find("c.toml:2:13: ringing.segment_s = "), std::string::npos) << segment;
+  EXPECT_NE(segment.find("wrong type, expected a number"), std::string::npos) << segment;
   EXPECT_EQ(load_spectrum_config(dir.file("ok.toml", "[events]\ndrop_threshold = 4\n")).drop_threshold, 4.0);
 }
 
@@ -219,7 +369,8 @@ TEST(SpectrumStage, QuickRunGivesTheOutputsAndTheEventsContract) {
   const auto& m = st.metrics.at("spectrum");
   for (const char* key : {"bottom_peak_height_mm", "amplitude_slope_upper", "amplitude_fit_r2_upper",
                           "rupture_spacing_d", "rupture_frequency_hz_at_1p2mm_s", "top_layer_height_mm",
-                          "top_layer_depth_fit_r2", "sensitivity"})
+                          "top_layer_depth_fit_r2", "ringing_frequency_hz", "ringing_significant",
+                          "ringing_period_d_at_run_speed", "dominant_period_search_range_d", "ringing", "sensitivity"})
     EXPECT_TRUE(m.contains(key)) << key;
   EXPECT_EQ(m["sensitivity"]["drop_threshold"].size(), 5u);
 
@@ -243,7 +394,8 @@ TEST(SpectrumStage, QuickRunGivesTheOutputsAndTheEventsContract) {
     }
   }
   for (const char* name : {"psd/wavelength_d", "psd/frequency_hz_at_paper_v", "psd/power",
-                           "psd/bands/upper/power", "top_layer/depth", "top_layer/drag", "top_layer/fit_drag"})
+                           "psd/bands/upper/power", "ringing/frequency_hz", "ringing/power", "top_layer/depth",
+                           "top_layer/drag", "top_layer/fit_drag"})
     EXPECT_TRUE(h5::exists(f, name)) << name;
 }
 
