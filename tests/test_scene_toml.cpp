@@ -399,7 +399,7 @@ TEST(SceneTomlErrors, UnknownKeys) {
       edit(kValid, "friction = 0.5", "frictoin = 0.5"),
       {"unknown key 'frictoin' in [contact]",
        "(allowed: kn, kt, restitution, friction, rolling_friction, rolling_stiffness, tangential_damping_ratio, "
-       "rolling_damping_ratio, wall)"},
+       "rolling_damping_ratio, cohesion_force, cohesion_range, wall)"},
       18);
   expect_error(edit(kValid, "name = \"intruder\"", "name = \"intruder\"\ncolour = \"red\""),
                {"unknown key 'colour' in body[1]", "allowed: name, a, b, thickness, velocity"}, 66);
@@ -482,7 +482,7 @@ TEST(SceneToml, DampingEffectsAndTheirRatios) {
                                   "rolling_stiffness = 1.728e-6\n",
                                   "rolling_stiffness = 1.728e-6\ntangential_damping_ratio = 0.3\nrolling_damping_ratio = 0.2\n");
   const Scene s = parse_scene(damped, kPath);
-  EXPECT_EQ(s.effects, effect::all);
+  EXPECT_EQ(s.effects, effect::all & ~effect::cohesion);
   EXPECT_EQ(s.particle_particle.tangential_damping_ratio, 0.3);
   EXPECT_EQ(s.particle_wall.rolling_damping_ratio, 0.2);  // inherited by the wall law
   // the ratios are required with their effect, forbidden without it
@@ -495,6 +495,28 @@ TEST(SceneToml, DampingEffectsAndTheirRatios) {
   // a dashpot needs the spring it damps
   expect_error(edit(damped, "friction = true\n", ""),
                {"effects.tangential_damping = true", "needs effects.friction = true"});
+}
+
+TEST(SceneToml, CohesionKeysAndTheirBounds) {
+  const std::string cohesive = edit(edit(kValid, "moving_bodies = true\n", "moving_bodies = true\ncohesion = true\n"),
+                                    "rolling_stiffness = 1.728e-6\n",
+                                    "rolling_stiffness = 1.728e-6\ncohesion_force = 0.5\ncohesion_range = 1e-4\n");
+  const Scene s = parse_scene(cohesive, kPath);
+  EXPECT_TRUE(has(s.effects, effect::cohesion));
+  EXPECT_EQ(s.particle_particle.cohesion_force, 0.5);
+  EXPECT_EQ(s.particle_wall.cohesion_range, 1e-4);  // inherited by the wall law
+  expect_error(edit(cohesive, "cohesion_range = 1e-4\n", ""),
+               {"missing key contact.cohesion_range", "required because effects.cohesion is true"});
+  expect_error(edit(kValid, "rolling_stiffness = 1.728e-6\n", "rolling_stiffness = 1.728e-6\ncohesion_force = 0.5\n"),
+               {"contact.cohesion_force = 0.5", "given but effects.cohesion is false"});
+  // an attraction steeper than the contact spring: f_c/delta_c = 5e7 > k_n = 1.92e6
+  expect_error(edit(cohesive, "cohesion_range = 1e-4", "cohesion_range = 1e-8"),
+               {"contact.cohesion_range = 1e-08", "steeper than the contact spring", "need cohesion_range >= "});
+  // [contact.wall] may override it, and is checked against its own k_n
+  expect_error(edit(cohesive, "friction = 0.3\n", "friction = 0.3\ncohesion_force = 1e3\n"),
+               {"contact.wall.cohesion_force = 1000", "steeper than the contact spring k_n = 3.84e+06"});
+  expect_error(edit(cohesive, "checkpoint_interval = 600\n", "checkpoint_interval = 600\nenergy_balance = true\n"),
+               {"output.energy_balance = true", "does not yet count the cohesive potential"});
 }
 
 TEST(SceneTomlErrors, BodiesNeedWalls) {

@@ -44,7 +44,10 @@ LawCoefficients coefficients(const ContactLaw& law, double dt) {
           law.friction,
           law.rolling_friction,
           2.0 * law.tangential_damping_ratio * std::sqrt(law.kt),
-          2.0 * law.rolling_damping_ratio * std::sqrt(law.rolling_stiffness)};
+          2.0 * law.rolling_damping_ratio * std::sqrt(law.rolling_stiffness),
+          law.cohesion_force,
+          law.cohesion_range > 0.0 ? law.cohesion_force / law.cohesion_range : 0.0,
+          law.cohesion_range};
 }
 
 }  // namespace dem2d

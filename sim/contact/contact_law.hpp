@@ -45,6 +45,8 @@ struct ContactLaw {
   double rolling_stiffness = 0.0;  // k_r (N m / rad)
   double tangential_damping_ratio = 0.0;  // nu_t: c_t = 2 nu_t sqrt(m_eff k_t)
   double rolling_damping_ratio = 0.0;     // nu_r: c_r = 2 nu_r sqrt(I_eff k_r)
+  double cohesion_force = 0.0;            // f_c (N/m): the pull-off force (contact/cohesion.hpp)
+  double cohesion_range = 0.0;            // delta_c (m): the gap at which the attraction ends
 };
 
 // Restitution of a head-on collision under the normal law above,
@@ -73,6 +75,9 @@ struct LawCoefficients {
   double mu_r;       // m
   double damp_t;     // 2 nu_t sqrt(k_t): c_t = damp_t * sqrt(m_eff)
   double damp_r;     // 2 nu_r sqrt(k_r): c_r = damp_r * sqrt(I_eff)
+  double coh_f;      // f_c (N/m)
+  double coh_k;      // f_c / delta_c (N/m per m of gap)
+  double coh_range;  // delta_c (m)
 };
 
 LawCoefficients coefficients(const ContactLaw& law, double dt);

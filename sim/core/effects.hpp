@@ -21,7 +21,8 @@ inline constexpr EffectSet walls = 1u << 4;               // grain / sphero-line
 inline constexpr EffectSet moving_bodies = 1u << 5;       // kinematic sphero-lines with a prescribed velocity
 inline constexpr EffectSet tangential_damping = 1u << 6;  // dashpot beside the tangential spring (needs friction)
 inline constexpr EffectSet rolling_damping = 1u << 7;     // dashpot beside the rolling spring (needs rolling_resistance)
-inline constexpr int count = 8;
+inline constexpr EffectSet cohesion = 1u << 8;            // attraction up to a range beyond contact (contact/cohesion.hpp)
+inline constexpr int count = 9;
 inline constexpr EffectSet all = (1u << count) - 1;
 }  // namespace effect
 
@@ -39,6 +40,7 @@ inline constexpr std::array<EffectName, effect::count> kEffectNames{{
     {effect::moving_bodies, "moving_bodies"},
     {effect::tangential_damping, "tangential_damping"},
     {effect::rolling_damping, "rolling_damping"},
+    {effect::cohesion, "cohesion"},
 }};
 
 // Effects that only make sense on top of another: (effect, what it needs).

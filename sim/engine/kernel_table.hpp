@@ -1,5 +1,5 @@
 // The kernel table: kernels::advance<E> and kernels::initial_forces<E> for
-// every valid effect set (is_valid: 144 of the 2^8), split by the two highest
+// every valid effect set (is_valid: 288 of the 2^9), split by the two highest
 // effect bits into four parts, each instantiated in its own translation unit
 // (kernels_part*.cpp) to build in parallel.
 #pragma once

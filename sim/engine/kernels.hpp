@@ -28,6 +28,7 @@
 
 #include <omp.h>
 
+#include "contact/contact_model.hpp"
 #include "engine/system.hpp"
 
 namespace dem2d::kernels {
@@ -113,10 +114,10 @@ inline void integrate(System& s) {
 
 // Particle-particle contacts: one evaluation per pair, results per slot.
 // A flat loop over slots without branches (open contacts are masked to zero
-// by selects), so that the compiler vectorises it; a touching slot goes
-// through exactly the arithmetic of the scalar law in contact_law.hpp.
+// by selects), so that the compiler vectorises it; the law is the model's
+// (contact/contact_model.hpp), the geometry the loop's.
 template <EffectSet E>
-inline void pair_forces(System& s, const LawCoefficients c) {  // by value: cannot alias the outputs
+inline void pair_forces(System& s, const ContactModel<E> model) {  // by value: cannot alias the outputs
   const Particles& p = s.p;
   PairList& L = s.lists.pairs;
   const std::int32_t *own = L.owner.data(), *par = L.partner.data();
@@ -131,56 +132,51 @@ inline void pair_forces(System& s, const LawCoefficients c) {  // by value: cann
   for (std::int64_t sl = first; sl < last; ++sl) {
     const std::int32_t i = own[sl], j = par[sl];
     const double dx = x[i] - x[j], dy = y[i] - y[j], ri = rad_i[sl], rj = rad_j[sl], rsum = ri + rj;
-    const double d2 = dx * dx + dy * dy;
-    const bool touch = d2 < rsum * rsum;
+    const double d2 = dx * dx + dy * dy, reach = model.reach(rsum);
+    const bool acts = d2 < reach * reach;
     const double dist = std::sqrt(d2);
     const bool apart = dist > 0.0;  // coincident centres: separate them along x
     const double inv = 1.0 / (apart ? dist : 1.0);
     const double nx = apart ? dx * inv : 1.0, ny = apart ? dy * inv : 0.0;
     const double delta = dist - rsum;
     const double rvx = vx[i] - vx[j], rvy = vy[i] - vy[j];
-    const double f_n = touch ? normal_force<E>(c, delta, rvx * nx + rvy * ny, sqm[sl]) : 0.0;
-    double fxs = f_n * nx, fys = f_n * ny, tqi = 0.0, tqj = 0.0;
+    ContactKinematics k{delta, rvx * nx + rvy * ny, 0.0, 0.0, sqm[sl], 0.0};
+    // branch vectors end at the middle of the overlap: a = r + delta/2
+    const double ai = ri + 0.5 * delta, aj = rj + 0.5 * delta;
+    const double tx = -ny, ty = nx;
+    if constexpr (has(E, effect::friction)) k.vt = rvx * tx + rvy * ty - (ai * w[i] + aj * w[j]);
+    if constexpr (has(E, effect::rolling_resistance)) {
+      k.spin = w[i] - w[j];
+      k.sqrt_i = sqi[sl];
+    }
+    const ContactForce f = model.eval(k, acts, ft[sl], mr[sl]);
+    double fxs = f.fn * nx, fys = f.fn * ny, tqi = 0.0, tqj = 0.0;
     if constexpr (has(E, effect::friction)) {
-      // branch vectors end at the middle of the overlap: a = r + delta/2
-      const double ai = ri + 0.5 * delta, aj = rj + 0.5 * delta;
-      const double tx = -ny, ty = nx;
-      const double vt = rvx * tx + rvy * ty - (ai * w[i] + aj * w[j]);
-      const CappedSpring t = capped_spring<has(E, effect::tangential_damping)>(
-          ft[sl], -c.kt_dt * vt, c.damp_t * sqm[sl] * vt, c.mu * f_n);
-      const double f_t = touch ? t.force : 0.0;
-      ft[sl] = touch ? t.spring : 0.0;
-      fxs += f_t * tx;
-      fys += f_t * ty;
-      tqi = -ai * f_t;
-      tqj = -aj * f_t;
+      fxs += f.ft * tx;
+      fys += f.ft * ty;
+      tqi = -ai * f.ft;
+      tqj = -aj * f.ft;
     }
     if constexpr (has(E, effect::rolling_resistance)) {
-      const double spin = w[i] - w[j];
-      const CappedSpring r = capped_spring<has(E, effect::rolling_damping)>(
-          mr[sl], -c.kr_dt * spin, c.damp_r * sqi[sl] * spin, c.mu_r * f_n);
-      const double m = touch ? r.force : 0.0;
-      mr[sl] = touch ? r.spring : 0.0;
-      tqi += m;
-      tqj -= m;
+      tqi += f.mr;
+      tqj -= f.mr;
     }
-    fx[sl] = touch ? fxs : 0.0;
-    fy[sl] = touch ? fys : 0.0;
+    fx[sl] = acts ? fxs : 0.0;
+    fy[sl] = acts ? fys : 0.0;
     if constexpr (has(E, effect::friction) || has(E, effect::rolling_resistance)) {
-      ti[sl] = touch ? tqi : 0.0;
-      tj[sl] = touch ? tqj : 0.0;
+      ti[sl] = acts ? tqi : 0.0;
+      tj[sl] = acts ? tqj : 0.0;
     }
-    fn[sl] = f_n;
-    ov[sl] = touch ? -delta : 0.0;
+    fn[sl] = f.fn;
+    ov[sl] = acts ? -delta : 0.0;
   }
 }
 
-// Grain-sphero-line contacts: a flat loop over the wall slots, vectorised
-// like pair_forces (open contacts masked by selects). A touching slot goes
-// through exactly the arithmetic of the scalar law; an open one is zeroed and
-// keeps its last contact point.
+// Grain-body contacts: a flat loop over the wall slots, vectorised like
+// pair_forces (open contacts masked by selects), with the same model. An
+// open slot is zeroed and keeps its last contact point.
 template <EffectSet E>
-inline void wall_forces(System& s, const LawCoefficients c) {  // by value: cannot alias the outputs
+inline void wall_forces(System& s, const ContactModel<E> model) {  // by value: cannot alias the outputs
   const Particles& p = s.p;
   WallList& L = s.lists.walls;
   const Bodies& B = s.bodies;
@@ -199,40 +195,35 @@ inline void wall_forces(System& s, const LawCoefficients c) {  // by value: cann
     const SegmentProximity g = closest_point(seg[b], x[i], y[i]);
     const double ri = rad[i];
     const double delta = g.dist - (ri + brad[b]);
-    const bool touch = delta < 0.0;
+    const bool acts = delta < model.range();
     double rvx = vx[i], rvy = vy[i];
     if constexpr (has(E, effect::moving_bodies)) {
       rvx -= bvx[b];
       rvy -= bvy[b];
     }
-    const double fn = normal_force<E>(c, delta, rvx * g.nx + rvy * g.ny, sqm[sl]);
     const double a = ri + 0.5 * delta;  // centre to contact point (m)
-    double fx = fn * g.nx, fy = fn * g.ny, tq = 0.0;
-    if constexpr (has(E, effect::friction)) {
-      const double tx = -g.ny, ty = g.nx;
-      const double vt = rvx * tx + rvy * ty - a * w[i];
-      const CappedSpring t = capped_spring<has(E, effect::tangential_damping)>(
-          ft[sl], -c.kt_dt * vt, c.damp_t * sqm[sl] * vt, c.mu * fn);
-      const double f_t = touch ? t.force : 0.0;
-      ft[sl] = touch ? t.spring : 0.0;
-      fx += f_t * tx;
-      fy += f_t * ty;
-      tq = -a * f_t;
-    }
+    const double tx = -g.ny, ty = g.nx;
+    ContactKinematics k{delta, rvx * g.nx + rvy * g.ny, 0.0, 0.0, sqm[sl], 0.0};
+    if constexpr (has(E, effect::friction)) k.vt = rvx * tx + rvy * ty - a * w[i];
     if constexpr (has(E, effect::rolling_resistance)) {
-      const CappedSpring r = capped_spring<has(E, effect::rolling_damping)>(
-          mr[sl], -c.kr_dt * w[i], c.damp_r * sqi[sl] * w[i], c.mu_r * fn);
-      const double m = touch ? r.force : 0.0;
-      mr[sl] = touch ? r.spring : 0.0;
-      tq += m;
+      k.spin = w[i];
+      k.sqrt_i = sqi[sl];
     }
-    fxo[sl] = touch ? fx : 0.0;
-    fyo[sl] = touch ? fy : 0.0;
-    tqo[sl] = touch ? tq : 0.0;
-    cx[sl] = touch ? x[i] - a * g.nx : cx[sl];
-    cy[sl] = touch ? y[i] - a * g.ny : cy[sl];
-    fno[sl] = touch ? fn : 0.0;
-    ov[sl] = touch ? -delta : 0.0;
+    const ContactForce f = model.eval(k, acts, ft[sl], mr[sl]);
+    double fx = f.fn * g.nx, fy = f.fn * g.ny, tq = 0.0;
+    if constexpr (has(E, effect::friction)) {
+      fx += f.ft * tx;
+      fy += f.ft * ty;
+      tq = -a * f.ft;
+    }
+    if constexpr (has(E, effect::rolling_resistance)) tq += f.mr;
+    fxo[sl] = acts ? fx : 0.0;
+    fyo[sl] = acts ? fy : 0.0;
+    tqo[sl] = acts ? tq : 0.0;
+    cx[sl] = acts ? x[i] - a * g.nx : cx[sl];
+    cy[sl] = acts ? y[i] - a * g.ny : cy[sl];
+    fno[sl] = f.fn;
+    ov[sl] = acts ? -delta : 0.0;
   }
 }
 
@@ -317,8 +308,8 @@ inline void body_sums(System& s) {
 
 template <EffectSet E>
 void initial_forces(System& s) {
-  LawCoefficients pp = s.pp, pw = s.pw;  // no spring increments: there is no previous step
-  pp.kt_dt = pp.kr_dt = pw.kt_dt = pw.kr_dt = 0.0;
+  ContactModel<E> pp{s.pp}, pw{s.pw};  // no spring increments: there is no previous step
+  pp.c.kt_dt = pp.c.kr_dt = pw.c.kt_dt = pw.c.kr_dt = 0.0;
 #pragma omp parallel num_threads(s.threads)
   {
     pair_forces<E>(s, pp);
@@ -375,8 +366,8 @@ void advance(System& s, std::int64_t steps) {
         moved = 0.0;
         if (failed) break;
       }
-      pair_forces<E>(s, s.pp);
-      if constexpr (has(E, effect::walls)) wall_forces<E>(s, s.pw);
+      pair_forces<E>(s, ContactModel<E>{s.pp});
+      if constexpr (has(E, effect::walls)) wall_forces<E>(s, ContactModel<E>{s.pw});
 #pragma omp barrier
       if (ledger) {
         energy::close_step(s);

@@ -11,6 +11,8 @@
 #include <type_traits>
 #include <utility>
 
+#include "contact/cohesion.hpp"
+#include "contact/contact_model.hpp"
 #include "engine/diagnostics.hpp"
 #include "engine/energy_ledger.hpp"
 #include "io/h5.hpp"
@@ -234,11 +236,15 @@ void RunRecorder::record_snapshot(const System& sys, const std::vector<double>* 
   }
   append_ends(snap_.ends, sys.bodies);
 
-  // touching slots, pairs then walls, in slot order
+  // acting slots, pairs then walls, in slot order: touching ones, and with
+  // cohesion also those attracting across a gap (overlap < 0)
   const bool friction = has(sys.effects, effect::friction);
+  const bool cohesion = has(sys.effects, effect::cohesion);
   const std::size_t before = contact_.i.size();
   const auto add = [&](std::size_t i, std::int32_t j, double fn, double ft, double overlap, double nx,
-                       double ny, double mr, double mu) {
+                       double ny, double mr, const LawCoefficients& c) {
+    // the load pressing the surfaces together caps friction: F_n, plus the adhesive pull with cohesion
+    const double load = cohesion && overlap > 0.0 ? fn + cohesive_pull(c, -overlap) : fn;
     contact_.i.push_back(static_cast<std::int32_t>(i));
     contact_.j.push_back(j);
     contact_.fn.push_back(fn);
@@ -247,23 +253,23 @@ void RunRecorder::record_snapshot(const System& sys, const std::vector<double>* 
     contact_.nx.push_back(nx);
     contact_.ny.push_back(ny);
     contact_.mr.push_back(mr);
-    contact_.sliding.push_back(friction && is_sliding(fn, ft, mu) ? 1 : 0);
+    contact_.sliding.push_back(friction && is_sliding(load, ft, c.mu) ? 1 : 0);
   };
   const PairList& P = sys.lists.pairs;
   for (std::size_t i = 0; i + 1 < P.start.size(); ++i)
     for (auto sl = static_cast<std::size_t>(P.start[i]); sl < static_cast<std::size_t>(P.start[i + 1]); ++sl) {
-      if (!(P.overlap[sl] > 0.0)) continue;
+      if (!acted(P.overlap[sl], cohesion)) continue;
       const auto j = static_cast<std::size_t>(P.partner[sl]);
       const double dx = p.x[i] - p.x[j], dy = p.y[i] - p.y[j], dist = std::sqrt(dx * dx + dy * dy);
       add(i, P.partner[sl], P.fn[sl], P.ft[sl], P.overlap[sl], dist > 0.0 ? dx / dist : 1.0,
-          dist > 0.0 ? dy / dist : 0.0, P.mr[sl], sys.law_pp.friction);
+          dist > 0.0 ? dy / dist : 0.0, P.mr[sl], sys.pp);
     }
   const WallList& W = sys.lists.walls;
   for (std::size_t i = 0; i + 1 < W.start.size(); ++i)
     for (auto sl = static_cast<std::size_t>(W.start[i]); sl < static_cast<std::size_t>(W.start[i + 1]); ++sl) {
-      if (!(W.overlap[sl] > 0.0)) continue;
+      if (!acted(W.overlap[sl], cohesion)) continue;
       const SegmentProximity g = closest_point(sys.seg[static_cast<std::size_t>(W.body[sl])], p.x[i], p.y[i]);
-      add(i, -1 - W.body[sl], W.fn[sl], W.ft[sl], W.overlap[sl], g.nx, g.ny, W.mr[sl], sys.law_pw.friction);
+      add(i, -1 - W.body[sl], W.fn[sl], W.ft[sl], W.overlap[sl], g.nx, g.ny, W.mr[sl], sys.pw);
     }
   snap_.contact_count.push_back(static_cast<std::int64_t>(contact_.i.size() - before));
   ++snapshots_;

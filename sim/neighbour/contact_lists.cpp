@@ -46,10 +46,11 @@ void WallList::resize_slots(std::size_t n) {
 }
 
 void NeighbourLists::configure(double xmin, double ymin, double xmax, double ymax, double r_max,
-                               double skin) {
+                               double skin, double range) {
   skin_ = skin;
+  reach_ = skin + range;
   r_max_ = r_max;
-  grid_.configure(xmin, ymin, xmax, ymax, 2.0 * r_max + skin);
+  grid_.configure(xmin, ymin, xmax, ymax, 2.0 * r_max + reach_);
 }
 
 void NeighbourLists::rebuild_pairs(const Particles& p) {
@@ -67,7 +68,7 @@ void NeighbourLists::rebuild_pairs(const Particles& p) {
   for (std::size_t i = 0; i < n; ++i) {
     nl.start[i] = static_cast<std::int32_t>(nl.partner.size());
     if (!p.active[i]) continue;
-    const double xi = p.x[i], yi = p.y[i], ri = p.radius[i] + skin_;
+    const double xi = p.x[i], yi = p.y[i], ri = p.radius[i] + reach_;
     const int cx = grid_.cell_x(xi), cy = grid_.cell_y(yi);
     row_.clear();
     for (int gy = std::max(cy - 1, 0); gy <= std::min(cy + 1, grid_.ny() - 1); ++gy)
@@ -123,14 +124,14 @@ void NeighbourLists::rebuild_walls(const Particles& p, const std::vector<Segment
   for (std::size_t b = 0; b < seg.size(); ++b) {
     if (!seg_active[b]) continue;
     const Segment& g = seg[b];
-    const double reach = seg_radius[b] + r_max_ + skin_;
+    const double reach = seg_radius[b] + r_max_ + reach_;
     const int cx0 = grid_.cell_x(std::min(g.ax, g.ax + g.ex) - reach), cx1 = grid_.cell_x(std::max(g.ax, g.ax + g.ex) + reach);
     const int cy0 = grid_.cell_y(std::min(g.ay, g.ay + g.ey) - reach), cy1 = grid_.cell_y(std::max(g.ay, g.ay + g.ey) + reach);
     for (int cy = cy0; cy <= cy1; ++cy)
       for (int cx = cx0; cx <= cx1; ++cx)
         for (std::int32_t k = grid_.begin(cx, cy); k < grid_.end(cx, cy); ++k) {
           const auto i = static_cast<std::size_t>(grid_.order()[static_cast<std::size_t>(k)]);
-          if (closest_point(g, p.x[i], p.y[i]).dist < p.radius[i] + seg_radius[b] + skin_)
+          if (closest_point(g, p.x[i], p.y[i]).dist < p.radius[i] + seg_radius[b] + reach_)
             wall_candidates_.emplace_back(static_cast<std::int32_t>(i), static_cast<std::int32_t>(b));
         }
   }

@@ -88,8 +88,11 @@ struct WallList {
 
 class NeighbourLists {
  public:
-  // domain: region the grid covers; r_max: largest grain radius; skin (m).
-  void configure(double xmin, double ymin, double xmax, double ymax, double r_max, double skin);
+  // domain: region the grid covers; r_max: largest grain radius; skin (m);
+  // range: how far beyond touching a contact acts (m; cohesion), so that a
+  // candidate is any pair within range + skin of touching.
+  void configure(double xmin, double ymin, double xmax, double ymax, double r_max, double skin,
+                 double range = 0.0);
   double skin() const { return skin_; }
 
   void rebuild_pairs(const Particles& p);
@@ -111,7 +114,7 @@ class NeighbourLists {
 
  private:
   CellGrid grid_;
-  double skin_ = 0.0, r_max_ = 0.0;
+  double skin_ = 0.0, reach_ = 0.0, r_max_ = 0.0;  // reach_: skin + range
   PairList old_pairs_;
   WallList old_walls_;
   std::vector<std::int32_t> row_;  // scratch

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "contact/contact_model.hpp"
 #include "core/version.hpp"
 #include "io/h5.hpp"
 #include "io/run_file.hpp"
@@ -39,16 +40,16 @@ auto body_arrays(B& b) {
                     std::pair{"anchor_y", &b.anchor_y}};
 }
 
-// Touching contacts of a list: (row, key) and every carried per-slot array
-// (history, last evaluation) as columns.
+// Acting contacts of a list (contact_model.hpp's `acted`): (row, key) and
+// every carried per-slot array (history, last evaluation) as columns.
 template <class List>
 void write_history(const h5::File& f, const std::string& group, const List& L,
-                   const AlignedVector<std::int32_t>& key) {
+                   const AlignedVector<std::int32_t>& key, bool cohesion) {
   std::vector<std::int32_t> row, col;
   std::vector<std::size_t> slots;
   for (std::size_t i = 0; i + 1 < L.start.size(); ++i)
     for (auto s = static_cast<std::size_t>(L.start[i]); s < static_cast<std::size_t>(L.start[i + 1]); ++s)
-      if (L.overlap[s] > 0.0) {
+      if (acted(L.overlap[s], cohesion)) {
         row.push_back(static_cast<std::int32_t>(i));
         col.push_back(key[s]);
         slots.push_back(s);
@@ -106,8 +107,9 @@ void write_checkpoint(const std::string& path, const System& sys, const RunProgr
     h5::write_attr(f, "/", "snapshots", pr.snapshots);
     for (const auto& [name, v] : particle_arrays(sys.p)) h5::write(f, std::string("particles/") + name, *v);
     h5::write(f, "particles/active", sys.p.active);
-    write_history(f, "pairs", sys.lists.pairs, sys.lists.pairs.partner);
-    write_history(f, "walls", sys.lists.walls, sys.lists.walls.body);
+    const bool cohesion = has(sys.effects, effect::cohesion);
+    write_history(f, "pairs", sys.lists.pairs, sys.lists.pairs.partner, cohesion);
+    write_history(f, "walls", sys.lists.walls, sys.lists.walls.body, cohesion);
     const Bodies& B = sys.bodies;
     for (const auto& [name, v] : body_arrays(B)) h5::write(f, std::string("bodies/") + name, *v);
     h5::write(f, "bodies/anchor_step", B.anchor_step);

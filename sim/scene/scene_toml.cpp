@@ -166,6 +166,8 @@ class TableReader {
   [[noreturn]] void fail_after(std::string_view key, const std::string& msg) const {
     f_->fail(*node(key), path(key) + " = " + show(*node(key)) + msg);
   }
+  // A problem of the table as a whole, at the table.
+  [[noreturn]] void fail_whole(const std::string& msg) const { f_->fail(where(), "[" + name_ + "]: " + msg); }
   [[noreturn]] void missing(std::string_view key, const std::string& what) const {
     f_->fail(where(), "missing key " + path(key) + " (" + what + ")");
   }
@@ -296,7 +298,7 @@ struct LawKey {
 };
 
 // clang-format off
-const std::array<LawKey, 8> kLawKeys{{
+const std::array<LawKey, 10> kLawKeys{{
   {"kn", &ContactLaw::kn, 0, {"normal stiffness", "N/m", Rule::positive}},
   {"kt", &ContactLaw::kt, effect::friction, {"tangential stiffness", "N/m", Rule::non_negative}},
   {"restitution", &ContactLaw::restitution, effect::normal_damping,
@@ -311,6 +313,10 @@ const std::array<LawKey, 8> kLawKeys{{
    {"tangential damping ratio nu_t (c_t = 2 nu_t sqrt(m_eff k_t))", "", Rule::non_negative}},
   {"rolling_damping_ratio", &ContactLaw::rolling_damping_ratio, effect::rolling_damping,
    {"rolling damping ratio nu_r (c_r = 2 nu_r sqrt(I_eff k_r))", "", Rule::non_negative}},
+  {"cohesion_force", &ContactLaw::cohesion_force, effect::cohesion,
+   {"pull-off force f_c of a cohesive contact", "N/m", Rule::positive}},
+  {"cohesion_range", &ContactLaw::cohesion_range, effect::cohesion,
+   {"range delta_c of the attraction beyond contact", "m", Rule::positive}},
 }};
 // clang-format on
 
@@ -335,6 +341,17 @@ ContactLaw read_law(const TableReader& r, EffectSet effects, const ContactLaw* b
       law.*k.field = r.required(k.key, k.spec, why);
     else if (const auto v = r.number(k.key, k.spec))
       law.*k.field = *v;
+  }
+  // the attraction's slope f_c/delta_c must not exceed k_n: the time step and
+  // its stability limit are set by k_n
+  if (has(effects, effect::cohesion) && law.cohesion_force / law.cohesion_range > law.kn) {
+    const char* key = r.has("cohesion_range") ? "cohesion_range" : r.has("cohesion_force") ? "cohesion_force" : "kn";
+    const std::string msg = "the cohesive attraction f_c/delta_c = " + sig3(law.cohesion_force / law.cohesion_range) +
+                            " N/m per m is steeper than the contact spring k_n = " + sig3(law.kn) +
+                            " N/m; need cohesion_range >= cohesion_force/kn = " +
+                            sig3(law.cohesion_force / law.kn) + " m";
+    if (r.has(key)) r.fail(key, msg);
+    r.fail_whole(msg);  // (a [contact.wall] law that overrides none of the three keys equals [contact]'s)
   }
   return law;
 }
@@ -488,6 +505,9 @@ class SceneParser {
                  o.boolean("energy_balance").value_or(false)};
     if (s_.output.energy_balance && s_.output.series_interval <= 0.0)
       o.fail("energy_balance", "the balance is recorded in the time series: set output.series_interval > 0");
+    if (s_.output.energy_balance && has(s_.effects, effect::cohesion))
+      o.fail("energy_balance", "the energy ledger does not yet count the cohesive potential "
+                               "(effects.cohesion is true): remove one of the two");
     if (s_.output.displacement_window > s_.output.snapshot_interval)
       o.fail("displacement_window", "must be <= output.snapshot_interval = " +
                                         shortest(s_.output.snapshot_interval) + " s (and snapshots on)");
