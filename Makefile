@@ -17,6 +17,8 @@
 #   make pulloff    stage: intruder pull-off, drag      (results/<preset>/pulloff/)
 #   make pulloff-slice  the first 5 mm of the pull-off only: the preset's cost (results/<preset>/pulloff_5mm/;
 #                   BED_FROM=<preset> starts it from another preset's bed)
+#   make cyclic     cyclic loading from the preset's bed (pipeline/cyclic.toml): the intruder driven up
+#                   and down, its drag cut into cycles (results/<preset>/cyclic/cycles.csv, metrics.json)
 #   make spectrum   stage: drag spectrum, loading/rupture events, top layer  (results/<preset>/spectrum/)
 #   make cg         stage: coarse-grained fields, mobility zones, cone angle (results/<preset>/cg/)
 #   make network    stage: force network, percolation, keystones             (results/<preset>/network/)
@@ -51,10 +53,12 @@ ifeq ($(PRESET),quick)
 # the pipeline's end-to-end test: the small scenes of the tests, as they are
 FILL_SCENE := tests/scenes/quick_fill.toml
 PULLOFF_SCENE := tests/scenes/quick_pulloff.toml
+CYCLIC_SCENE := tests/scenes/quick_cyclic.toml
 PRESET_FILE :=
 else
 FILL_SCENE := pipeline/fill.toml
 PULLOFF_SCENE := pipeline/pulloff.toml
+CYCLIC_SCENE := pipeline/cyclic.toml
 PRESET_FILE := pipeline/presets/$(PRESET).toml
 endif
 # POINT_OVERLAY: more overlays after the preset's (make accuracy: one sweep point's knob).
@@ -72,7 +76,7 @@ DEBIAN_PACKAGES := g++ cmake make pkg-config git \
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
 .PHONY: deps build test test-release test-sanitize test-pipeline bench bench-scaling bench-compare reproduce check fill pulloff validate \
-  pulloff-slice spectrum cg network friction metrics figures report accuracy clean FORCE
+  pulloff-slice cyclic spectrum cg network friction metrics figures report accuracy clean FORCE
 
 deps:
 	@missing=$$(for p in $(DEBIAN_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done); \
@@ -167,6 +171,12 @@ $(SLICE_DIR)/run.h5: $(PULLOFF_SCENE) $(PRESET_FILE) pipeline/slice_5mm.toml res
 $(SLICE_DIR)/metrics.json: $(SLICE_DIR)/run.h5 data/study.toml $(PULLOFF_METRICS)
 	$(PULLOFF_METRICS) $< --out $@ --csv $(@D)/drag.csv
 
+$(RESULTS)/cyclic/run.h5: $(CYCLIC_SCENE) $(OVERLAY_FILES) $(FILL_RUN) $(DEM2D)
+	$(DEM2D) run $(CYCLIC_SCENE) $(OVERLAY) --initial $(FILL_RUN) --out $(@D) --threads $(THREADS)
+
+$(RESULTS)/cyclic/metrics.json: $(RESULTS)/cyclic/run.h5 data/study.toml $(PULLOFF_METRICS)
+	$(PULLOFF_METRICS) $< --out $@ --csv $(@D)/drag.csv --cycles $(@D)/cycles.csv
+
 PULLOFF_RUN := $(RESULTS)/pulloff/run.h5
 
 $(RESULTS)/spectrum/metrics.json: $(PULLOFF_RUN) $(RESULTS)/fill/metrics.json data/spectrum.toml data/study.toml \
@@ -208,6 +218,7 @@ $(RESULTS)/report.md: $(RESULTS)/metrics.json $(RESULTS)/check.json $(RESULTS)/f
 fill: $(RESULTS)/fill/metrics.json
 pulloff: $(RESULTS)/pulloff/metrics.json
 pulloff-slice: $(SLICE_DIR)/metrics.json
+cyclic: $(RESULTS)/cyclic/metrics.json
 spectrum: $(RESULTS)/spectrum/metrics.json
 cg: $(RESULTS)/cg/metrics.json
 network: $(RESULTS)/network/metrics.json

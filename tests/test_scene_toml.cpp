@@ -519,6 +519,33 @@ TEST(SceneToml, CohesionKeysAndTheirBounds) {
                {"output.energy_balance = true", "does not yet count the cohesive potential"});
 }
 
+TEST(SceneToml, BodyMotionSchedules) {
+  const std::string cyclic = edit(kValid, "velocity = [0, 1.2e-3]",
+                                  "motion = [\n  { kind = \"hold\", duration = 0.5 },\n"
+                                  "  { kind = \"sine\", amplitude = [0, 0.02], period = 4.0, cycles = 3 },\n"
+                                  "  { kind = \"constant\", velocity = [0, 1.2e-3] },\n]");
+  const Scene s = parse_scene(cyclic, kPath);
+  const BodySpec& blade = s.bodies.back();
+  ASSERT_EQ(blade.motion.size(), 3u);
+  EXPECT_EQ(blade.motion[1].kind, MotionKind::sine);
+  EXPECT_EQ(blade.motion[1].cycles, 3);
+  EXPECT_EQ(blade.motion[1].ay, 0.02);
+  EXPECT_TRUE(std::isinf(blade.motion[2].duration));  // the last constant segment goes on
+  EXPECT_EQ(blade.motion_repeat, 1);
+  expect_error(edit(cyclic, "kind = \"hold\"", "kind = \"wobble\""),
+               {"body[1].motion[0].kind = \"wobble\"", "unknown motion kind (allowed: hold, constant, ramp, sine, triangle)"});
+  expect_error(edit(cyclic, "period = 4.0", "period = 4.0, duration = 2"),
+               {"body[1].motion[1].duration = 2", "a sine segment does not take it"});
+  expect_error(edit(cyclic, "period = 4.0, ", ""), {"missing key body[1].motion[1].period", "(sine)"});
+  expect_error(edit(cyclic, "cycles = 3", "cycles = 0"), {"body[1].motion[1].cycles = 0", "integer >= 1"});
+  expect_error(edit(cyclic, "motion = [", "velocity = [0, 1]\nmotion = ["), {"give either velocity or motion"});
+  expect_error(edit(cyclic, "motion = [", "motion_repeat = 2\nmotion = ["),
+               {"body[1].motion_repeat = 2", "lasts for ever", "cannot repeat"});
+  expect_error(edit(edit(cyclic, "velocity = [0, 1.2e-3] }", "velocity = [0, 1.2e-3], duration = 1 }"),
+                    "{ kind = \"hold\", duration = 0.5 }", "{ kind = \"constant\", velocity = [0, 1] }"),
+               {"missing key body[1].motion[0].duration", "(constant)"});
+}
+
 TEST(SceneTomlErrors, BodiesNeedWalls) {
   const std::string body = "[[body]]\nname = \"w\"\na = [0, 0]\nb = [1, 0]\nthickness = 1e-3\n";
   expect_error(std::string(kBare) + body, {"[[body]] given but effects.walls is false"}, 21);

@@ -14,6 +14,7 @@
 #include "bed/bed_metrics.hpp"
 #include "io/h5.hpp"
 #include "io/run_reader.hpp"
+#include "pulloff/drag_cycles.hpp"
 #include "pulloff/drag_profile.hpp"
 #include "run/run.hpp"
 #include "scene/scene_toml.hpp"
@@ -136,6 +137,48 @@ TEST_F(QuickStudy, ResumedPullOffEqualsUninterrupted) {
     ASSERT_EQ(x.size(), y.size()) << name;
     EXPECT_EQ(std::memcmp(x.data(), y.data(), x.size() * sizeof(double)), 0) << name;
   }
+}
+
+// Cyclic loading from the same bed (tests/scenes/quick_cyclic.toml): the
+// intruder follows its schedule through the bed (a rise, a rest, three
+// triangle cycles between 21 and 36 mm) and the drag cuts into its legs.
+TEST_F(QuickStudy, CyclicRunFollowsItsScheduleAndCutsIntoCycles) {
+  const RunReport cyc = run_scene(scene("quick_cyclic.toml", fill.run_file), {(dir / "cyclic").string()});
+  ASSERT_TRUE(cyc.complete);
+  EXPECT_EQ(cyc.lost, 0u);
+  const RunReader run(cyc.run_file);
+  const analysis::DragProfile p = analysis::read_drag_profile(run, analysis::Study{});
+  const std::vector<analysis::DragLeg> legs = analysis::drag_legs(p);
+  ASSERT_EQ(legs.size(), 7u);  // the rise, then up and down three times
+  for (std::size_t k = 0; k < legs.size(); ++k) {
+    const bool up = k == 0 || k % 2 == 1;
+    EXPECT_EQ(legs[k].direction, up ? 1 : -1) << k;
+    EXPECT_EQ(legs[k].cycle, static_cast<int>((k + 1) / 2)) << k;
+    // every leg ends at a corner of the schedule, within one row's travel (0.03 mm)
+    EXPECT_NEAR(p.height[legs[k].end - 1], up ? (k == 0 ? 21e-3 : 36e-3) : 21e-3, 0.03e-3) << k;
+  }
+  // buried, pulling up meets resistance (drag > 0), pushing down meets more, upward (drag < 0)
+  const auto legs_json = analysis::cycle_metrics(p, legs)["legs"];
+  for (std::size_t k = 1; k < legs.size(); ++k) {
+    const double mean = legs_json[k]["drag_mean_N_per_m"].get<double>();
+    if (legs[k].direction > 0)
+      EXPECT_GT(mean, 0.0) << k;
+    else
+      EXPECT_LT(mean, -5.0 * legs_json[k - 1]["drag_mean_N_per_m"].get<double>()) << k;
+  }
+}
+
+// The study's own scenes load with every preset (the pull-off and the cyclic
+// run from this bed): their keys, ranges and time steps are valid.
+TEST_F(QuickStudy, StudyScenesLoadWithEveryPreset) {
+  const std::string pipeline = std::string(DEM2D_TESTS_DIR) + "/../pipeline/";
+  for (const char* preset : {"default", "fast", "paper"})
+    for (const char* stage : {"fill", "pulloff", "cyclic"}) {
+      SceneSources extra;
+      extra.overlays = {pipeline + "presets/" + preset + ".toml"};
+      if (std::string(stage) != "fill") extra.initial_run = fill.run_file;
+      EXPECT_NO_THROW(load_scene(pipeline + stage + ".toml", extra)) << stage << " + " << preset;
+    }
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/aligned_vector.hpp"
+#include "core/motion.hpp"
 
 namespace dem2d {
 
@@ -38,10 +39,12 @@ struct Particles {
 
 // Sphero-lines: a segment from (ax, ay) to (bx, by) with round caps of radius
 // `radius` (cap diameter d_s = 2*radius). Static walls have zero velocity;
-// kinematic bodies translate at their prescribed velocity, which may change
-// during a run: C1 = anchor + v (step - anchor_step) dt, the anchor being
-// where the body was when its velocity last changed (exact for constant
-// motion, no accumulated round-off). A removed body (active = 0) no longer
+// kinematic bodies translate either on a schedule (anchor_step < 0:
+// C1 = origin + the schedule's displacement at t = step dt, core/motion.hpp)
+// or at a constant velocity that may change during a run:
+// C1 = anchor + v (step - anchor_step) dt, the anchor being where the body
+// was when its velocity last changed (exact, no accumulated round-off). A
+// velocity set during the run (a jam's tap) ends a schedule. A removed body (active = 0) no longer
 // touches anything. Forces and torques are those the grains exert on the
 // body; torque is about the segment middle.
 struct Bodies {
@@ -50,7 +53,9 @@ struct Bodies {
   std::vector<double> radius;          // cap radius (m)
   std::vector<double> vx, vy;          // prescribed velocity (m/s)
   std::vector<double> anchor_x, anchor_y;  // C1 when the velocity last changed (m)
-  std::vector<std::int64_t> anchor_step;   // step when the velocity last changed
+  std::vector<std::int64_t> anchor_step;   // step when the velocity last changed; < 0: on its schedule
+  std::vector<MotionSchedule> schedule;     // the scene's (empty: none)
+  std::vector<double> origin_x, origin_y;   // C1 at t = 0, where a schedule starts (m)
   std::vector<std::uint8_t> active;        // 0 once removed
   std::vector<std::uint8_t> removing;      // 1: removed at the next list rebuild (its contacts
                                            // still act in the current step)

@@ -53,7 +53,7 @@ System::System(const Scene& scene)
   if (nb > 0 && !has(effects, effect::walls))
     throw std::invalid_argument("the scene has bodies but not the walls effect");
   for (const BodySpec& q : scene.bodies)
-    if ((q.vx != 0.0 || q.vy != 0.0) && !has(effects, effect::moving_bodies))
+    if ((q.vx != 0.0 || q.vy != 0.0 || !q.motion.empty()) && !has(effects, effect::moving_bodies))
       throw std::invalid_argument("body " + q.name + " has a velocity but the scene lacks the moving_bodies effect");
   bodies.resize(nb);
   for (std::size_t b = 0; b < nb; ++b) {
@@ -67,8 +67,17 @@ System::System(const Scene& scene)
     bodies.vx[b] = q.vx;
     bodies.vy[b] = q.vy;
   }
-  bodies.anchor_x = bodies.ax;
-  bodies.anchor_y = bodies.ay;
+  bodies.anchor_x = bodies.origin_x = bodies.ax;
+  bodies.anchor_y = bodies.origin_y = bodies.ay;
+  for (std::size_t b = 0; b < nb; ++b) {
+    const BodySpec& q = scene.bodies[b];
+    if (q.motion.empty()) continue;
+    bodies.schedule[b] = MotionSchedule(q.motion, q.motion_repeat);
+    bodies.anchor_step[b] = -1;
+    const MotionSchedule::State s = bodies.schedule[b].at(0.0);
+    bodies.vx[b] = s.vx;
+    bodies.vy[b] = s.vy;
+  }
   seg.resize(nb);
   for (std::size_t b = 0; b < nb; ++b)
     seg[b] = make_segment(bodies.ax[b], bodies.ay[b], bodies.bx[b], bodies.by[b]);
@@ -111,6 +120,10 @@ void System::place_bodies() {
   double moved = 0.0;
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     if (!bodies.active[b]) continue;
+    if (bodies.anchor_step[b] < 0) {
+      moved = std::max(moved, place_on_schedule(b));
+      continue;
+    }
     const double vx = bodies.vx[b], vy = bodies.vy[b];
     const double t = static_cast<double>(step - bodies.anchor_step[b]) * dt;
     const double ex = bodies.bx[b] - bodies.ax[b], ey = bodies.by[b] - bodies.ay[b];
@@ -123,6 +136,25 @@ void System::place_bodies() {
     moved = std::max(moved, std::hypot(vx, vy) * dt);
   }
   moved_bodies += moved;
+}
+
+double System::place_on_schedule(std::size_t b) {
+  // positions at t = step dt; the velocity the contacts see is the one over
+  // the step that led here (at t - dt/2), as the grains' half-step velocity
+  const double t = static_cast<double>(step) * dt;
+  const MotionSchedule::State s = bodies.schedule[b].at(t), mid = bodies.schedule[b].at(t - 0.5 * dt);
+  const double ex = bodies.bx[b] - bodies.ax[b], ey = bodies.by[b] - bodies.ay[b];
+  const double x = bodies.origin_x[b] + s.x, y = bodies.origin_y[b] + s.y;
+  const double moved = std::hypot(x - bodies.ax[b], y - bodies.ay[b]);
+  bodies.ax[b] = x;
+  bodies.ay[b] = y;
+  bodies.bx[b] = x + ex;
+  bodies.by[b] = y + ey;
+  bodies.vx[b] = mid.vx;
+  bodies.vy[b] = mid.vy;
+  seg[b].ax = x;
+  seg[b].ay = y;
+  return moved;
 }
 
 void System::set_body_velocity(std::size_t b, double vx, double vy) {

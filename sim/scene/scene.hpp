@@ -10,6 +10,7 @@
 #include "contact/contact_law.hpp"
 #include "contact/stability.hpp"
 #include "core/effects.hpp"
+#include "core/motion.hpp"
 
 namespace dem2d {
 
@@ -26,6 +27,8 @@ struct BodySpec {
   double thickness = 0.0;                          // cap diameter d_s (m)
   double vx = 0.0, vy = 0.0;                       // prescribed velocity (m/s)
   double remove_at = -1.0;                         // time the body is taken away (s); < 0: never
+  std::vector<MotionSegment> motion;               // scheduled motion instead of `velocity` (empty: none)
+  int motion_repeat = 1;                           // runs of the whole schedule
 };
 
 // Contact history carried over from an earlier run (the state a stage starts from).

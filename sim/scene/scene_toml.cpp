@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <unordered_map>
@@ -599,7 +600,8 @@ class SceneParser {
   }
 
   void read_bodies() {
-    const auto bodies = top_.entries("body", {"name", "a", "b", "thickness", "velocity", "remove_at"});
+    const auto bodies =
+        top_.entries("body", {"name", "a", "b", "thickness", "velocity", "motion", "motion_repeat", "remove_at"});
     if (!bodies.empty() && !has(s_.effects, effect::walls))
       f_.fail(bodies.front().where(),
               "[[body]] given but effects.walls is false (bodies need effects.walls = true)");
@@ -625,6 +627,8 @@ class SceneParser {
       if ((v[0] != 0.0 || v[1] != 0.0) && !has(s_.effects, effect::moving_bodies))
         b.fail("velocity", "a non-zero velocity needs effects.moving_bodies = true");
       any_moving = any_moving || v[0] != 0.0 || v[1] != 0.0;
+      read_motion(b, body);
+      any_moving = any_moving || !body.motion.empty();
       body.remove_at = b.number_or("remove_at", {"time the body is taken away", "s", Rule::non_negative}, -1.0);
       s_.bodies.push_back(body);
     }
@@ -634,6 +638,64 @@ class SceneParser {
                     "effect or give a body a velocity)");
     if (!s_.stop.body_free.empty() && !has_body(s_.stop.body_free))
       stop_.fail("body_free", "names no [[body]]");
+  }
+
+  // [[body]] motion = [{ kind = "...", ... }, ...] and motion_repeat (core/motion.hpp).
+  void read_motion(const TableReader& b, BodySpec& body) {
+    if (!b.has("motion")) {
+      b.forbid("motion_repeat", "the body has no motion");
+      return;
+    }
+    if (b.has("velocity")) b.fail("motion", "give either velocity or motion, not both");
+    if (!has(s_.effects, effect::moving_bodies)) b.fail("motion", "a motion needs effects.moving_bodies = true");
+    std::vector<std::string> kinds;
+    for (const MotionKindSpec& k : kMotionKinds) kinds.emplace_back(k.name);
+    const auto segments = b.entries("motion", {"kind", "duration", "velocity", "amplitude", "period", "cycles"});
+    if (segments.empty()) b.fail("motion", "must list at least one segment");
+    for (std::size_t k = 0; k < segments.size(); ++k) {
+      const TableReader& m = segments[k];
+      const auto kind = m.string("kind");
+      if (!kind) m.missing("kind", "one of " + join_strings(kinds));
+      const auto spec = std::find_if(kMotionKinds.begin(), kMotionKinds.end(),
+                                     [&](const MotionKindSpec& s) { return s.name == *kind; });
+      if (spec == kMotionKinds.end()) m.fail("kind", "unknown motion kind (allowed: " + join_strings(kinds) + ")");
+      MotionSegment seg;
+      seg.kind = spec->kind;
+      const std::string why = " (" + *kind + ")";
+      const auto take = [&](bool takes, std::string_view key) {
+        if (!takes) m.forbid(key, "a " + *kind + " segment does not take it");
+        return takes;
+      };
+      const bool last = k + 1 == segments.size();
+      if (take(spec->duration, "duration")) {
+        // a last constant segment may go on for ever (until the run stops)
+        if (spec->kind == MotionKind::constant && last && !m.has("duration"))
+          seg.duration = std::numeric_limits<double>::infinity();
+        else
+          seg.duration = m.required("duration", {"segment duration", "s", Rule::positive}, why);
+      }
+      if (take(spec->velocity, "velocity")) {
+        const Vec2 v = m.required_vec2("velocity", {"velocity (a ramp's at its end)", "m/s", Rule::finite}, why);
+        seg.vx = v[0], seg.vy = v[1];
+      }
+      if (take(spec->amplitude, "amplitude")) {
+        const Vec2 a = m.required_vec2("amplitude", {"peak displacement of a cycle", "m", Rule::finite}, why);
+        seg.ax = a[0], seg.ay = a[1];
+      }
+      if (take(spec->period, "period")) seg.period = m.required("period", {"period of a cycle", "s", Rule::positive}, why);
+      if (take(spec->cycles, "cycles"))
+        seg.cycles = static_cast<int>(m.integer_or("cycles", 1, "number of cycles", 1));
+      if (std::isinf(seg.duration) && b.has("motion_repeat"))
+        b.fail("motion_repeat", "the last segment lasts for ever (constant without a duration): it cannot repeat");
+      body.motion.push_back(seg);
+    }
+    body.motion_repeat = static_cast<int>(b.integer_or("motion_repeat", 1, "runs of the whole motion", 1));
+  }
+
+  static std::string join_strings(const std::vector<std::string>& v) {
+    std::string s;
+    for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+    return s;
   }
 
   bool has_body(const std::string& name) const {

@@ -1,0 +1,86 @@
+// Scheduled motion of a body: its displacement and velocity as closed-form
+// functions of time, from a list of segments the scene gives
+// (`[[body]] motion = [...]`, docs/scene_format.md):
+//
+//   hold       at rest for `duration`
+//   constant   at `velocity` for `duration` (the last segment may omit it: for ever)
+//   ramp       velocity changing linearly from the one at its start to `velocity` over `duration`
+//   sine       `cycles` cycles of period `period`: d(tau) = A (1 - cos(2 pi tau/P))/2,
+//              out to the peak displacement A (`amplitude`) and back, at rest at both ends
+//   triangle   the same path at constant speed 2|A|/P: out in P/2, back in P/2
+//
+// and `repeat` (>= 1) runs of the whole list, each starting where the last
+// ended. After the schedule the body holds still. The schedule is unrolled
+// into pieces (one per segment, cycle and run) whose start times and start
+// displacements are sums of the exact per-piece displacements (v T,
+// (v0 + v1) T/2, 0 for a cycle), so a corner is where the formulas put it,
+// with no accumulated integration error. Translation only.
+//
+// A new kind is a new enumerator with its formulas in motion.cpp (position,
+// velocity, end velocity and displacement) plus its keys in kMotionKinds.
+#pragma once
+
+#include <array>
+#include <string_view>
+#include <vector>
+
+namespace dem2d {
+
+enum class MotionKind { hold, constant, ramp, sine, triangle };
+
+// What a scene segment holds (SI). Unused fields stay 0.
+struct MotionSegment {
+  MotionKind kind = MotionKind::hold;
+  double duration = 0.0;       // s (hold, constant, ramp); +inf: a last constant segment for ever
+  double vx = 0.0, vy = 0.0;   // m/s: constant's velocity, ramp's final velocity
+  double ax = 0.0, ay = 0.0;   // m: sine's and triangle's peak displacement
+  double period = 0.0;         // s: one cycle
+  int cycles = 1;              // sine, triangle
+};
+
+// The kinds a scene may name and the keys each takes (besides `kind`).
+struct MotionKindSpec {
+  std::string_view name;
+  MotionKind kind;
+  bool velocity, duration, amplitude, period, cycles;  // which keys it takes (all required but
+                                                       // a last constant's duration and cycles = 1)
+};
+inline constexpr std::array<MotionKindSpec, 5> kMotionKinds{{
+    {"hold", MotionKind::hold, false, true, false, false, false},
+    {"constant", MotionKind::constant, true, true, false, false, false},
+    {"ramp", MotionKind::ramp, true, true, false, false, false},
+    {"sine", MotionKind::sine, false, false, true, true, true},
+    {"triangle", MotionKind::triangle, false, false, true, true, true},
+}};
+
+class MotionSchedule {
+ public:
+  MotionSchedule() = default;
+  // Throws std::invalid_argument (naming the segment) on a schedule that
+  // cannot run: a duration or period <= 0, an endless segment before the end
+  // or repeated.
+  MotionSchedule(const std::vector<MotionSegment>& segments, int repeat);
+
+  struct State {
+    double x = 0.0, y = 0.0;    // displacement from the start (m)
+    double vx = 0.0, vy = 0.0;  // velocity (m/s)
+  };
+  // At time t (s); t < 0 is the start.
+  State at(double t) const;
+  bool empty() const { return pieces_.empty(); }
+  // When each piece starts (s): the schedule's corners, then its end.
+  std::vector<double> corners() const;
+
+ private:
+  struct Piece {
+    MotionKind kind;
+    double t0, duration;   // s
+    double x0, y0;         // displacement at its start (m)
+    double v0x, v0y;       // velocity at its start (ramp) (m/s)
+    double px, py;         // constant, ramp: the velocity; sine, triangle: the amplitude
+  };
+  std::vector<Piece> pieces_;
+  double end_ = 0.0, x_end_ = 0.0, y_end_ = 0.0;
+};
+
+}  // namespace dem2d
