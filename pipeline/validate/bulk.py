@@ -22,10 +22,14 @@ def law(mu=0.5, mu_r=0.0):
     return out
 
 
-def scene(name, n, region, bodies, duration, mu=0.5, mu_r=0.0, seed=1, stop=None, domain=None, output=None):
+def scene(name, n, region, bodies, duration, mu=0.5, mu_r=0.0, seed=1, stop=None, domain=None, output=None,
+          cohesion=None):
+    """cohesion: (f_c in N/m, delta_c in m), or None."""
     effects = {"gravity": True, "normal_damping": True, "friction": True, "walls": True}
     if mu_r > 0.0:
         effects["rolling_resistance"] = True
+    if cohesion:
+        effects["cohesion"] = True
     xs, ys = [p[0] for p in region], [p[1] for p in region]
     s = {"name": name, "effects": effects, "gravity": {"g": [0.0, -G]}, "material": {"density": DENSITY},
          "contact": law(mu, mu_r), "time": {"duration": duration, "dt_over_critical": 0.05},
@@ -34,6 +38,8 @@ def scene(name, n, region, bodies, duration, mu=0.5, mu_r=0.0, seed=1, stop=None
          "generator": [{"kind": "triangular_lattice", "count": n, "seed": seed,
                         "diameter": {"min": D_MIN, "max": D_MAX}, "region": region}],
          "body": bodies}
+    if cohesion:
+        s["contact"].update(cohesion_force=cohesion[0], cohesion_range=cohesion[1])
     if stop:
         s["stop"] = stop
     return s
@@ -143,10 +149,15 @@ def repose(ctx) -> list:
     over a few grain arrangements (seeds). Sliding and
     rolling friction both raise it (Zhou et al. 2001, Phys. Rev. E 64,
     021301; PFC2D's rolling-resistance examples). Without rolling resistance
-    disks roll off a smooth base and leave no heap (0 deg, measured)."""
+    disks roll off a smooth base and leave no heap (0 deg, measured).
+    Cohesion (a case [mu, mu_r/r, Bo]: pull-off force f_c = Bo m g of a mean
+    grain, range delta_c = 0.05 d) holds a steeper heap than the dry one."""
     n, base = 400, 0.1
     angles = {}
-    for mu, mu_r_over_r in ctx.config["repose"]["cases"]:
+    weight = DENSITY * math.pi * D_MEAN ** 2 / 4 * G  # N/m
+    for mu, mu_r_over_r, *bond in ctx.config["repose"]["cases"]:
+        bond = bond[0] if bond else 0.0
+        cohesion = (bond * weight, 0.05 * D_MEAN) if bond > 0.0 else None
         height = 0.08
         region = [[-base / 2, 0.0], [base / 2, 0.0], [base / 2, height], [-base / 2, height]]
         bodies = [wall("base", (-base / 2, -1e-3), (base / 2, -1e-3)),
@@ -155,28 +166,35 @@ def repose(ctx) -> list:
         s = scene("repose", n, region, bodies, 5.0, mu=mu, mu_r=mu_r_over_r * D_MEAN / 2,
                   stop={"kinetic_energy_per_grain_below": 1e-10, "check_interval": 0.02, "min_time": 1.2},
                   domain={"xmin": -0.2, "xmax": 0.2, "ymin": -0.02, "ymax": 0.12},
-                  output={"snapshot_interval": 5.0})
+                  output={"snapshot_interval": 5.0}, cohesion=cohesion)
         seeds = []
         for seed in ctx.config["repose"]["seeds"]:  # one heap's angle scatters by ~1 deg (sd of 6 seeds)
             s["generator"][0]["seed"] = seed
-            r = run(ctx.dem2d, s, ctx.out / "bulk" / f"repose_{mu}_{mu_r_over_r}_{seed}")
+            tag = f"_bond{bond}" if bond else ""
+            r = run(ctx.dem2d, s, ctx.out / "bulk" / f"repose_{mu}_{mu_r_over_r}{tag}_{seed}")
             active = r.read("snapshots/active")[-1] > 0
             pos = r.read("snapshots/position")[-1][active]
             seeds.append(heap_angle(pos[pos[:, 1] > 0], D_MEAN))
-        angles[(mu, mu_r_over_r)] = float(np.mean(seeds))
-    ctx.figures["repose"] = [(mu, rr, a) for (mu, rr), a in angles.items()]
+        angles[(mu, mu_r_over_r, bond)] = float(np.mean(seeds))
+    ctx.figures["repose"] = [(mu, rr, a) for (mu, rr, bo), a in angles.items() if bo == 0.0]
     checks = []
     case = "angle of repose of a heap on a fixed base"
     ref = "Zhou et al. 2001: rises with mu and mu_r"
     rr0 = ctx.config["repose"]["mu_sweep_at_mu_r_over_r"]
-    mus = sorted(mu for mu, rr in angles if rr == rr0)
+    mus = sorted(mu for mu, rr, bo in angles if rr == rr0 and bo == 0.0)
     for lo, hi in zip(mus, mus[1:]):
-        checks.append(Check(case, f"rises with mu: {hi} against {lo} (mu_r/r = {rr0}), deg", angles[(lo, rr0)],
-                            angles[(hi, rr0)], 0.0, "deg", "above", ref))
-    rolls = sorted(rr for mu, rr in angles if mu == 0.5)
+        checks.append(Check(case, f"rises with mu: {hi} against {lo} (mu_r/r = {rr0}), deg", angles[(lo, rr0, 0.0)],
+                            angles[(hi, rr0, 0.0)], 0.0, "deg", "above", ref))
+    rolls = sorted(rr for mu, rr, bo in angles if mu == 0.5 and bo == 0.0)
     for lo, hi in zip(rolls, rolls[1:]):
-        checks.append(Check(case, f"rises with mu_r/r: {hi} against {lo} (mu = 0.5), deg", angles[(0.5, lo)],
-                            angles[(0.5, hi)], 0.0, "deg", "above", ref))
+        checks.append(Check(case, f"rises with mu_r/r: {hi} against {lo} (mu = 0.5), deg", angles[(0.5, lo, 0.0)],
+                            angles[(0.5, hi, 0.0)], 0.0, "deg", "above", ref))
+    # a cohesive heap stands steeper than the dry one, by more than one heap's scatter (~1 deg)
+    for (mu, rr, bo), a in angles.items():
+        if bo > 0.0 and (mu, rr, 0.0) in angles:
+            checks.append(Check(case, f"cohesion (Bond number {bo}) against dry (mu = {mu}, mu_r/r = {rr}), deg",
+                                angles[(mu, rr, 0.0)] + 1.0, a, 0.0, "deg", "above",
+                                "cohesion steepens a heap (e.g. Nase et al. 2001; Luding 2008)"))
     return checks
 
 
