@@ -212,6 +212,14 @@ TEST(BedMetrics, TriangularLatticeInteriorHasSixContacts) {
   const Coordination z = coordination(s, bulk_region(cell, 0.5 * width, 2 * kD));
   EXPECT_EQ(z.rattlers, 1);
   EXPECT_EQ(z.contacts, static_cast<std::int64_t>(s.contacts.size()) - 1);
+
+  // With cohesion: a touching contact under tension counts (fn < 0), one
+  // attracting across a gap (overlap < 0) does not
+  s.contacts.add(2, loose, -0.3, 1e-9);
+  s.contacts.add(3, loose, -0.2, -2e-5);
+  const Coordination c = coordination(s, bulk_region(cell, 0.5 * width, 2 * kD));
+  EXPECT_EQ(c.contacts, z.contacts + 1);
+  EXPECT_EQ(c.rattlers, 0);  // two contacts now
 }
 
 TEST(BedMetrics, MaxOverlapIsRelativeToTheSmallerDiameter) {

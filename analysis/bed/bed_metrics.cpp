@@ -187,7 +187,9 @@ Coordination coordination(const Snapshot& s, const Region& bulk) {
   Coordination z;
   const Contacts& c = s.contacts;
   for (std::size_t r = 0; r < c.size(); ++r) {
-    if (!(c.fn[r] > 0.0)) continue;
+    // touching and carrying a force (with cohesion fn may be <= 0 in contact;
+    // contacts across a gap, overlap < 0, are not counted)
+    if (!(c.overlap[r] > 0.0) || c.fn[r] == 0.0) continue;
     ++z.contacts;
     const auto i = static_cast<std::size_t>(c.i[r]);
     if (s.active[i]) ++n[i];

@@ -33,15 +33,23 @@ FrictionCoefficients friction_from_scene(const std::string& scene_text, const st
   const std::optional<double> grain = scene["contact"]["friction"].value<double>();
   if (!grain || !(*grain > 0.0))
     throw StageError(where + ": [contact] friction is missing or not > 0 in the scene text");
-  FrictionCoefficients mu{*grain, scene["contact"]["wall"]["friction"].value_or(*grain)};
+  FrictionCoefficients mu{*grain, scene["contact"]["wall"]["friction"].value_or(*grain), 0.0, 0.0};
   if (!(mu.wall > 0.0)) throw StageError(where + ": [contact.wall] friction = " + format_number(mu.wall) + ": must be > 0");
+  if (scene["effects"]["cohesion"].value_or(false)) {
+    mu.cohesion_grain = scene["contact"]["cohesion_force"].value_or(0.0);
+    mu.cohesion_wall = scene["contact"]["wall"]["cohesion_force"].value_or(mu.cohesion_grain);
+  }
   return mu;
 }
 
 std::vector<double> mu_star(const Contacts& c, const std::vector<Partner>& partners, const FrictionCoefficients& mu) {
   std::vector<double> out(c.size(), kNaN);
-  for (std::size_t k = 0; k < c.size(); ++k)
-    if (c.fn[k] > 0.0) out[k] = std::abs(c.ft[k]) / ((partners[k] == Partner::grain ? mu.grain : mu.wall) * c.fn[k]);
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    if (!(c.overlap[k] > 0.0)) continue;  // attracting across a gap: no friction
+    const bool grain = partners[k] == Partner::grain;
+    const double load = c.fn[k] + (grain ? mu.cohesion_grain : mu.cohesion_wall);
+    if (load > 0.0) out[k] = std::abs(c.ft[k]) / ((grain ? mu.grain : mu.wall) * load);
+  }
   return out;
 }
 

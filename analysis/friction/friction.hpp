@@ -18,18 +18,25 @@
 
 namespace dem2d::analysis {
 
-// Coulomb coefficients: grain-grain, and grain-body (walls, floor, intruder).
+// Coulomb coefficients: grain-grain, and grain-body (walls, floor, intruder);
+// with cohesion (contact/cohesion.hpp) the pull-off forces f_c (N/m), which
+// press touching surfaces together and so belong to the friction cap's load.
 struct FrictionCoefficients {
   double grain = 0.0, wall = 0.0;
+  double cohesion_grain = 0.0, cohesion_wall = 0.0;
 };
 
 // [contact] friction and [contact.wall] friction (which defaults to the
-// former) of a scene's TOML text. StageError "<where>: ..." if the scene has
-// no friction (effects.friction off or the key missing) or cannot be read.
+// former) of a scene's TOML text, and cohesion_force likewise when
+// effects.cohesion is on. StageError "<where>: ..." if the scene has no
+// friction (effects.friction off or the key missing) or cannot be read.
 FrictionCoefficients friction_from_scene(const std::string& scene_text, const std::string& where);
 
-// mu* per contact: |ft| / (mu fn) with mu = grain for grain-grain contacts and
-// wall for grain-body ones; NaN where fn <= 0 (no load: excluded).
+// mu* per contact: |ft| / (mu F_load) with mu = grain for grain-grain contacts
+// and wall for grain-body ones, F_load = fn, plus f_c for a touching contact
+// with cohesion (the engine's cap, contact_model.hpp); NaN where F_load <= 0
+// (no load) or the contact is a cohesive one across a gap (no friction):
+// excluded.
 std::vector<double> mu_star(const Contacts& c, const std::vector<Partner>& partners, const FrictionCoefficients& mu);
 
 // The contacts of one snapshot summarised. Groups: bulk = grain-grain, wall =

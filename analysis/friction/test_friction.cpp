@@ -29,6 +29,35 @@ TEST(FrictionMuStar, RatioOfTangentialToCoulombForce) {
   EXPECT_DOUBLE_EQ(m[3], 0.2);
 }
 
+// With cohesion the cap's load is fn + f_c for touching contacts (a pair held
+// by cohesion alone, fn = 0, still has friction mu f_c), and a contact
+// attracting across a gap has no friction.
+TEST(FrictionMuStar, CohesionAddsThePullOffForceToTheLoad) {
+  Contacts c;
+  c.add(0, 1, 0.0, 1e-7, 1, 0, 0.1);        // at cohesive equilibrium: 0.1 / (0.5 x (0 + 0.5)) = 0.4
+  c.add(0, 2, -0.2, 1e-8, 1, 0, 0.06);      // pulled: 0.06 / (0.5 x 0.3) = 0.4
+  c.add(1, 2, -0.3, -2e-5, 1, 0, 0.0);      // across a gap: excluded
+  c.add(1, kLeft, 0.0, 1e-7, 1, 0, 0.05);   // wall, f_c 0.25, mu_wall 0.25: 0.05 / (0.25 x 0.25) = 0.8
+  c.add(2, 3, -0.6, 1e-9, 1, 0, 0.0);       // pulled beyond f_c (cannot hold in the engine): no load
+  const std::vector<Partner> p = {Partner::grain, Partner::grain, Partner::grain, Partner::left, Partner::grain};
+  const std::vector<double> m = mu_star(c, p, {0.5, 0.25, 0.5, 0.25});
+  EXPECT_DOUBLE_EQ(m[0], 0.4);
+  EXPECT_DOUBLE_EQ(m[1], 0.4);
+  EXPECT_TRUE(std::isnan(m[2]));
+  EXPECT_DOUBLE_EQ(m[3], 0.8);
+  EXPECT_TRUE(std::isnan(m[4]));
+  // the scene's pull-off forces, the wall's defaulting to the grains'
+  const std::string base = "[effects]\nfriction = true\ncohesion = true\n[contact]\nkn = 1.0\nfriction = 0.5\n"
+                           "cohesion_force = 0.5\n";
+  FrictionCoefficients mu = friction_from_scene(base, "run.h5");
+  EXPECT_EQ(mu.cohesion_grain, 0.5);
+  EXPECT_EQ(mu.cohesion_wall, 0.5);
+  mu = friction_from_scene(base + "[contact.wall]\ncohesion_force = 0.25\n", "run.h5");
+  EXPECT_EQ(mu.cohesion_wall, 0.25);
+  EXPECT_EQ(friction_from_scene("[effects]\nfriction = true\n[contact]\nfriction = 0.5\ncohesion_force = 0.5\n",
+                                "run.h5").cohesion_grain, 0.0);  // the effect off: no cohesion
+}
+
 TEST(FrictionSummary, SlipFractionZeroForcesAndGroups) {
   Contacts c;
   std::vector<Partner> p;

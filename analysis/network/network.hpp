@@ -25,8 +25,12 @@ const char* floor_rule_name(FloorRule r);
 FloorRule floor_rule_from_name(const std::string& name);  // StageError if unknown
 
 // Vertex i (0 <= i < N) is grain i; then the left wall, right wall, floor and
-// intruder. One edge per contact with fn > 0, weight fn (N/m). Contacts with
-// other bodies (none in the study) are left out.
+// intruder. One edge per contact with fn > 0, weight fn (N/m): the network of
+// compressive forces, whose edges are the capacities of the max-flow and the
+// paths of percolation. With cohesion, tensile contacts (fn < 0, touching or
+// across a gap) are not edges and do not enter the mean: a pull cannot carry
+// the load a compressive chain carries to the walls. Contacts with other
+// bodies (none in the study) are left out.
 struct ContactGraph {
   using Graph = boost::adjacency_list<boost::vecS, boost::vecS, boost::undirectedS, boost::no_property,
                                       boost::property<boost::edge_weight_t, double>>;

@@ -62,6 +62,18 @@ Snapshot two_chains() {
   return s;
 }
 
+// With cohesion, tensile contacts (fn < 0, touching or across a gap) are
+// neither edges nor part of the mean: the graph and the threshold are those
+// of the compressive network.
+TEST(NetworkGraph, TensileContactsAreNotEdges) {
+  Snapshot s = two_chains();
+  s.contacts.add(4, 5, -0.4, 1e-7, 1.0, 0.0);    // pulled, touching
+  s.contacts.add(1, 5, -0.2, -3e-5, 1.0, 0.0);   // attracting across a gap
+  const Built b = build(std::move(s));
+  EXPECT_EQ(b.g.edges(), 7u);
+  EXPECT_DOUBLE_EQ(b.g.mean_fn, 61.0 / 7.0);
+}
+
 TEST(NetworkGraph, VerticesAndEdgesFollowTheContacts) {
   Snapshot s = two_chains();
   touch(s, 5, kFloor, 0.0);  // no load: no edge

@@ -32,8 +32,8 @@ struct Body {
 struct Contacts {
   std::vector<std::int32_t> i;      // grain
   std::vector<std::int32_t> j;      // partner: grain j (> i) if j >= 0, else body -1 - j
-  std::vector<double> fn, ft;       // normal (>= 0) and tangential force on i (N/m)
-  std::vector<double> overlap;      // (m), > 0
+  std::vector<double> fn, ft;       // normal (> 0 repulsive; < 0 only with cohesion) and tangential force on i (N/m)
+  std::vector<double> overlap;      // (m), > 0 touching; < 0 (a gap) only with cohesion
   std::vector<double> nx, ny;       // unit normal from the partner to i
   std::vector<double> mr;           // rolling moment on i (N)
   std::vector<std::uint8_t> sliding;  // 1: on the Coulomb cone
