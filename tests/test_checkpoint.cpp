@@ -2,6 +2,9 @@
 // thread count) writes a run file bitwise identical to an uninterrupted one.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
+
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -96,6 +99,18 @@ TEST(Checkpoint, ResumedRunIsBitwiseIdenticalToUninterrupted) {
   EXPECT_TRUE(r.resumed);
   EXPECT_EQ(r.final_step, full.final_step);
   EXPECT_FALSE(fs::exists(parts.path() / ".run.work"));  // cleaned up
+  // the log says how it went: started, interrupted, resumed (twice), finished
+  std::ifstream log(parts.path() / "run.log");
+  const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  const auto count = [&](const std::string& what) {
+    std::size_t n = 0;
+    for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count(" started '"), 1u) << text;
+  EXPECT_EQ(count(" interrupted at step " + std::to_string(first)), 1u) << text;
+  EXPECT_EQ(count(" resumed '"), 2u) << text;
+  EXPECT_EQ(count(" finished at step " + std::to_string(full.final_step)), 1u) << text;
 
   expect_same_datasets(full.run_file, r.run_file);
   // the support was loaded when it went: the ledger took its contacts' energy out

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <sstream>
 #include <stdexcept>
@@ -38,35 +39,69 @@ std::string format_duration(double seconds) {
   return buf;
 }
 
+// How far a run is: a live line on a terminal (every 0.5 s) and a line in
+// DIR/run.log (every kLogSeconds of wall time), each with the simulated time,
+// the step against the duration's, the rate since its previous line and the
+// time left at that rate (an upper bound: a stop criterion may end the run
+// sooner). The log also says when the run starts, resumes, checkpoints and ends.
 class Progress {
  public:
-  Progress(bool on, std::int64_t total_steps, std::size_t particles, std::int64_t step)
-      : on_(on), total_(total_steps), particles_(particles), last_step_(step) {}
-  // The rate shown is averaged over the time since the previous line.
+  static constexpr double kLogSeconds = 60.0;
+
+  Progress(bool terminal, const fs::path& log, std::int64_t total_steps, std::size_t particles, std::int64_t step)
+      : terminal_(terminal), log_(std::fopen(log.string().c_str(), "a")), total_(total_steps), particles_(particles),
+        term_{Clock::now(), step}, file_{Clock::now(), step} {}
+  ~Progress() {
+    if (log_) std::fclose(log_);
+  }
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+
   void update(std::int64_t step, double t) {
-    if (!on_) return;
     const auto now = Clock::now();
-    const double secs = std::chrono::duration<double>(now - last_).count();
-    if (secs < 0.5) return;
-    const double steps_per_s = static_cast<double>(step - last_step_) / secs;
-    last_ = now;
-    last_step_ = step;
-    const double eta = steps_per_s > 0 ? static_cast<double>(total_ - step) / steps_per_s : 0.0;
-    std::fprintf(stderr, "\r[dem2d] t = %.6g s  step %lld/%lld  %.3g steps/s  %.3g particle-steps/s  ETA %s   ",
-                 t, static_cast<long long>(step), static_cast<long long>(total_), steps_per_s,
-                 steps_per_s * static_cast<double>(particles_), format_duration(eta).c_str());
-    std::fflush(stderr);
+    if (terminal_ && seconds(term_, now) >= 0.5) {
+      std::fprintf(stderr, "\r[dem2d] %s   ", line(term_, now, step, t).c_str());
+      std::fflush(stderr);
+    }
+    if (log_ && seconds(file_, now) >= kLogSeconds) note(line(file_, now, step, t));
+  }
+  // A line in the log, stamped with the date and time.
+  void note(const std::string& what) {
+    if (!log_) return;
+    const std::time_t now = std::time(nullptr);
+    char stamp[32];
+    std::strftime(stamp, sizeof stamp, "%Y-%m-%d %H:%M:%S", std::localtime(&now));
+    std::fprintf(log_, "%s %s\n", stamp, what.c_str());
+    std::fflush(log_);
   }
   void done() {
-    if (on_) std::fprintf(stderr, "\n");
+    if (terminal_) std::fprintf(stderr, "\n");
   }
 
  private:
-  bool on_;
+  struct Mark {
+    Clock::time_point when;
+    std::int64_t step;
+  };
+  static double seconds(const Mark& m, Clock::time_point now) { return std::chrono::duration<double>(now - m.when).count(); }
+  // The rate is averaged since the mark, which moves to now.
+  std::string line(Mark& m, Clock::time_point now, std::int64_t step, double t) const {
+    const double steps_per_s = static_cast<double>(step - m.step) / std::max(seconds(m, now), 1e-9);
+    m = {now, step};
+    const double eta = steps_per_s > 0 ? static_cast<double>(total_ - step) / steps_per_s : 0.0;
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "t = %.6g s  step %lld/%lld (%.1f %%)  %.3g steps/s  %.3g particle-steps/s  ETA %s", t,
+                  static_cast<long long>(step), static_cast<long long>(total_),
+                  total_ > 0 ? 100.0 * static_cast<double>(step) / static_cast<double>(total_) : 100.0, steps_per_s,
+                  steps_per_s * static_cast<double>(particles_), format_duration(eta).c_str());
+    return buf;
+  }
+
+  bool terminal_;
+  std::FILE* log_;
   std::int64_t total_;
   std::size_t particles_;
-  std::int64_t last_step_;
-  Clock::time_point last_ = Clock::now();
+  Mark term_, file_;
 };
 
 }  // namespace
@@ -136,7 +171,10 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   };
   const std::int64_t first_step = sys.step;
   const std::int64_t first_rebuild = sys.lists.rebuild_count;
-  Progress progress(opt.progress, total, sys.size(), first_step);
+  Progress progress(opt.progress, out_dir / "run.log", total, sys.size(), first_step);
+  progress.note(std::string(report.resumed ? "resumed" : "started") + " '" + scene.name + "' at step " +
+                std::to_string(first_step) + " of " + std::to_string(total) + ", " + std::to_string(sys.threads) +
+                " threads" + (scene.path.empty() ? "" : ", scene " + scene.path));
   auto finish_report = [&](bool complete) {
     report.complete = complete;
     report.final_step = sys.step;
@@ -206,12 +244,14 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     if (g_interrupt.load() || sys.step == opt.interrupt_at_step) {
       checkpoint();
       progress.done();
+      progress.note("interrupted at step " + std::to_string(sys.step) + ": checkpoint written; rerun to resume");
       return finish_report(false);
     }
     if (scene.output.checkpoint_interval > 0.0 &&
         std::chrono::duration<double>(Clock::now() - last_checkpoint).count() >= scene.output.checkpoint_interval) {
       checkpoint();
       last_checkpoint = Clock::now();
+      progress.note("checkpoint at step " + std::to_string(sys.step));
     }
 
     std::int64_t target = std::min({total, sys.step + chunk, jam.next_step()});
@@ -248,6 +288,8 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   report.run_file = (out_dir / "run.h5").string();
   recorder.finish(sys, info, report.run_file, report.stop_reason);
   fs::remove_all(work);
+  progress.note("finished at step " + std::to_string(sys.step) + " (t = " + std::to_string(sys.time()) + " s): " +
+                report.stop_reason + " -> " + report.run_file);
   return finish_report(true);
 }
 

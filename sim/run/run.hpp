@@ -3,6 +3,7 @@
 // and assembles the run file. Layout of the output directory:
 //   DIR/run.h5, DIR/run.xdmf   written only when the run is complete
 //   DIR/.run.work/             segments and checkpoint while it runs
+//   DIR/run.log                how far it is: start, resume, a line a minute, checkpoints, end (appended)
 // Rerunning the same scene into the same DIR resumes from the checkpoint.
 #pragma once
 
