@@ -68,6 +68,14 @@ void put(const h5::File& f, const std::string& name, const std::vector<double>& 
   h5::write_attr(f, name, "unit", std::string(unit));
 }
 
+// A spectrum's peak as attributes of its group (travel or time spectrum alike).
+void write_peak(const h5::File& f, const std::string& group, const Psd& psd, const DominantPeak& k) {
+  h5::write_attr(f, group, "dof", psd.dof);
+  h5::write_attr(f, group, "peak_to_background", k.peak_to_background);
+  h5::write_attr(f, group, "significance_threshold", k.threshold);
+  h5::write_attr(f, group, "significant", static_cast<std::int64_t>(k.significant));
+}
+
 void write_psd(const h5::File& f, const std::string& group, const Band& b, const SpectrumScales& s, double speed) {
   std::vector<double> wavelength, f_paper, f_run;
   for (const double k : b.psd.frequency) {
@@ -83,11 +91,8 @@ void write_psd(const h5::File& f, const std::string& group, const Band& b, const
   h5::write_attr(f, group, "low_m", b.low);
   h5::write_attr(f, group, "high_m", b.high);
   h5::write_attr(f, group, "segments", static_cast<std::int64_t>(b.psd.segments));
-  h5::write_attr(f, group, "dof", b.psd.dof);
   h5::write_attr(f, group, "dominant_period_d", b.peak.period);
-  h5::write_attr(f, group, "peak_to_background", b.peak.peak_to_background);
-  h5::write_attr(f, group, "significance_threshold", b.peak.threshold);
-  h5::write_attr(f, group, "significant", static_cast<std::int64_t>(b.peak.significant));
+  write_peak(f, group, b.psd, b.peak);
 }
 
 void write_h5(const std::string& path, const SpectrumStage& st) {
@@ -113,11 +118,8 @@ void write_h5(const std::string& path, const SpectrumStage& st) {
   h5::write_attr(f, "ringing", "nyquist_hz", r.ringing.nyquist);
   h5::write_attr(f, "ringing", "searched", static_cast<std::int64_t>(r.ringing.searched));
   h5::write_attr(f, "ringing", "frequency_hz", r.ringing.peak.frequency);
-  h5::write_attr(f, "ringing", "peak_to_background", r.ringing.peak.peak_to_background);
-  h5::write_attr(f, "ringing", "significance_threshold", r.ringing.peak.threshold);
-  h5::write_attr(f, "ringing", "significant", static_cast<std::int64_t>(r.ringing.peak.significant));
+  write_peak(f, "ringing", r.ringing.psd, r.ringing.peak);
   h5::write_attr(f, "ringing", "line_rms_N_per_m", r.ringing.line_rms);
-  h5::write_attr(f, "ringing", "dof", r.ringing.psd.dof);
   h5::write_attr(f, "ringing", "geometric_cutoff_hz", r.geometric_cutoff);
   // /events: a contract with the stages cg and network (names, units).
   std::vector<double> load_start_time, peak_time, peak_height, peak_drag, drop_end_time, drop, duration,

@@ -120,41 +120,32 @@ void System::place_bodies() {
   double moved = 0.0;
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     if (!bodies.active[b]) continue;
+    double x, y;  // C1 at this step
     if (bodies.anchor_step[b] < 0) {
-      moved = std::max(moved, place_on_schedule(b));
-      continue;
+      // on its schedule: positions at t = step dt; the velocity the contacts
+      // see is the one over the step that led here (at t - dt/2), as the
+      // grains' half-step velocity
+      const double t = static_cast<double>(step) * dt;
+      const MotionSchedule::State s = bodies.schedule[b].at(t), mid = bodies.schedule[b].at(t - 0.5 * dt);
+      x = bodies.origin_x[b] + s.x;
+      y = bodies.origin_y[b] + s.y;
+      bodies.vx[b] = mid.vx;
+      bodies.vy[b] = mid.vy;
+      moved = std::max(moved, std::hypot(x - bodies.ax[b], y - bodies.ay[b]));
+    } else {
+      const double vx = bodies.vx[b], vy = bodies.vy[b];
+      const double t = static_cast<double>(step - bodies.anchor_step[b]) * dt;
+      x = bodies.anchor_x[b] + vx * t;
+      y = bodies.anchor_y[b] + vy * t;
+      moved = std::max(moved, std::hypot(vx, vy) * dt);
     }
-    const double vx = bodies.vx[b], vy = bodies.vy[b];
-    const double t = static_cast<double>(step - bodies.anchor_step[b]) * dt;
     const double ex = bodies.bx[b] - bodies.ax[b], ey = bodies.by[b] - bodies.ay[b];
-    bodies.ax[b] = bodies.anchor_x[b] + vx * t;
-    bodies.ay[b] = bodies.anchor_y[b] + vy * t;
-    bodies.bx[b] = bodies.ax[b] + ex;
-    bodies.by[b] = bodies.ay[b] + ey;
-    seg[b].ax = bodies.ax[b];
-    seg[b].ay = bodies.ay[b];
-    moved = std::max(moved, std::hypot(vx, vy) * dt);
+    bodies.ax[b] = seg[b].ax = x;
+    bodies.ay[b] = seg[b].ay = y;
+    bodies.bx[b] = x + ex;
+    bodies.by[b] = y + ey;
   }
   moved_bodies += moved;
-}
-
-double System::place_on_schedule(std::size_t b) {
-  // positions at t = step dt; the velocity the contacts see is the one over
-  // the step that led here (at t - dt/2), as the grains' half-step velocity
-  const double t = static_cast<double>(step) * dt;
-  const MotionSchedule::State s = bodies.schedule[b].at(t), mid = bodies.schedule[b].at(t - 0.5 * dt);
-  const double ex = bodies.bx[b] - bodies.ax[b], ey = bodies.by[b] - bodies.ay[b];
-  const double x = bodies.origin_x[b] + s.x, y = bodies.origin_y[b] + s.y;
-  const double moved = std::hypot(x - bodies.ax[b], y - bodies.ay[b]);
-  bodies.ax[b] = x;
-  bodies.ay[b] = y;
-  bodies.bx[b] = x + ex;
-  bodies.by[b] = y + ey;
-  bodies.vx[b] = mid.vx;
-  bodies.vy[b] = mid.vy;
-  seg[b].ax = x;
-  seg[b].ay = y;
-  return moved;
 }
 
 void System::set_body_velocity(std::size_t b, double vx, double vy) {

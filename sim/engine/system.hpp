@@ -104,8 +104,6 @@ struct System {
   void freeze_lost();
   // Recompute body positions for the current step (moving bodies only).
   void place_bodies();
-  // Body b on its schedule at the current step; returns how far it moved (m).
-  double place_on_schedule(std::size_t b);
   // Prescribed motion from the current step on (needs the moving_bodies effect
   // unless the velocity is zero).
   void set_body_velocity(std::size_t b, double vx, double vy);

@@ -167,8 +167,6 @@ class TableReader {
   [[noreturn]] void fail_after(std::string_view key, const std::string& msg) const {
     f_->fail(*node(key), path(key) + " = " + show(*node(key)) + msg);
   }
-  // A problem of the table as a whole, at the table.
-  [[noreturn]] void fail_whole(const std::string& msg) const { f_->fail(where(), "[" + name_ + "]: " + msg); }
   [[noreturn]] void missing(std::string_view key, const std::string& what) const {
     f_->fail(where(), "missing key " + path(key) + " (" + what + ")");
   }
@@ -345,15 +343,15 @@ ContactLaw read_law(const TableReader& r, EffectSet effects, const ContactLaw* b
   }
   // the attraction's slope f_c/delta_c must not exceed k_n: the time step and
   // its stability limit are set by k_n
-  if (has(effects, effect::cohesion) && law.cohesion_force / law.cohesion_range > law.kn) {
-    const char* key = r.has("cohesion_range") ? "cohesion_range" : r.has("cohesion_force") ? "cohesion_force" : "kn";
-    const std::string msg = "the cohesive attraction f_c/delta_c = " + sig3(law.cohesion_force / law.cohesion_range) +
-                            " N/m per m is steeper than the contact spring k_n = " + sig3(law.kn) +
-                            " N/m; need cohesion_range >= cohesion_force/kn = " +
-                            sig3(law.cohesion_force / law.kn) + " m";
-    if (r.has(key)) r.fail(key, msg);
-    r.fail_whole(msg);  // (a [contact.wall] law that overrides none of the three keys equals [contact]'s)
-  }
+  // (named at the first of its keys the table gives: a [contact.wall] law
+  // that gives none of them equals [contact]'s, already checked)
+  if (has(effects, effect::cohesion) && law.cohesion_force / law.cohesion_range > law.kn)
+    for (const char* key : {"cohesion_range", "cohesion_force", "kn"})
+      if (r.has(key))
+        r.fail(key, "the cohesive attraction f_c/delta_c = " + sig3(law.cohesion_force / law.cohesion_range) +
+                        " N/m per m is steeper than the contact spring k_n = " + sig3(law.kn) +
+                        " N/m; need cohesion_range >= cohesion_force/kn = " + sig3(law.cohesion_force / law.kn) +
+                        " m");
   return law;
 }
 
@@ -648,17 +646,17 @@ class SceneParser {
     }
     if (b.has("velocity")) b.fail("motion", "give either velocity or motion, not both");
     if (!has(s_.effects, effect::moving_bodies)) b.fail("motion", "a motion needs effects.moving_bodies = true");
-    std::vector<std::string> kinds;
-    for (const MotionKindSpec& k : kMotionKinds) kinds.emplace_back(k.name);
+    std::vector<std::string_view> kinds;
+    for (const MotionKindSpec& k : kMotionKinds) kinds.push_back(k.name);
     const auto segments = b.entries("motion", {"kind", "duration", "velocity", "amplitude", "period", "cycles"});
     if (segments.empty()) b.fail("motion", "must list at least one segment");
     for (std::size_t k = 0; k < segments.size(); ++k) {
       const TableReader& m = segments[k];
       const auto kind = m.string("kind");
-      if (!kind) m.missing("kind", "one of " + join_strings(kinds));
+      if (!kind) m.missing("kind", "one of " + join(kinds));
       const auto spec = std::find_if(kMotionKinds.begin(), kMotionKinds.end(),
                                      [&](const MotionKindSpec& s) { return s.name == *kind; });
-      if (spec == kMotionKinds.end()) m.fail("kind", "unknown motion kind (allowed: " + join_strings(kinds) + ")");
+      if (spec == kMotionKinds.end()) m.fail("kind", "unknown motion kind (allowed: " + join(kinds) + ")");
       MotionSegment seg;
       seg.kind = spec->kind;
       const std::string why = " (" + *kind + ")";
@@ -690,12 +688,6 @@ class SceneParser {
       body.motion.push_back(seg);
     }
     body.motion_repeat = static_cast<int>(b.integer_or("motion_repeat", 1, "runs of the whole motion", 1));
-  }
-
-  static std::string join_strings(const std::vector<std::string>& v) {
-    std::string s;
-    for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-    return s;
   }
 
   bool has_body(const std::string& name) const {
