@@ -28,20 +28,21 @@ ENERGY = ("kinetic", "elastic_normal", "elastic_tangential", "elastic_rolling", 
           "integration_error")
 
 
-def layout(T, S, C, L, N, B, J):
+def layout(T, S, C, L, N, B, J, K):
     """dataset -> (numpy dtype kind+size, shape)"""
     f8, i8, i4, u1 = "f8", "i8", "i4", "u1"
     return {
         "particles/id": (i4, (N,)), "particles/diameter": (f8, (N,)), "particles/mass": (f8, (N,)),
         "particles/inertia": (f8, (N,)),
-        "bodies/name": ("str", (B,)), "bodies/thickness": (f8, (B,)), "bodies/velocity": (f8, (B, 2)),
+        "bodies/name": ("str", (B,)), "bodies/shape": ("str", (B,)), "bodies/vertex_count": (i4, (B,)),
+        "bodies/thickness": (f8, (B,)), "bodies/velocity": (f8, (B, 2)),
         "series/time": (f8, (T,)), "series/step": (i8, (T,)), "series/body_force": (f8, (T, B, 2)),
         "series/body_force_mean": (f8, (T, B, 2)), "series/body_torque": (f8, (T, B)),
-        "series/body_torque_mean": (f8, (T, B)), "series/body_ends": (f8, (T, B, 4)),
+        "series/body_torque_mean": (f8, (T, B)), "series/body_vertices": (f8, (T, B, K, 2)),
         "series/kinetic_energy": (f8, (T,)), "series/max_overlap": (f8, (T,)), "series/contacts": (i8, (T,)),
         "snapshots/time": (f8, (S,)), "snapshots/step": (i8, (S,)), "snapshots/position": (f8, (S, N, 2)),
         "snapshots/velocity": (f8, (S, N, 2)), "snapshots/displacement": (f8, (S, N, 2)), "snapshots/omega": (f8, (S, N)), "snapshots/theta": (f8, (S, N)),
-        "snapshots/active": (u1, (S, N)), "snapshots/body_ends": (f8, (S, B, 4)),
+        "snapshots/active": (u1, (S, N)), "snapshots/body_vertices": (f8, (S, B, K, 2)),
         "snapshots/contact_start": (i8, (S + 1,)),
         "contacts/i": (i4, (C,)), "contacts/j": (i4, (C,)), "contacts/fn": (f8, (C,)), "contacts/ft": (f8, (C,)),
         "contacts/overlap": (f8, (C,)), "contacts/nx": (f8, (C,)), "contacts/ny": (f8, (C,)),
@@ -67,7 +68,7 @@ def check_run_file(f, errors):
             errors.append(f"attribute {name} is {np.asarray(f.attrs[name]).dtype}, not {np.dtype(kind)}")
     if errors:
         return
-    if f.attrs["format"] != "dem2d-run-1":
+    if f.attrs["format"] != "dem2d-run-2":
         errors.append(f"format is {f.attrs['format']!r}")
     effects = [e for e in f.attrs["effects"].split(",") if e]
     if not set(effects) <= EFFECTS:
@@ -76,7 +77,8 @@ def check_run_file(f, errors):
     dim = lambda name: f[name].shape[0] if name in f else -1  # noqa: E731
     N, B = int(f.attrs["n_particles"]), int(f.attrs["n_bodies"])
     expected = layout(dim("series/time"), dim("snapshots/time"), dim("contacts/i"), dim("lost/id"), N, B,
-                      dim("events/jam_time"))
+                      dim("events/jam_time"),
+                      max([1] + [int(n) for n in f["bodies/vertex_count"][()]]) if "bodies/vertex_count" in f else -1)
     for name, (code, shape) in expected.items():
         if name not in f:
             errors.append(f"missing dataset /{name}")

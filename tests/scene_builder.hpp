@@ -51,7 +51,10 @@ inline void add_disk(Scene& s, double x, double y, double d, double vx = 0.0, do
 
 inline void add_wall(Scene& s, const std::string& name, double ax, double ay, double bx, double by,
                      double thickness = 2e-3, double vx = 0.0, double vy = 0.0) {
-  s.bodies.push_back({name, ax, ay, bx, by, thickness, vx, vy});
+  BodySpec b = BodySpec::segment(name, ax, ay, bx, by, thickness);
+  b.vx = vx;
+  b.vy = vy;
+  s.bodies.push_back(b);
 }
 
 // dt = dt_c / divisor with dt_c = sqrt(m_min / k_n)

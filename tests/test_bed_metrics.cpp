@@ -37,9 +37,9 @@ const double kSquare = std::numbers::pi / 4.0;
 Snapshot box(double width, double height) {
   Snapshot s;
   const double h = 0.5 * kWall;
-  s.bodies = {{"floor", -kWall, -h, width + kWall, -h, kWall},
-              {"left", -h, -h, -h, height, kWall},
-              {"right", width + h, -h, width + h, height, kWall}};
+  s.bodies = {Body::segment("floor", -kWall, -h, width + kWall, -h, kWall),
+              Body::segment("left", -h, -h, -h, height, kWall),
+              Body::segment("right", width + h, -h, width + h, height, kWall)};
   return s;
 }
 
@@ -115,8 +115,8 @@ TEST(BedMetrics, HoleAroundTheIntruderIsExcluded) {
   Snapshot full = box(width, width);
   fill_lattice(full, width, 33, true);
   Snapshot s = box(width, width);
-  s.bodies.push_back({"intruder", 0.5 * width - 5e-3, 15 * kD, 0.5 * width + 5e-3, 15 * kD, kWall});
-  const Capsule gap{0.5 * width - 5e-3, 15 * kD, 0.5 * width + 5e-3, 15 * kD, 0.5 * kWall + kD};
+  s.bodies.push_back(Body::segment("intruder", 0.5 * width - 5e-3, 15 * kD, 0.5 * width + 5e-3, 15 * kD, kWall));
+  const Rounded gap{make_shape({{0.5 * width - 5e-3, 15 * kD}, {0.5 * width + 5e-3, 15 * kD}}), 0.5 * kWall + kD};
   for (std::size_t i = 0; i < full.size(); ++i)
     if (!gap.contains(full.position[i].x, full.position[i].y)) add_grain(s, full.position[i].x, full.position[i].y, kD);
   ASSERT_LT(s.size() + 10, full.size());
@@ -146,7 +146,7 @@ TEST(BedMetrics, SamplingMeasuresAreas) {
   EXPECT_EQ(c.points, 400 * 400);
   EXPECT_NEAR(c.fraction * 0.04 * 0.04, std::numbers::pi * 0.005 * 0.005, 1e-3 * std::numbers::pi * 0.005 * 0.005);
   Region holed = region;
-  holed.hole = Capsule{0.03, 0.04, 0.03, 0.04, 0.005};  // removes exactly the disk
+  holed.hole = Rounded{make_shape({{0.03, 0.04}, {0.03, 0.04}}), 0.005};  // removes exactly the disk
   const Coverage h = sample_coverage(s, holed, 1e-4);
   EXPECT_EQ(h.covered, 0);
   EXPECT_EQ(h.points + h.excluded, 400 * 400);
@@ -179,7 +179,8 @@ TEST(BedMetrics, BedHeightIsMeasuredFromTheFloorsInnerFace) {
   Snapshot s = box(width, 60 * kD);
   const double top = fill_lattice(s, width, 21, true);
   for (Vec2& p : s.position) p.y += lift;
-  for (Body& b : s.bodies) b.ay += lift, b.by += lift;
+  for (Body& b : s.bodies)
+    for (Vec2& v : b.vertices) v.y += lift;
   add_grain(s, 10.5 * kD, lift + top + 2 * kD, kD);  // one grain in flight above column 10
   const auto f = fill_metrics(s, BedConfig{});
   EXPECT_NEAR(f["bed_surface_max_mm"].get<double>(), (top + 2.5 * kD) * 1e3, 1e-9);

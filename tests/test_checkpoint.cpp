@@ -45,11 +45,11 @@ Scene stirred_box() {
 void expect_same_datasets(const std::string& a, const std::string& b, bool ledger = true) {
   const h5::File fa = h5::File::open_read(a), fb = h5::File::open_read(b);
   const char* numeric[] = {"particles/diameter", "particles/mass", "series/time", "series/body_force",
-                           "series/body_force_mean", "series/body_torque", "series/body_ends",
+                           "series/body_force_mean", "series/body_torque", "series/body_vertices",
                            "series/kinetic_energy", "series/max_overlap", "snapshots/time",
                            "snapshots/position", "snapshots/velocity", "snapshots/displacement",
                            "snapshots/omega", "snapshots/theta",
-                           "snapshots/body_ends", "contacts/fn", "contacts/ft", "contacts/overlap",
+                           "snapshots/body_vertices", "contacts/fn", "contacts/ft", "contacts/overlap",
                            "contacts/nx", "contacts/ny", "contacts/mr", "lost/x", "lost/y"};
   std::vector<std::string> names(std::begin(numeric), std::end(numeric));
   if (ledger)

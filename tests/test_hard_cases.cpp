@@ -117,7 +117,7 @@ TEST(HardCases, DiskSqueezedOutBetweenIntruderCapAndWall) {
   System sys(squeeze_scene(effect::gravity | effect::normal_damping));
   const double d = 3e-3;
   double worst = 0.0;
-  while (sys.bodies.bx[2] + 1e-3 < 0.01 - 0.3 * d) {  // until the gap is 0.3 d
+  while (sys.bodies.shape[2].vertex(1).x + 1e-3 < 0.01 - 0.3 * d) {  // until the gap is 0.3 d
     sys.advance(10);
     worst = std::max(worst, max_overlap(sys));
   }
@@ -133,7 +133,7 @@ TEST(HardCases, DiskSqueezedOutBetweenIntruderCapAndWall) {
 TEST(HardCases, DiskJammedBetweenIntruderCapAndWall) {
   System sys(squeeze_scene(effect::gravity | effect::normal_damping | effect::friction | effect::rolling_resistance));
   const double d = 3e-3;
-  while (sys.bodies.bx[2] + 1e-3 < 0.01 - 0.5 * d) {  // until the gap is half a diameter
+  while (sys.bodies.shape[2].vertex(1).x + 1e-3 < 0.01 - 0.5 * d) {  // until the gap is half a diameter
     sys.advance(10);
     ASSERT_TRUE(all_finite(sys)) << "t = " << sys.time();
     ASSERT_LT(kinetic_energy(sys), 1e-5) << "t = " << sys.time();  // J/m: never launched

@@ -66,7 +66,7 @@ TEST(Neighbour, FindsEveryWallCandidateAmongManyBodies) {
     const double x = 0.002 + 0.036 * ((k * 37) % 40) / 40.0, y = 0.002 + 0.004 * (k % 10);
     const double len = k % 4 == 0 ? 0.0 : 0.003;  // every fourth a point obstacle
     const double angle = 0.7 * k;
-    s.bodies.push_back({"peg" + std::to_string(k), x, y, x + len * std::cos(angle), y + len * std::sin(angle), 1e-3});
+    s.bodies.push_back(BodySpec::segment("peg" + std::to_string(k), x, y, x + len * std::cos(angle), y + len * std::sin(angle), 1e-3));
   }
   System sys(s);
   for (int k = 0; k < 4; ++k) {
@@ -75,7 +75,7 @@ TEST(Neighbour, FindsEveryWallCandidateAmongManyBodies) {
     const Particles& p = sys.p;
     for (std::size_t i = 0; i < p.size(); ++i)
       for (std::size_t b = 0; b < sys.bodies.size(); ++b)
-        if (p.active[i] && closest_point(sys.seg[b], p.x[i], p.y[i]).dist <
+        if (p.active[i] && closest_point(sys.bodies.shape[b], p.x[i], p.y[i]).dist <
                                p.radius[i] + sys.bodies.radius[b] + sys.lists.skin())
           brute.insert({static_cast<int>(i), static_cast<int>(b)});
     const WallList& W = sys.lists.walls;
@@ -84,7 +84,7 @@ TEST(Neighbour, FindsEveryWallCandidateAmongManyBodies) {
     // so every pair touching now is; compare the touching ones both ways
     std::set<std::pair<int, int>> touching;
     for (const auto& [i, b] : brute)
-      if (closest_point(sys.seg[static_cast<std::size_t>(b)], p.x[static_cast<std::size_t>(i)],
+      if (closest_point(sys.bodies.shape[static_cast<std::size_t>(b)], p.x[static_cast<std::size_t>(i)],
                         p.y[static_cast<std::size_t>(i)])
               .dist < p.radius[static_cast<std::size_t>(i)] + sys.bodies.radius[static_cast<std::size_t>(b)])
         touching.insert({i, b});

@@ -66,10 +66,11 @@ struct Expected {
   std::int64_t contacts = 0;
 };
 
-std::vector<double> body_ends(const System& sys) {
+std::vector<double> body_vertices(const System& sys) {
   std::vector<double> e;
   for (std::size_t b = 0; b < sys.bodies.size(); ++b)
-    e.insert(e.end(), {sys.bodies.ax[b], sys.bodies.ay[b], sys.bodies.bx[b], sys.bodies.by[b]});
+    for (int k = 0; k < sys.bodies.shape[b].n; ++k)
+      e.insert(e.end(), {sys.bodies.shape[b].vertex(k).x, sys.bodies.shape[b].vertex(k).y});
   return e;
 }
 
@@ -89,7 +90,7 @@ std::vector<Contact> touching(const System& sys) {
 }
 
 SeriesRow series_row(const System& sys) {
-  SeriesRow r{sys.time(), kinetic_energy(sys), 0.0, sys.step, 0, {}, {}, {}, {}, body_ends(sys)};
+  SeriesRow r{sys.time(), kinetic_energy(sys), 0.0, sys.step, 0, {}, {}, {}, {}, body_vertices(sys)};
   const auto n = static_cast<double>(sys.body_sum_steps);
   for (std::size_t b = 0; b < sys.bodies.size(); ++b) {
     const bool mean = sys.body_sum_steps > 0;
@@ -114,7 +115,7 @@ void record(System& sys, RunRecorder& rec, Expected& ex, int from, int to, int f
   for (int k = from; k < to; ++k) {
     if (k > 0) sys.advance(kSteps);
     if (k % 2 == 0) {
-      ex.snapshots.push_back({sys.time(), sys.step, sys.p, body_ends(sys), touching(sys)});
+      ex.snapshots.push_back({sys.time(), sys.step, sys.p, body_vertices(sys), touching(sys)});
       ex.contacts += static_cast<std::int64_t>(ex.snapshots.back().contacts.size());
       rec.record_snapshot(sys);
     }
@@ -153,21 +154,23 @@ struct Entry {
   std::vector<hsize_t> shape;
 };
 
-std::vector<Entry> layout(hsize_t T, hsize_t S, hsize_t C, hsize_t L, hsize_t N, hsize_t B) {
+// K: the most core vertices of a body (2: the sphero-lines of these tests; 1 without bodies)
+std::vector<Entry> layout(hsize_t T, hsize_t S, hsize_t C, hsize_t L, hsize_t N, hsize_t B, hsize_t K = 2) {
   return {
       {"particles/id", "i4", {N}},           {"particles/diameter", "f8", {N}},
       {"particles/mass", "f8", {N}},
       {"particles/inertia", "f8", {N}},      {"bodies/name", "str", {B}},
       {"bodies/thickness", "f8", {B}},       {"bodies/velocity", "f8", {B, 2}},
+      {"bodies/shape", "str", {B}},          {"bodies/vertex_count", "i4", {B}},
       {"series/time", "f8", {T}},            {"series/step", "i8", {T}},
       {"series/body_force", "f8", {T, B, 2}}, {"series/body_force_mean", "f8", {T, B, 2}},
       {"series/body_torque", "f8", {T, B}},  {"series/body_torque_mean", "f8", {T, B}},
-      {"series/body_ends", "f8", {T, B, 4}}, {"series/kinetic_energy", "f8", {T}},
+      {"series/body_vertices", "f8", {T, B, K, 2}}, {"series/kinetic_energy", "f8", {T}},
       {"series/max_overlap", "f8", {T}},     {"series/contacts", "i8", {T}},
       {"snapshots/time", "f8", {S}},         {"snapshots/step", "i8", {S}},
       {"snapshots/position", "f8", {S, N, 2}}, {"snapshots/velocity", "f8", {S, N, 2}},
       {"snapshots/omega", "f8", {S, N}},     {"snapshots/theta", "f8", {S, N}},
-      {"snapshots/active", "u1", {S, N}},    {"snapshots/body_ends", "f8", {S, B, 4}},
+      {"snapshots/active", "u1", {S, N}},    {"snapshots/body_vertices", "f8", {S, B, K, 2}},
       {"snapshots/contact_start", "i8", {S + 1}},
       {"contacts/i", "i4", {C}},             {"contacts/j", "i4", {C}},
       {"contacts/fn", "f8", {C}},            {"contacts/ft", "f8", {C}},
@@ -204,7 +207,7 @@ std::string bytes(const h5::File& f, const Entry& e) {
 std::vector<Entry> file_layout(const h5::File& f) {
   const auto dim = [&](const char* name) { return h5::shape(f, name).at(0); };
   return layout(dim("series/time"), dim("snapshots/time"), dim("contacts/i"), dim("lost/id"),
-                dim("particles/diameter"), dim("bodies/name"));
+                dim("particles/diameter"), dim("bodies/name"), h5::shape(f, "series/body_vertices").at(2));
 }
 
 std::vector<std::string> leftovers(const fs::path& dir) {
@@ -420,7 +423,7 @@ TEST(RunFile, RecordsMatchTheSystem) {
   expect_layout(f, layout(T, S, C, 1, N, B));
 
   // header
-  EXPECT_EQ(h5::read_attr_string(f, "/", "format"), "dem2d-run-1");
+  EXPECT_EQ(h5::read_attr_string(f, "/", "format"), "dem2d-run-2");
   EXPECT_EQ(h5::read_attr_string(f, "/", "scene_text"), run_info().scene_text);
   EXPECT_EQ(h5::read_attr_string(f, "/", "scene_path"), "test.toml");
   EXPECT_EQ(h5::read_attr_string(f, "/", "code_version"), code_version());
@@ -452,7 +455,7 @@ TEST(RunFile, RecordsMatchTheSystem) {
              force_mean = h5::read<double>(f, "series/body_force_mean"),
              torque = h5::read<double>(f, "series/body_torque"),
              torque_mean = h5::read<double>(f, "series/body_torque_mean"),
-             ends = h5::read<double>(f, "series/body_ends");
+             ends = h5::read<double>(f, "series/body_vertices");
   const auto step = h5::read<std::int64_t>(f, "series/step"), contacts = h5::read<std::int64_t>(f, "series/contacts");
   bool mean_differs = false;
   for (std::size_t t = 0; t < T; ++t) {
@@ -480,7 +483,7 @@ TEST(RunFile, RecordsMatchTheSystem) {
   // snapshots and their contacts
   const auto pos = h5::read<double>(f, "snapshots/position"), vel = h5::read<double>(f, "snapshots/velocity"),
              omega = h5::read<double>(f, "snapshots/omega"), theta = h5::read<double>(f, "snapshots/theta"),
-             snap_ends = h5::read<double>(f, "snapshots/body_ends"), snap_time = h5::read<double>(f, "snapshots/time");
+             snap_ends = h5::read<double>(f, "snapshots/body_vertices"), snap_time = h5::read<double>(f, "snapshots/time");
   const auto active = h5::read<std::uint8_t>(f, "snapshots/active");
   const auto start = h5::read<std::int64_t>(f, "snapshots/contact_start"),
              snap_step = h5::read<std::int64_t>(f, "snapshots/step");
@@ -612,7 +615,7 @@ TEST(RunFile, EmptyRunHasEveryDataset) {
   rec.finish(sys, run_info(), out.string(), "energy");
   EXPECT_TRUE(leftovers(dir.path()).empty());
   const h5::File f = h5::File::open_read(out.string());
-  expect_layout(f, layout(0, 0, 0, 0, 2, 0));
+  expect_layout(f, layout(0, 0, 0, 0, 2, 0, 1));
   EXPECT_EQ(h5::read<std::int64_t>(f, "snapshots/contact_start"), std::vector<std::int64_t>{0});
   EXPECT_EQ(h5::read_attr_string(f, "/", "effects"), "normal_damping");
   expect_xdmf(dir.path() / "empty.xdmf", out);

@@ -205,8 +205,8 @@ TEST(SceneToml, ValidFullScene) {
   EXPECT_EQ(s.particles[2].vy, -0.1);
   ASSERT_EQ(s.bodies.size(), 2u);
   EXPECT_EQ(s.bodies[0].name, "floor");
-  EXPECT_EQ(s.bodies[0].ax, -0.05);
-  EXPECT_EQ(s.bodies[0].by, -1e-3);
+  EXPECT_EQ(s.bodies[0].vertices[0].x, -0.05);
+  EXPECT_EQ(s.bodies[0].vertices[1].y, -1e-3);
   EXPECT_EQ(s.bodies[0].thickness, 2e-3);
   EXPECT_EQ(s.bodies[0].vy, 0.0);
   EXPECT_EQ(s.bodies[1].name, "intruder");
@@ -402,7 +402,7 @@ TEST(SceneTomlErrors, UnknownKeys) {
        "rolling_damping_ratio, cohesion_force, cohesion_range, wall)"},
       18);
   expect_error(edit(kValid, "name = \"intruder\"", "name = \"intruder\"\ncolour = \"red\""),
-               {"unknown key 'colour' in body[1]", "allowed: name, a, b, thickness, velocity"}, 66);
+               {"unknown key 'colour' in body[1]", "allowed: name, shape, thickness, velocity, motion, motion_repeat, remove_at, a, b, centre, size, angle, vertices"}, 66);
   expect_error(
       edit(kValid, "{ min = 2e-3, max = 4e-3 }", "{ min = 2e-3, max = 4e-3, mean = 3e-3 }"),
       {"unknown key 'mean' in generator[0].diameter", "allowed: min, max"}, 56);
@@ -611,10 +611,10 @@ TEST(SceneOverlays, NamedBodiesMergeByNameAndNewNamesAreAdded) {
                                       "[[body]]\nname = \"lid\"\na = [-0.05, 0.19]\nb = [0.05, 0.19]\nthickness = 2e-3\n"});
   ASSERT_EQ(s.bodies.size(), 3u);
   EXPECT_EQ(s.bodies[0].name, "floor");
-  EXPECT_EQ(s.bodies[0].ay, -1e-3);   // untouched
+  EXPECT_EQ(s.bodies[0].vertices[0].y, -1e-3);   // untouched
   EXPECT_EQ(s.bodies[1].name, "intruder");
   EXPECT_EQ(s.bodies[1].vy, 2.4e-3);  // merged
-  EXPECT_EQ(s.bodies[1].ax, -5e-3);   // its other keys kept
+  EXPECT_EQ(s.bodies[1].vertices[0].x, -5e-3);   // its other keys kept
   EXPECT_EQ(s.bodies[2].name, "lid");
 }
 

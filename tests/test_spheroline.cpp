@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "contact/spheroline.hpp"
+#include "shape/spheroline.hpp"
 #include "scene_builder.hpp"
 
 namespace dem2d::test {
@@ -33,12 +33,12 @@ TEST(SpheroLine, MatchesPaperEquations) {
 TEST(SpheroLine, CentreOnTheSegmentIsPushedAlongItsNormal) {
   const Segment s = make_segment(0.0, 0.0, 0.03, 0.04);  // |C1C2| = 0.05, u = (0.6, 0.8)
   for (const double t : {0.0, 0.5, 1.0}) {
-    const SegmentProximity c = closest_point(s, 0.03 * t, 0.04 * t);
+    const Proximity c = closest_point(s, 0.03 * t, 0.04 * t);
     EXPECT_EQ(c.dist, 0.0) << "t = " << t;
     EXPECT_NEAR(c.nx, -0.8, 1e-15) << "t = " << t;
     EXPECT_NEAR(c.ny, 0.6, 1e-15) << "t = " << t;
   }
-  const SegmentProximity off = closest_point(s, -0.8e-3, 0.6e-3);  // 1 mm from C1 along the normal
+  const Proximity off = closest_point(s, -0.8e-3, 0.6e-3);  // 1 mm from C1 along the normal
   EXPECT_NEAR(off.dist, 1e-3, 1e-15);
   EXPECT_NEAR(off.nx, -0.8, 1e-12);
   EXPECT_NEAR(off.ny, 0.6, 1e-12);
@@ -56,7 +56,7 @@ TEST(SpheroLine, OverlapAndNormalAreContinuousAcrossFlatCapBoundary) {
   bool first = true;
   double max_jump_delta = 0.0, max_jump_n = 0.0;
   for (double x = half - 1e-4; x <= half + 1e-4; x += step) {
-    const SegmentProximity c = closest_point(s, x, h);
+    const Proximity c = closest_point(s, x, h);
     const double delta = c.dist - (r + rs);
     if (!first) {
       max_jump_delta = std::max(max_jump_delta, std::abs(delta - prev_delta));
@@ -70,7 +70,7 @@ TEST(SpheroLine, OverlapAndNormalAreContinuousAcrossFlatCapBoundary) {
   EXPECT_LE(max_jump_delta, step);                   // |d delta / dx| <= 1
   EXPECT_LE(max_jump_n, 2.0 * step / (r + rs));       // |d n / dx| <= 1/distance
   // and the limits on both sides of the boundary agree
-  const SegmentProximity flat = closest_point(s, half - 1e-12, h), cap = closest_point(s, half + 1e-12, h);
+  const Proximity flat = closest_point(s, half - 1e-12, h), cap = closest_point(s, half + 1e-12, h);
   EXPECT_NEAR(flat.dist, cap.dist, 1e-14);
   EXPECT_NEAR(flat.nx, cap.nx, 1e-9);
   EXPECT_NEAR(flat.ny, cap.ny, 1e-12);

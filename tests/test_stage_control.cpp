@@ -32,15 +32,15 @@ TEST(Bodies, VelocityChangesAreExactAndContinuous) {
   System sys(s);
   sys.set_body_velocity(0, 0.0, 0.5);
   sys.advance(1000);
-  EXPECT_NEAR(sys.bodies.ay[0], 0.5 * 1000 * sys.dt, 1e-15);
-  const double top = sys.bodies.ay[0];
+  EXPECT_NEAR(sys.bodies.shape[0].y0(), 0.5 * 1000 * sys.dt, 1e-15);
+  const double top = sys.bodies.shape[0].y0();
   sys.set_body_velocity(0, 0.0, -0.5);
   sys.advance(1);
-  EXPECT_NEAR(sys.bodies.ay[0], top - 0.5 * sys.dt, 1e-15);  // no jump at the change
+  EXPECT_NEAR(sys.bodies.shape[0].y0(), top - 0.5 * sys.dt, 1e-15);  // no jump at the change
   sys.advance(999);
-  EXPECT_NEAR(sys.bodies.ay[0], 0.0, 1e-15);
-  EXPECT_NEAR(sys.bodies.by[0], 0.0, 1e-15);
-  EXPECT_NEAR(sys.bodies.ax[0], -0.01, 1e-15);
+  EXPECT_NEAR(sys.bodies.shape[0].y0(), 0.0, 1e-15);
+  EXPECT_NEAR(sys.bodies.shape[0].vertex(1).y, 0.0, 1e-15);
+  EXPECT_NEAR(sys.bodies.shape[0].x0(), -0.01, 1e-15);
 }
 
 // A static body cannot be given a velocity without the moving_bodies effect.
@@ -145,7 +145,7 @@ TEST(Jam, DetectedTappedAndNeverHangs) {
     EXPECT_EQ(r.jams, 31u);
   }
   // the hopper walls are back where they were
-  const auto ends = h5::read<double>(f, "snapshots/body_ends");
+  const auto ends = h5::read<double>(f, "snapshots/body_vertices");
   EXPECT_NEAR(ends[ends.size() - 16 + 1], 0.0, 1e-12);  // hopper_left's C1.y
 }
 
@@ -165,7 +165,7 @@ TEST(Jam, RestartDuringTapsIsBitwiseIdentical) {
   ASSERT_TRUE(rest.complete);
   EXPECT_EQ(rest.jams, full.jams);
   const h5::File fr = h5::File::open_read(rest.run_file);
-  for (const char* name : {"snapshots/position", "snapshots/velocity", "events/jam_time", "snapshots/body_ends"}) {
+  for (const char* name : {"snapshots/position", "snapshots/velocity", "events/jam_time", "snapshots/body_vertices"}) {
     const auto a = h5::read<double>(ff, name), b = h5::read<double>(fr, name);
     ASSERT_EQ(a.size(), b.size()) << name;
     EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0) << name;

@@ -24,13 +24,6 @@ double ratio(double sum, std::int64_t count) { return count > 0 ? sum / static_c
 
 }  // namespace
 
-bool Capsule::contains(double x, double y) const {
-  const double ux = bx - ax, uy = by - ay, length2 = ux * ux + uy * uy;
-  const double t = length2 > 0.0 ? std::clamp(((x - ax) * ux + (y - ay) * uy) / length2, 0.0, 1.0) : 0.0;
-  const double dx = x - (ax + t * ux), dy = y - (ay + t * uy);
-  return dx * dx + dy * dy < radius * radius;
-}
-
 Cell find_cell(const Snapshot& s, const BedConfig& cfg) {
   const auto body = [&](const std::string& name, const char* role) -> const Body& {
     const int b = s.find_body(name);
@@ -44,15 +37,15 @@ Cell find_cell(const Snapshot& s, const BedConfig& cfg) {
   const Body& r = body(cfg.right, "the cell's right wall");
   const Body& f = body(cfg.floor, "the cell's floor");
   Cell c;
-  c.left = std::max(l.ax, l.bx) + 0.5 * l.thickness;
-  c.right = std::min(r.ax, r.bx) - 0.5 * r.thickness;
-  c.floor = std::max(f.ay, f.by) + 0.5 * f.thickness;
+  c.left = l.xmax();
+  c.right = r.xmin();
+  c.floor = f.ymax();
   if (c.right <= c.left)
     throw BedError("the walls' inner faces x = " + mm(c.left) + " ('" + cfg.left + "') and " + mm(c.right) + " ('" +
                    cfg.right + "') enclose no cell");
   if (const int b = s.find_body(cfg.intruder); b >= 0) {
     const Body& in = s.bodies[static_cast<std::size_t>(b)];
-    c.intruder = Capsule{in.ax, in.ay, in.bx, in.by, 0.5 * in.thickness};
+    c.intruder = Rounded{in.core(), in.radius()};
   }
   return c;
 }

@@ -23,23 +23,25 @@ struct Rect {
   bool contains(double x, double y) const { return x >= xmin && x <= xmax && y >= ymin && y <= ymax; }
 };
 
-// The points closer than `radius` to the segment (ax, ay)-(bx, by).
-struct Capsule {
-  double ax = 0.0, ay = 0.0, bx = 0.0, by = 0.0, radius = 0.0;
-  bool contains(double x, double y) const;
+// The points closer than `radius` to a convex core (sim/shape/shape.hpp): a
+// body (its outline rounded by its radius), or one with a margin added.
+struct Rounded {
+  Shape core;
+  double radius = 0.0;  // (m)
+  bool contains(double x, double y) const { return closest_point(core, x, y).dist < radius; }
 };
 
-// A rectangle with an optional capsule-shaped hole.
+// A rectangle with an optional hole.
 struct Region {
   Rect box;
-  std::optional<Capsule> hole;
+  std::optional<Rounded> hole;
   bool contains(double x, double y) const { return box.contains(x, y) && !(hole && hole->contains(x, y)); }
 };
 
 // The cell's inner faces (the sides facing the grains) and the intruder.
 struct Cell {
   double left = 0.0, right = 0.0, floor = 0.0;  // x, x, y (m)
-  std::optional<Capsule> intruder;              // its segment and cap radius
+  std::optional<Rounded> intruder;              // its outline
 };
 // Throws BedError if a wall is missing or the faces enclose nothing.
 Cell find_cell(const Snapshot& s, const BedConfig& cfg);

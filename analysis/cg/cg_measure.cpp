@@ -8,13 +8,13 @@
 namespace dem2d::analysis {
 
 Intruder intruder_of(const Body& b) {
-  const double r = 0.5 * b.thickness;
   Intruder in;
-  in.xc = 0.5 * (b.ax + b.bx);
-  in.yc = 0.5 * (b.ay + b.by);
-  in.left = std::min(b.ax, b.bx) - r;
-  in.right = std::max(b.ax, b.bx) + r;
-  in.top = std::max(b.ay, b.by) + r;
+  const Vec2 c = b.centre();
+  in.xc = c.x;
+  in.yc = c.y;
+  in.left = b.xmin();
+  in.right = b.xmax();
+  in.top = b.ymax();
   return in;
 }
 

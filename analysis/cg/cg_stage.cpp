@@ -290,11 +290,8 @@ CgResult compute_cg(const CgInput& in) {
   const std::size_t primary = c.velocity == "piv" && has_piv ? kPiv : kInst;
   std::vector<double> heights(S);
   {
-    const std::vector<double> ends = h5::read<double>(run.file(), "snapshots/body_ends");  // [S, B, 4]
-    const auto b = static_cast<std::size_t>(s0.find_body(in.study.intruder));
-    const std::size_t nb = s0.bodies.size();
-    for (std::size_t k = 0; k < S; ++k)
-      heights[k] = 0.5 * (ends[(k * nb + b) * 4 + 1] + ends[(k * nb + b) * 4 + 3]) - su.cell.floor;
+    const std::vector<Body> track = run.body_rows("snapshots", run.body_index(in.study.intruder));
+    for (std::size_t k = 0; k < S; ++k) heights[k] = track[k].centre().y - su.cell.floor;
   }
   const bool have_events = !in.events_path.empty();
   Events events;

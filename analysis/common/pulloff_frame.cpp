@@ -20,14 +20,37 @@ const char* partner_name(Partner p) {
   return "?";
 }
 
-double PulloffGeometry::segment_length() const { return std::hypot(b.x - a.x, b.y - a.y); }
+double PulloffGeometry::axial(Vec2 p) const { return (p.x - centre.x) * axis.x + (p.y - centre.y) * axis.y; }
 
-double PulloffGeometry::axial(Vec2 p) const {
-  const double len = segment_length();
-  if (len == 0.0) return 0.0;
-  const double ux = (b.x - a.x) / len, uy = (b.y - a.y) / len;
-  return (p.x - 0.5 * (a.x + b.x)) * ux + (p.y - 0.5 * (a.y + b.y)) * uy;
+namespace {
+// The axis and length of a body's core: along its longest edge (a
+// sphero-line's only one), pointing to +x (to +y if vertical).
+void intruder_axis(const Body& in, PulloffGeometry& g) {
+  const std::vector<Vec2>& v = in.vertices;
+  const std::size_t n = v.size();
+  const std::size_t edges = n > 2 ? n : n - 1;  // a point has none, a segment one
+  double longest = 0.0;
+  for (std::size_t k = 0; k < edges; ++k) {
+    const Vec2 a = v[k], b = v[(k + 1) % n];
+    const double len = std::hypot(b.x - a.x, b.y - a.y);
+    if (len <= longest) continue;
+    longest = len;
+    const double sign = (b.x - a.x > 0.0 || (b.x == a.x && b.y > a.y)) ? 1.0 : -1.0;
+    g.axis = {sign * (b.x - a.x) / len, sign * (b.y - a.y) / len};
+  }
+  if (n <= 2) {
+    g.core_length = longest;
+    return;
+  }
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const Vec2& q : v) {
+    const double along = q.x * g.axis.x + q.y * g.axis.y;
+    lo = std::min(lo, along);
+    hi = std::max(hi, along);
+  }
+  g.core_length = hi - lo;
 }
+}  // namespace
 
 PulloffGeometry pulloff_geometry(const Snapshot& s, const Study& study) {
   // The walls' inner faces as bed_metrics finds them.
@@ -53,9 +76,10 @@ PulloffGeometry pulloff_geometry(const Snapshot& s, const Study& study) {
   g.x_left = cell.left;
   g.x_right = cell.right;
   g.y_floor = cell.floor;
-  g.a = {cell.intruder->ax, cell.intruder->ay};
-  g.b = {cell.intruder->bx, cell.intruder->by};
-  g.cap_radius = cell.intruder->radius;
+  const Body& in = s.bodies[static_cast<std::size_t>(g.intruder)];
+  g.centre = in.centre();
+  intruder_axis(in, g);
+  g.cap_radius = in.radius();
   return g;
 }
 

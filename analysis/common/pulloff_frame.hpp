@@ -29,14 +29,16 @@ const char* partner_name(Partner p);
 struct PulloffGeometry {
   int left = -1, right = -1, floor = -1, intruder = -1;  // body indices in the snapshot
   double x_left = 0.0, x_right = 0.0, y_floor = 0.0;      // inner faces (m)
-  Vec2 a, b;                                               // the intruder's segment (m)
-  double cap_radius = 0.0;                                 // half its thickness (m)
+  // The intruder, of any shape (its core outline rounded by cap_radius):
+  Vec2 centre;                 // mean of its core's vertices (m)
+  Vec2 axis{1.0, 0.0};         // unit vector along its core's longest edge, x >= 0 (a sphero-line's direction)
+  double core_length = 0.0;    // extent of its core along the axis (a sphero-line's segment length) (m)
+  double cap_radius = 0.0;     // half its thickness (m)
 
   // Intruder centre above the floor's inner face (SPEC: heights from the floor
   // to the intruder's centre; the same as pulloff_metrics).
-  double height() const { return 0.5 * (a.y + b.y) - y_floor; }
-  double segment_length() const;
-  double length() const { return segment_length() + 2.0 * cap_radius; }  // tip to tip (m)
+  double height() const { return centre.y - y_floor; }
+  double length() const { return core_length + 2.0 * cap_radius; }  // tip to tip along the axis (m)
   // Distance from each intruder tip to its wall, (x_right - x_left - length) / 2 (m).
   double end_to_wall() const { return 0.5 * (x_right - x_left - length()); }
   // Signed position of point p along the intruder's axis from its middle (m).

@@ -201,7 +201,7 @@ KeystoneAnalysis analyse_keystones(const ContactGraph& g, const Snapshot& s, con
   if (!(largest > threshold)) return out;
 
   // Candidates: grains on a strong contact with an intruder end.
-  const double reach = 0.5 * geo.segment_length() - end_zone;
+  const double reach = 0.5 * geo.core_length - end_zone;
   for (const Edge e : boost::make_iterator_range(boost::out_edges(g.intruder(), g.graph))) {
     const std::size_t grain = boost::target(e, g.graph);
     if (grain >= g.grains || !usable(grain) || !(boost::get(boost::edge_weight, g.graph, e) > threshold)) continue;

@@ -285,7 +285,7 @@ NetworkResult run_network(const NetworkInputs& in, const NetworkConfig& cfg, con
       const double strong = cfg.strong_threshold * g.mean_fn;
       t.time.push_back(s.time);
       t.height.push_back(geo.height());
-      t.intruder_y.push_back(0.5 * (geo.a.y + geo.b.y));
+      t.intruder_y.push_back(geo.centre.y);
       t.mean_fn.push_back(g.mean_fn);
       t.contacts.push_back(static_cast<std::int64_t>(g.edges()));
       std::int64_t n_strong = 0;

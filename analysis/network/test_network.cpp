@@ -28,10 +28,10 @@ Snapshot cell(const std::vector<Vec2>& grains) {
   s.active.assign(grains.size(), 1);
   s.diameter.assign(grains.size(), 0.003);
   s.mass.assign(grains.size(), 1e-5);
-  s.bodies = {{"left", -0.001, -0.001, -0.001, 0.1, 0.002},
-              {"right", 0.031, -0.001, 0.031, 0.1, 0.002},
-              {"floor", -0.001, -0.001, 0.031, -0.001, 0.002},
-              {"intruder", 0.011, 0.010, 0.019, 0.010, 0.002}};
+  s.bodies = {Body::segment("left", -0.001, -0.001, -0.001, 0.1, 0.002),
+              Body::segment("right", 0.031, -0.001, 0.031, 0.1, 0.002),
+              Body::segment("floor", -0.001, -0.001, 0.031, -0.001, 0.002),
+              Body::segment("intruder", 0.011, 0.010, 0.019, 0.010, 0.002)};
   return s;
 }
 

@@ -6,32 +6,17 @@
 
 namespace dem2d::analysis {
 
-namespace {
-
-std::size_t body_index(const RunReader& run, const std::string& name) {
-  const auto names = h5::read_strings(run.file(), "bodies/name");
-  for (std::size_t b = 0; b < names.size(); ++b)
-    if (names[b] == name) return b;
-  throw std::runtime_error(run.path() + ": the run has no body named '" + name + "'");
-}
-
-}  // namespace
-
 DragProfile read_drag_profile(const RunReader& run, const Study& study) {
   const h5::File& f = run.file();
-  const std::size_t b = body_index(run, study.intruder), fl = body_index(run, study.floor);
-  const std::size_t nb = h5::shape(f, "bodies/name")[0];
+  const std::size_t b = run.body_index(study.intruder);
+  const std::size_t nb = run.bodies();
   DragProfile p;
   p.time = h5::read<double>(f, "series/time");
   if (p.time.empty()) throw std::runtime_error(run.path() + ": the run has no time series (output.series_interval = 0?)");
   const auto force = h5::read<double>(f, "series/body_force_mean");  // [T, B, 2]
-  const auto ends = h5::read<double>(f, "series/body_ends");         // [T, B, 4]
-  const auto thickness = h5::read<double>(f, "bodies/thickness");
+  const std::vector<Body> intruder = run.body_rows("series", b), floor = run.body_rows("series", run.body_index(study.floor));
   for (std::size_t k = 0; k < p.time.size(); ++k) {
-    const double* e = &ends[(k * nb + b) * 4];
-    const double* g = &ends[(k * nb + fl) * 4];
-    const double floor_top = std::max(g[1], g[3]) + 0.5 * thickness[fl];
-    p.height.push_back(0.5 * (e[1] + e[3]) - floor_top);
+    p.height.push_back(intruder[k].centre().y - floor[k].ymax());
     p.drag.push_back(-force[(k * nb + b) * 2 + 1]);
   }
   return p;
@@ -39,8 +24,8 @@ DragProfile read_drag_profile(const RunReader& run, const Study& study) {
 
 double static_load(const RunReader& bed, const Study& study) {
   const h5::File& f = bed.file();
-  const std::size_t b = body_index(bed, study.intruder);
-  const std::size_t nb = h5::shape(f, "bodies/name")[0];
+  const std::size_t b = bed.body_index(study.intruder);
+  const std::size_t nb = bed.bodies();
   const auto force = h5::read<double>(f, "series/body_force_mean");  // [T, B, 2]
   if (force.size() < nb * 2 || nb == 0)
     throw std::runtime_error(bed.path() + ": the run has no time series to take the intruder's load at rest from");

@@ -23,20 +23,25 @@ class Run:
         self.thickness = self.h5.read("bodies/thickness")
         self.diameter = self.h5.read("particles/diameter")
         self.time = self.h5.read("snapshots/time")
-        self.ends = self.h5.read("snapshots/body_ends")  # [S, B, 4] (ax, ay, bx, by), m
+        self.vertices, self.vertex_count = body_vertices(self.h5)  # [S, B, K, 2] m, [B]
         self.start = self.h5.read("snapshots/contact_start")
-        fl = self.ends[0, self.body["floor"]]
-        self.floor_y = max(fl[1], fl[3]) + self.thickness[self.body["floor"]] / 2
+        fl = self.core(0, "floor")
+        self.floor_y = fl[:, 1].max() + self.thickness[self.body["floor"]] / 2
         vel = self.h5.read("bodies/velocity")[self.body["intruder"]]
         self.speed = float(np.hypot(*vel))  # V, m/s
 
     def close(self):
         self.h5.f.close()
 
+    def core(self, k, role):
+        """The core outline (m) of the body with this role at snapshot k: [n, 2]."""
+        b = self.body[role]
+        return self.vertices[k, b, :self.vertex_count[b]]
+
     def heights(self):
-        """Intruder centre above the floor's face at every snapshot (mm)."""
-        e = self.ends[:, self.body["intruder"]]
-        return ((e[:, 1] + e[:, 3]) / 2 - self.floor_y) * MM
+        """Intruder centre (mean of its core's vertices) above the floor's face at every snapshot (mm)."""
+        b = self.body["intruder"]
+        return (self.vertices[:, b, :self.vertex_count[b], 1].mean(axis=1) - self.floor_y) * MM
 
     def grains(self, k):
         """Positions (mm, y above the floor) and diameters (mm) of the active grains."""
@@ -70,14 +75,45 @@ class Run:
         seg[..., 1] -= self.floor_y * MM
         return seg, c["fn"]
 
-    def body_lines(self, k):
-        """[(name, (x0, y0, x1, y1) mm, thickness mm)] of the bodies at snapshot k."""
+    def body_outlines(self, k):
+        """[(role, outline [m, 2] in mm, y above the floor)] of the bodies at snapshot k."""
         out = []
         for role, b in self.body.items():
-            ax_, ay, bx, by = self.ends[k, b] * MM
-            f = self.floor_y * MM
-            out.append((role, (ax_, ay - f, bx, by - f), self.thickness[b] * MM))
+            xy = outline(self.core(k, role), self.thickness[b] / 2) * MM
+            xy[:, 1] -= self.floor_y * MM
+            out.append((role, xy))
         return out
+
+
+def body_vertices(h5):
+    """Every body's core vertices [S, B, K, 2] (m) and vertex counts [B]; run files
+    of format dem2d-run-1 had sphero-lines only, as /snapshots/body_ends [S, B, 4]."""
+    if "snapshots/body_vertices" in h5.f:
+        return h5.read("snapshots/body_vertices"), h5.read("bodies/vertex_count")
+    ends = h5.read("snapshots/body_ends")
+    return ends.reshape(ends.shape[0], ends.shape[1], 2, 2), np.full(ends.shape[1], 2)
+
+
+def outline(core, r, n=16):
+    """Outline of a convex sphero-polygon (docs/run_file.md): the convex hull of
+    circles of radius r about the core's vertices [m, 2]."""
+    phi = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    ring = np.stack([np.cos(phi), np.sin(phi)], axis=1) * r
+    pts = (core[:, None, :] + ring[None, :, :]).reshape(-1, 2) if r > 0 else np.asarray(core, float)
+    pts = np.unique(pts, axis=0)  # sorted by x, then y: Andrew's monotone chain
+    if len(pts) < 3:
+        return pts
+
+    def half(points):
+        h = []
+        for p in points:
+            while len(h) >= 2 and ((h[-1][0] - h[-2][0]) * (p[1] - h[-2][1])
+                                   - (h[-1][1] - h[-2][1]) * (p[0] - h[-2][0])) <= 0:
+                h.pop()
+            h.append(p)
+        return h[:-1]
+
+    return np.array(half(pts) + half(pts[::-1]))
 
 
 def draw_grains(ax, xy, d, face="0.85", edge="0.55", lw=0.3, alpha=1.0, zorder=1):
@@ -86,19 +122,10 @@ def draw_grains(ax, xy, d, face="0.85", edge="0.55", lw=0.3, alpha=1.0, zorder=1
                                         edgecolors=edge, linewidths=lw, alpha=alpha, zorder=zorder))
 
 
-def stadium(x0, y0, x1, y1, r, n=12):
-    """Outline of a sphero-line: the segment with round caps of radius r."""
-    phi = np.arctan2(y1 - y0, x1 - x0)
-    arc = np.linspace(np.pi / 2, 3 * np.pi / 2, n)
-    cap0 = np.stack([x0 + r * np.cos(phi + arc), y0 + r * np.sin(phi + arc)], axis=1)
-    cap1 = np.stack([x1 + r * np.cos(phi + arc + np.pi), y1 + r * np.sin(phi + arc + np.pi)], axis=1)
-    return np.concatenate([cap0, cap1])
-
-
 def draw_bodies(ax, run, k, colour="k", zorder=5):
-    """Walls, floor and intruder as their sphero-line outlines (walls grey)."""
-    for role, (x0, y0, x1, y1), t in run.body_lines(k):
-        ax.add_patch(Polygon(stadium(x0, y0, x1, y1, t / 2), closed=True, lw=0, zorder=zorder,
+    """Walls, floor and intruder as their outlines (walls grey)."""
+    for role, xy in run.body_outlines(k):
+        ax.add_patch(Polygon(xy, closed=True, lw=0, zorder=zorder,
                              facecolor=colour if role == "intruder" else "0.45"))
 
 
@@ -118,10 +145,8 @@ def draw_network(ax, seg, fn, fn_max, lw_max=3.0, cmap=None, colour="k", zorder=
 
 def frame(ax, run, k, top_mm, bottom_mm=0.0):
     """Axes limits on the cell (inner faces) from bottom_mm to top_mm, equal aspect, labels."""
-    left = run.ends[k, run.body["left"]]
-    right = run.ends[k, run.body["right"]]
-    xl = (max(left[0], left[2]) + run.thickness[run.body["left"]] / 2) * MM
-    xr = (min(right[0], right[2]) - run.thickness[run.body["right"]] / 2) * MM
+    xl = (run.core(k, "left")[:, 0].max() + run.thickness[run.body["left"]] / 2) * MM
+    xr = (run.core(k, "right")[:, 0].min() - run.thickness[run.body["right"]] / 2) * MM
     ax.set_xlim(xl - 1, xr + 1)
     ax.set_ylim(bottom_mm - 1, top_mm)
     ax.set_aspect("equal")

@@ -7,7 +7,7 @@ import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm
 
 import events
-from bed import draw_bodies, stadium
+from bed import draw_bodies, outline
 from common import MM, ZONE_COLOURS, NoData, band_mm, bed_height_mm, nearest
 
 LETTERS = "abcdefgh"
@@ -125,9 +125,9 @@ def tip_velocity(inp, cg, run, ev):
         mag = ax.pcolormesh(dx, dy, np.clip(speed, 1e-3, None), cmap="magma", norm=LogNorm(0.1, 10),
                             shading="nearest", rasterized=True)
         ax.streamplot(dx, dy, vx, vy, color="w", linewidth=0.7, density=1.3, arrowsize=0.7)
-        _, (x0, y0, x1, y1), t = next(b for b in run.body_lines(k) if b[0] == "intruder")
-        cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
-        ax.add_patch(plt.Polygon(stadium(x0 - cx, y0 - cy, x1 - cx, y1 - cy, t / 2), fc="0.6", ec="w", zorder=4))
+        core = run.core(k, "intruder")
+        ax.add_patch(plt.Polygon(outline(core - core.mean(axis=0), run.thickness[run.body["intruder"]] / 2) * MM,
+                                 fc="0.6", ec="w", zorder=4))
         after = events.seconds(cg.time[k] - ev["peak_time"][e])
         ax.set_title(f"({a}) H = {cg.height[k]:.1f} mm, drop {ev['drop'][e]:.0f} N/m, {after} after its peak")
         ax.set(xlabel="x − x_intruder (mm)", ylabel="y − y_intruder (mm)", aspect="equal")

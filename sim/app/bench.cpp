@@ -83,10 +83,11 @@ Scene with_state_and_history(const Scene& scene, const System& bed) {
 Scene tiled(Scene s, int tiles, const std::string& scene_path) {
   if (s.bodies.empty()) throw std::invalid_argument(scene_path + ": bench --tiles needs a scene with walls (bodies)");
   double lo = 1e300, hi = -1e300;
-  for (const BodySpec& b : s.bodies) {
-    lo = std::min(lo, std::min(b.ax, b.bx) - 0.5 * b.thickness);
-    hi = std::max(hi, std::max(b.ax, b.bx) + 0.5 * b.thickness);
-  }
+  for (const BodySpec& b : s.bodies)
+    for (const Point& v : b.vertices) {
+      lo = std::min(lo, v.x - 0.5 * b.thickness);
+      hi = std::max(hi, v.x + 0.5 * b.thickness);
+    }
   const double period = hi - lo;  // (m)
   const Scene one = s;
   const auto n = static_cast<std::int32_t>(one.particles.size());
@@ -103,8 +104,7 @@ Scene tiled(Scene s, int tiles, const std::string& scene_path) {
     }
     for (BodySpec b : one.bodies) {
       b.name += suffix;
-      b.ax += dx;
-      b.bx += dx;
+      for (Point& v : b.vertices) v.x += dx;
       s.bodies.push_back(b);
     }
     for (InitialContact c : one.initial_contacts) {

@@ -11,12 +11,41 @@ void Particles::resize(std::size_t n) {
 
 void Bodies::resize(std::size_t n) {
   name.resize(n);
-  for (auto* v : {&ax, &ay, &bx, &by, &radius, &vx, &vy, &anchor_x, &anchor_y, &origin_x, &origin_y, &fx, &fy, &torque})
+  kind.resize(n);
+  shape.resize(n);
+  line.resize(n);
+  for (auto* v : {&radius, &vx, &vy, &anchor_x, &anchor_y, &origin_x, &origin_y, &fx, &fy, &torque})
     v->resize(n, 0.0);
   schedule.resize(n);
   anchor_step.resize(n, 0);
   active.resize(n, 1);
   removing.resize(n, 0);
+}
+
+namespace {
+template <class Coordinate>
+double vertex_mean(const Shape& s, Coordinate c) {
+  double sum = 0.0;
+  for (int k = 0; k < s.n; ++k) sum += c(s.vertex(k));
+  return sum / s.n;
+}
+}  // namespace
+
+void Bodies::set_shape(std::size_t b, const Shape& s) {
+  shape[b] = s;
+  line[b] = s.edge[0];
+}
+
+void Bodies::move_to(std::size_t b, double x, double y) {
+  dem2d::move_to(shape[b], x, y);
+  line[b] = shape[b].edge[0];
+}
+
+double Bodies::centre_x(std::size_t b) const {
+  return vertex_mean(shape[b], [](Point v) { return v.x; });
+}
+double Bodies::centre_y(std::size_t b) const {
+  return vertex_mean(shape[b], [](Point v) { return v.y; });
 }
 
 }  // namespace dem2d

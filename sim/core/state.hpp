@@ -14,6 +14,7 @@
 
 #include "core/aligned_vector.hpp"
 #include "core/motion.hpp"
+#include "shape/shape.hpp"
 
 namespace dem2d {
 
@@ -37,20 +38,25 @@ struct Particles {
   void resize(std::size_t n);
 };
 
-// Sphero-lines: a segment from (ax, ay) to (bx, by) with round caps of radius
-// `radius` (cap diameter d_s = 2*radius). Static walls have zero velocity;
-// kinematic bodies translate either on a schedule (anchor_step < 0:
+// Bodies: convex sphero-polygons (shape/shape.hpp), i.e. a core outline
+// (a point, a segment as in SPEC, or a polygon) rounded by `radius`. Vertex 0
+// of the core is the body's reference point C1. Static walls have zero
+// velocity; kinematic bodies translate either on a schedule (anchor_step < 0:
 // C1 = origin + the schedule's displacement at t = step dt, core/motion.hpp)
 // or at a constant velocity that may change during a run:
 // C1 = anchor + v (step - anchor_step) dt, the anchor being where the body
 // was when its velocity last changed (exact, no accumulated round-off). A
-// velocity set during the run (a jam's tap) ends a schedule. A removed body (active = 0) no longer
-// touches anything. Forces and torques are those the grains exert on the
-// body; torque is about the segment middle.
+// velocity set during the run (a jam's tap) ends a schedule. A removed body
+// (active = 0) no longer touches anything. Forces and torques are those the
+// grains exert on the body; torque is about the mean of the core's vertices
+// (a segment's middle).
 struct Bodies {
   std::vector<std::string> name;
-  std::vector<double> ax, ay, bx, by;  // segment end points C1, C2 (m)
-  std::vector<double> radius;          // cap radius (m)
+  std::vector<std::string> kind;       // the scene's shape kind (shape/shape_kinds.hpp)
+  std::vector<Shape> shape;            // core outline at the current step
+  std::vector<Segment> line;           // shape[b].edge[0], contiguous: the vectorised sphero-line
+                                       // loop reads it (gathers from the large Shapes do not vectorise)
+  std::vector<double> radius;          // rounding radius (m): half the scene's thickness
   std::vector<double> vx, vy;          // prescribed velocity (m/s)
   std::vector<double> anchor_x, anchor_y;  // C1 when the velocity last changed (m)
   std::vector<std::int64_t> anchor_step;   // step when the velocity last changed; < 0: on its schedule
@@ -60,12 +66,15 @@ struct Bodies {
   std::vector<std::uint8_t> removing;      // 1: removed at the next list rebuild (its contacts
                                            // still act in the current step)
   std::vector<double> fx, fy;          // force from the grains, last step (N/m)
-  std::vector<double> torque;          // torque from the grains about the middle (N)
+  std::vector<double> torque;          // torque from the grains about the centre (N)
 
   std::size_t size() const { return name.size(); }
   void resize(std::size_t n);
-  double centre_x(std::size_t b) const { return 0.5 * (ax[b] + bx[b]); }
-  double centre_y(std::size_t b) const { return 0.5 * (ay[b] + by[b]); }
+  void set_shape(std::size_t b, const Shape& s);
+  void move_to(std::size_t b, double x, double y);  // vertex 0 to (x, y) (m)
+  // mean of the core's vertices (m)
+  double centre_x(std::size_t b) const;
+  double centre_y(std::size_t b) const;
 };
 
 }  // namespace dem2d

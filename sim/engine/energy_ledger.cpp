@@ -42,7 +42,7 @@ Motion pair_motion(const Particles& p, std::size_t i, std::size_t j, double over
 
 Motion wall_motion(const System& s, std::size_t i, std::size_t b, double overlap) {
   const Particles& p = s.p;
-  const SegmentProximity g = closest_point(s.seg[b], p.x[i], p.y[i]);
+  const Proximity g = closest_point(s.bodies.shape[b], p.x[i], p.y[i]);
   double rvx = p.vx[i], rvy = p.vy[i];
   if (has(s.effects, effect::moving_bodies)) {
     rvx -= s.bodies.vx[b];

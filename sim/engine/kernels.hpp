@@ -174,25 +174,43 @@ inline void pair_forces(System& s, const ContactModel<E> model) {  // by value: 
 
 // Grain-body contacts: a flat loop over the wall slots, vectorised like
 // pair_forces (open contacts masked by selects), with the same model. An
-// open slot is zeroed and keeps its last contact point.
-template <EffectSet E>
+// open slot is zeroed and keeps its last contact point. The geometry is the
+// shape's closest point (shape/shape.hpp): inline for sphero-lines; with
+// polygon bodies (Polygons, a run-time property of the scene) a scalar
+// narrow phase over the slots first, whose loop over a polygon's edges would
+// not vectorise.
+template <EffectSet E, bool Polygons>
 inline void wall_forces(System& s, const ContactModel<E> model) {  // by value: cannot alias the outputs
   const Particles& p = s.p;
   WallList& L = s.lists.walls;
   const Bodies& B = s.bodies;
-  const Segment* seg = s.seg.data();
+  const Shape* shape = B.shape.data();
+  const Segment* line = B.line.data();
   const std::int32_t *own = L.owner.data(), *body = L.body.data();
   const double *x = p.x.data(), *y = p.y.data(), *vx = p.vx.data(), *vy = p.vy.data(), *w = p.omega.data();
   const double *rad = p.radius.data(), *sqm = L.sqrt_m.data(), *sqi = L.sqrt_i.data();
   const double *brad = B.radius.data(), *bvx = B.vx.data(), *bvy = B.vy.data();
   double *ft = L.ft.data(), *mr = L.mr.data(), *fxo = L.fx.data(), *fyo = L.fy.data(), *tqo = L.tq.data();
   double *cx = L.cx.data(), *cy = L.cy.data(), *fno = L.fn.data(), *ov = L.overlap.data();
+  double *gd = L.dist.data(), *gnx = L.nx.data(), *gny = L.ny.data();
   const std::pair<std::int64_t, std::int64_t> slots = my_slots(s, L.start);
   const std::int64_t first = slots.first, last = slots.second;
+  if constexpr (Polygons)
+    for (std::int64_t sl = first; sl < last; ++sl) {
+      const std::int32_t i = own[sl];
+      const Proximity g = closest_point(shape[body[sl]], x[i], y[i]);
+      gd[sl] = g.dist;
+      gnx[sl] = g.nx;
+      gny[sl] = g.ny;
+    }
 #pragma omp simd
   for (std::int64_t sl = first; sl < last; ++sl) {
     const std::int32_t i = own[sl], b = body[sl];
-    const SegmentProximity g = closest_point(seg[b], x[i], y[i]);
+    Proximity g;
+    if constexpr (Polygons)
+      g = {gd[sl], gnx[sl], gny[sl]};
+    else
+      g = closest_point(line[b], x[i], y[i]);
     const double ri = rad[i];
     const double delta = g.dist - (ri + brad[b]);
     const bool acts = delta < model.range();
@@ -225,6 +243,14 @@ inline void wall_forces(System& s, const ContactModel<E> model) {  // by value: 
     fno[sl] = f.fn;
     ov[sl] = acts ? -delta : 0.0;
   }
+}
+
+template <EffectSet E>
+inline void body_forces(System& s, const ContactModel<E> model) {
+  if (s.polygon_bodies)
+    wall_forces<E, true>(s, model);
+  else
+    wall_forces<E, false>(s, model);
 }
 
 // Asks, with write intent, for the lines of this thread's grains that lower
@@ -288,13 +314,17 @@ inline void body_sums(System& s) {
   std::fill(B.fx.begin(), B.fx.end(), 0.0);
   std::fill(B.fy.begin(), B.fy.end(), 0.0);
   std::fill(B.torque.begin(), B.torque.end(), 0.0);
+  for (size_t b = 0; b < B.size(); ++b) {
+    s.body_centre_x[b] = B.centre_x(b);
+    s.body_centre_y[b] = B.centre_y(b);
+  }
   for (size_t sl = 0; sl < W.slots(); ++sl) {
     const auto b = static_cast<size_t>(W.body[sl]);
     B.fx[b] -= W.fx[sl];
     B.fy[b] -= W.fy[sl];
     // lever arm from the body's middle to the contact point, force -F,
     // plus the reaction of the rolling moment
-    const double lx = W.cx[sl] - B.centre_x(b), ly = W.cy[sl] - B.centre_y(b);
+    const double lx = W.cx[sl] - s.body_centre_x[b], ly = W.cy[sl] - s.body_centre_y[b];
     B.torque[b] -= lx * W.fy[sl] - ly * W.fx[sl];
     B.torque[b] -= W.mr[sl];
   }
@@ -313,7 +343,7 @@ void initial_forces(System& s) {
 #pragma omp parallel num_threads(s.threads)
   {
     pair_forces<E>(s, pp);
-    if constexpr (has(E, effect::walls)) wall_forces<E>(s, pw);
+    if constexpr (has(E, effect::walls)) body_forces<E>(s, pw);
 #pragma omp barrier
     gather<E>(s);
   }  // (the region's end is a barrier)
@@ -367,7 +397,7 @@ void advance(System& s, std::int64_t steps) {
         if (failed) break;
       }
       pair_forces<E>(s, ContactModel<E>{s.pp});
-      if constexpr (has(E, effect::walls)) wall_forces<E>(s, ContactModel<E>{s.pw});
+      if constexpr (has(E, effect::walls)) body_forces<E>(s, ContactModel<E>{s.pw});
 #pragma omp barrier
       if (ledger) {
         energy::close_step(s);

@@ -59,16 +59,15 @@ System::System(const Scene& scene)
   for (std::size_t b = 0; b < nb; ++b) {
     const BodySpec& q = scene.bodies[b];
     bodies.name[b] = q.name;
-    bodies.ax[b] = q.ax;
-    bodies.ay[b] = q.ay;
-    bodies.bx[b] = q.bx;
-    bodies.by[b] = q.by;
+    bodies.kind[b] = q.shape;
+    bodies.set_shape(b, make_shape(q.vertices));
+    polygon_bodies = polygon_bodies || bodies.shape[b].n > 2;
+    bodies.anchor_x[b] = bodies.origin_x[b] = q.vertices[0].x;
+    bodies.anchor_y[b] = bodies.origin_y[b] = q.vertices[0].y;
     bodies.radius[b] = 0.5 * q.thickness;
     bodies.vx[b] = q.vx;
     bodies.vy[b] = q.vy;
   }
-  bodies.anchor_x = bodies.origin_x = bodies.ax;
-  bodies.anchor_y = bodies.origin_y = bodies.ay;
   for (std::size_t b = 0; b < nb; ++b) {
     const BodySpec& q = scene.bodies[b];
     if (q.motion.empty()) continue;
@@ -78,12 +77,11 @@ System::System(const Scene& scene)
     bodies.vx[b] = s.vx;
     bodies.vy[b] = s.vy;
   }
-  seg.resize(nb);
-  for (std::size_t b = 0; b < nb; ++b)
-    seg[b] = make_segment(bodies.ax[b], bodies.ay[b], bodies.bx[b], bodies.by[b]);
   body_fx_sum.assign(nb, 0.0);
   body_fy_sum.assign(nb, 0.0);
   body_torque_sum.assign(nb, 0.0);
+  body_centre_x.assign(nb, 0.0);
+  body_centre_y.assign(nb, 0.0);
 
   double range = 0.0;  // how far beyond touching contacts act
   if (has(effects, effect::cohesion))
@@ -131,7 +129,7 @@ void System::place_bodies() {
       y = bodies.origin_y[b] + s.y;
       bodies.vx[b] = mid.vx;
       bodies.vy[b] = mid.vy;
-      moved = std::max(moved, std::hypot(x - bodies.ax[b], y - bodies.ay[b]));
+      moved = std::max(moved, std::hypot(x - bodies.shape[b].x0(), y - bodies.shape[b].y0()));
     } else {
       const double vx = bodies.vx[b], vy = bodies.vy[b];
       const double t = static_cast<double>(step - bodies.anchor_step[b]) * dt;
@@ -139,11 +137,7 @@ void System::place_bodies() {
       y = bodies.anchor_y[b] + vy * t;
       moved = std::max(moved, std::hypot(vx, vy) * dt);
     }
-    const double ex = bodies.bx[b] - bodies.ax[b], ey = bodies.by[b] - bodies.ay[b];
-    bodies.ax[b] = seg[b].ax = x;
-    bodies.ay[b] = seg[b].ay = y;
-    bodies.bx[b] = x + ex;
-    bodies.by[b] = y + ey;
+    bodies.move_to(b, x, y);
   }
   moved_bodies += moved;
 }
@@ -152,8 +146,8 @@ void System::set_body_velocity(std::size_t b, double vx, double vy) {
   if ((vx != 0.0 || vy != 0.0) && !has(effects, effect::moving_bodies))
     throw std::invalid_argument("body " + bodies.name[b] + " cannot move: the scene lacks the moving_bodies effect");
   place_bodies();  // positions up to date for this step
-  bodies.anchor_x[b] = bodies.ax[b];
-  bodies.anchor_y[b] = bodies.ay[b];
+  bodies.anchor_x[b] = bodies.shape[b].x0();
+  bodies.anchor_y[b] = bodies.shape[b].y0();
   bodies.anchor_step[b] = step;
   bodies.vx[b] = vx;
   bodies.vy[b] = vy;
@@ -205,7 +199,7 @@ void System::rebuild() {
       bodies.fx[b] = bodies.fy[b] = bodies.torque[b] = 0.0;
     }
   lists.rebuild_pairs(p);
-  if (has(effects, effect::walls)) lists.rebuild_walls(p, seg, bodies.radius, bodies.active);
+  if (has(effects, effect::walls)) lists.rebuild_walls(p, bodies.shape, bodies.radius, bodies.active);
   moved_particles = 0.0;
   moved_bodies = 0.0;
   rebuild_pending = false;

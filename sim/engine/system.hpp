@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "contact/contact_law.hpp"
-#include "contact/spheroline.hpp"
+#include "shape/shape.hpp"
 #include "core/aligned_vector.hpp"
 #include "core/effects.hpp"
 #include "core/state.hpp"
@@ -50,7 +50,7 @@ struct System {
 
   Particles p;
   Bodies bodies;
-  std::vector<Segment> seg;              // cached body geometry
+  bool polygon_bodies = false;           // a body's core has 3 or more vertices (kernels: wall_forces)
   NeighbourLists lists;
 
   // Upper bound of how far particles / bodies moved since the last rebuild (m).
@@ -59,6 +59,7 @@ struct System {
   // Sums of the body force and torque over steps, for interval means.
   std::vector<double> body_fx_sum, body_fy_sum, body_torque_sum;
   std::int64_t body_sum_steps = 0;
+  std::vector<double> body_centre_x, body_centre_y;  // scratch of body_sums (m)
 
   // What each thread's last drift found, one cache line per thread (written
   // by its thread every step, read by all after the next barrier).

@@ -33,8 +33,20 @@ std::vector<hsize_t> stacked(std::uint64_t rows, const std::vector<std::uint64_t
   return dims;
 }
 
-void append_ends(std::vector<double>& out, const Bodies& B) {
-  for (std::size_t b = 0; b < B.size(); ++b) out.insert(out.end(), {B.ax[b], B.ay[b], B.bx[b], B.by[b]});
+// Most core vertices of any body (>= 1): the second dimension of /.../body_vertices.
+std::uint64_t max_vertices(const Bodies& B) {
+  int k = 1;
+  for (const Shape& s : B.shape) k = std::max(k, s.n);
+  return static_cast<std::uint64_t>(k);
+}
+
+// Every body's core vertices (x, y), padded to k by repeating the last one.
+void append_vertices(std::vector<double>& out, const Bodies& B, std::uint64_t k) {
+  for (const Shape& s : B.shape)
+    for (std::uint64_t v = 0; v < k; ++v) {
+      const Point q = s.vertex(std::min(static_cast<int>(v), s.n - 1));
+      out.insert(out.end(), {q.x, q.y});
+    }
 }
 
 void write_header(const h5::File& f, const System& sys, const RunInfo& info, const std::string& stop_reason) {
@@ -77,7 +89,11 @@ void write_header(const h5::File& f, const System& sys, const RunInfo& info, con
     thickness.push_back(2.0 * B.radius[b]);
     velocity.insert(velocity.end(), {B.vx[b], B.vy[b]});
   }
+  std::vector<std::int32_t> vertices;
+  for (const Shape& s : B.shape) vertices.push_back(s.n);
   h5::write_strings(f, "bodies/name", B.name);
+  h5::write_strings(f, "bodies/shape", B.kind);
+  h5::write(f, "bodies/vertex_count", vertices);
   h5::write(f, "bodies/thickness", thickness);
   h5::write(f, "bodies/velocity", velocity, {B.size(), 2});
 
@@ -141,7 +157,11 @@ void write_xdmf(const std::string& path, const std::string& h5_name, const std::
 }  // namespace
 
 RunRecorder::RunRecorder(const System& sys, std::string work_dir)
-    : work_dir_(std::move(work_dir)), n_(sys.size()), nb_(sys.bodies.size()), energy_(sys.energy.on) {}
+    : work_dir_(std::move(work_dir)),
+      n_(sys.size()),
+      nb_(sys.bodies.size()),
+      nv_(max_vertices(sys.bodies)),
+      energy_(sys.energy.on) {}
 
 std::string RunRecorder::segment_path(int k) const {
   char name[32];
@@ -151,7 +171,7 @@ std::string RunRecorder::segment_path(int k) const {
 
 std::vector<RunRecorder::Column> RunRecorder::columns() {
   const std::size_t t = series_.time.size(), s = snap_.time.size(), c = contact_.i.size();
-  const std::uint64_t n = n_, b = nb_;
+  const std::uint64_t n = n_, b = nb_, v = nv_;
   std::vector<Column> out{
       {"series/time", {}, &series_.time, t},
       {"series/step", {}, &series_.step, t},
@@ -159,7 +179,7 @@ std::vector<RunRecorder::Column> RunRecorder::columns() {
       {"series/body_force_mean", {b, 2}, &series_.force_mean, t},
       {"series/body_torque", {b}, &series_.torque, t},
       {"series/body_torque_mean", {b}, &series_.torque_mean, t},
-      {"series/body_ends", {b, 4}, &series_.ends, t},
+      {"series/body_vertices", {b, v, 2}, &series_.vertices, t},
       {"series/kinetic_energy", {}, &series_.kinetic_energy, t},
       {"series/max_overlap", {}, &series_.max_overlap, t},
       {"series/contacts", {}, &series_.contacts, t},
@@ -171,7 +191,7 @@ std::vector<RunRecorder::Column> RunRecorder::columns() {
       {"snapshots/omega", {n}, &snap_.omega, s},
       {"snapshots/theta", {n}, &snap_.theta, s},
       {"snapshots/active", {n}, &snap_.active, s},
-      {"snapshots/body_ends", {b, 4}, &snap_.ends, s},
+      {"snapshots/body_vertices", {b, v, 2}, &snap_.vertices, s},
       {kContactCount, {}, &snap_.contact_count, s},
       {"contacts/i", {}, &contact_.i, c},
       {"contacts/j", {}, &contact_.j, c},
@@ -207,7 +227,7 @@ void RunRecorder::record_series(System& sys) {
       series_.torque_mean.push_back(B.torque[b]);
     }
   }
-  append_ends(series_.ends, B);
+  append_vertices(series_.vertices, B, nv_);
   series_.kinetic_energy.push_back(kinetic_energy(sys));
   series_.max_overlap.push_back(max_overlap(sys));
   series_.contacts.push_back(static_cast<std::int64_t>(contact_count(sys)));
@@ -234,7 +254,7 @@ void RunRecorder::record_snapshot(const System& sys, const std::vector<double>* 
     snap_.theta.push_back(p.theta[i]);
     snap_.active.push_back(p.active[i]);
   }
-  append_ends(snap_.ends, sys.bodies);
+  append_vertices(snap_.vertices, sys.bodies, nv_);
 
   // acting slots, pairs then walls, in slot order: touching ones, and with
   // cohesion also those attracting across a gap (overlap < 0)
@@ -268,7 +288,7 @@ void RunRecorder::record_snapshot(const System& sys, const std::vector<double>* 
   for (std::size_t i = 0; i + 1 < W.start.size(); ++i)
     for (auto sl = static_cast<std::size_t>(W.start[i]); sl < static_cast<std::size_t>(W.start[i + 1]); ++sl) {
       if (!acted(W.overlap[sl], cohesion)) continue;
-      const SegmentProximity g = closest_point(sys.seg[static_cast<std::size_t>(W.body[sl])], p.x[i], p.y[i]);
+      const Proximity g = closest_point(sys.bodies.shape[static_cast<std::size_t>(W.body[sl])], p.x[i], p.y[i]);
       add(i, -1 - W.body[sl], W.fn[sl], W.ft[sl], W.overlap[sl], g.nx, g.ny, W.mr[sl], sys.pw);
     }
   snap_.contact_count.push_back(static_cast<std::int64_t>(contact_.i.size() - before));

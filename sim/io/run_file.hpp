@@ -29,7 +29,9 @@ struct RunInfo {
   double displacement_window = 0.0;  // (s) of /snapshots/displacement, 0 if not recorded
 };
 
-inline constexpr const char* kRunFileFormat = "dem2d-run-1";
+inline constexpr const char* kRunFileFormat = "dem2d-run-2";
+// The format before bodies had shapes (sphero-lines as /.../body_ends [rows, B, 4]): still read.
+inline constexpr const char* kRunFileFormatSegments = "dem2d-run-1";
 
 // The grains that left the domain, as /lost/{id, step, x, y} in f (also used
 // by checkpoints).
@@ -79,18 +81,18 @@ class RunRecorder {
   std::string segment_path(int k) const;
 
   std::string work_dir_;
-  std::uint64_t n_, nb_;  // particles, bodies
+  std::uint64_t n_, nb_, nv_;  // particles, bodies, most core vertices of a body
   int segments_ = 0;
   std::int64_t series_rows_ = 0, snapshots_ = 0;
 
   struct {
-    std::vector<double> time, force, force_mean, torque, torque_mean, ends, kinetic_energy, max_overlap;
+    std::vector<double> time, force, force_mean, torque, torque_mean, vertices, kinetic_energy, max_overlap;
     std::vector<std::int64_t> step, contacts;
     std::array<std::vector<double>, EnergyBalance::kTerms> energy;  // if the ledger is on
   } series_;
   bool energy_ = false;
   struct {
-    std::vector<double> time, position, velocity, displacement, omega, theta, ends;
+    std::vector<double> time, position, velocity, displacement, omega, theta, vertices;
     std::vector<std::int64_t> step, contact_count;  // contacts per snapshot (segments only)
     std::vector<std::uint8_t> active;
   } snap_;

@@ -26,6 +26,35 @@ std::size_t Snapshot::active_count() const {
   return static_cast<std::size_t>(std::count_if(active.begin(), active.end(), [](std::uint8_t a) { return a != 0; }));
 }
 
+Vec2 Body::centre() const {
+  Vec2 c;
+  for (const Vec2& v : vertices) {
+    c.x += v.x;
+    c.y += v.y;
+  }
+  const auto n = static_cast<double>(vertices.size());
+  return {c.x / n, c.y / n};
+}
+
+double Body::xmin() const {
+  return std::min_element(vertices.begin(), vertices.end(), [](Vec2 a, Vec2 b) { return a.x < b.x; })->x - radius();
+}
+double Body::xmax() const {
+  return std::max_element(vertices.begin(), vertices.end(), [](Vec2 a, Vec2 b) { return a.x < b.x; })->x + radius();
+}
+double Body::ymin() const {
+  return std::min_element(vertices.begin(), vertices.end(), [](Vec2 a, Vec2 b) { return a.y < b.y; })->y - radius();
+}
+double Body::ymax() const {
+  return std::max_element(vertices.begin(), vertices.end(), [](Vec2 a, Vec2 b) { return a.y < b.y; })->y + radius();
+}
+
+Shape Body::core() const {
+  std::vector<Point> v;
+  for (const Vec2& q : vertices) v.push_back({q.x, q.y});
+  return make_shape(v);
+}
+
 int Snapshot::find_body(std::string_view name) const {
   for (std::size_t b = 0; b < bodies.size(); ++b)
     if (bodies[b].name == name) return static_cast<int>(b);
@@ -80,8 +109,10 @@ void RunReader::fail(const std::string& what) const { throw std::runtime_error(p
 RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
   const std::string format =
       h5::has_attr(file_, "/", "format") ? h5::read_attr_string(file_, "/", "format") : "(none)";
-  if (format != kRunFileFormat)
-    fail("not a dem2d run file: format attribute is " + format + ", expected " + kRunFileFormat);
+  legacy_bodies_ = format == kRunFileFormatSegments;
+  if (format != kRunFileFormat && !legacy_bodies_)
+    fail("not a dem2d run file: format attribute is " + format + ", expected " + kRunFileFormat + " (or " +
+         kRunFileFormatSegments + ")");
   const auto need = [&](const std::string& name) {
     if (!h5::exists(file_, name)) fail("dataset /" + name + " is missing (truncated or not a run file?)");
   };
@@ -92,6 +123,23 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
   mass_ = h5::read<double>(file_, "particles/mass");
   body_names_ = h5::read_strings(file_, "bodies/name");
   thickness_ = h5::read<double>(file_, "bodies/thickness");
+  if (legacy_bodies_) {
+    body_shapes_.assign(body_names_.size(), "segment");
+    vertex_count_.assign(body_names_.size(), 2);
+  } else {
+    need("bodies/shape");
+    need("bodies/vertex_count");
+    body_shapes_ = h5::read_strings(file_, "bodies/shape");
+    vertex_count_ = h5::read<std::int32_t>(file_, "bodies/vertex_count");
+    max_vertices_ = 1;
+    for (const std::int32_t n : vertex_count_) max_vertices_ = std::max<hsize_t>(max_vertices_, static_cast<hsize_t>(std::max(n, 0)));
+    if (body_shapes_.size() != body_names_.size() || vertex_count_.size() != body_names_.size())
+      fail("/bodies/shape and /bodies/vertex_count must have one entry per body (" +
+           std::to_string(body_names_.size()) + ")");
+    for (const std::int32_t n : vertex_count_)
+      if (n < 1 || n > Shape::kMaxVertices)
+        fail("/bodies/vertex_count has " + std::to_string(n) + ", expected 1.." + std::to_string(Shape::kMaxVertices));
+  }
   times_ = h5::read<double>(file_, "snapshots/time");
   steps_ = h5::read<std::int64_t>(file_, "snapshots/step");
   contact_start_ = h5::read<std::int64_t>(file_, "snapshots/contact_start");
@@ -101,7 +149,7 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
   const std::vector<std::pair<std::string, std::vector<hsize_t>>> shapes = {
       {"particles/mass", {N}},          {"bodies/thickness", {B}},        {"snapshots/step", {S}},
       {"snapshots/contact_start", {S + 1}}, {"snapshots/position", {S, N, 2}}, {"snapshots/velocity", {S, N, 2}},
-      {"snapshots/omega", {S, N}},      {"snapshots/active", {S, N}},     {"snapshots/body_ends", {S, B, 4}},
+      {"snapshots/omega", {S, N}},      {"snapshots/active", {S, N}},     {vertices_dataset("snapshots"), legacy_bodies_ ? std::vector<hsize_t>{S, B, 4} : std::vector<hsize_t>{S, B, max_vertices_, 2}},
       {"contacts/i", {C}},  {"contacts/j", {C}},  {"contacts/fn", {C}}, {"contacts/ft", {C}},
       {"contacts/overlap", {C}}, {"contacts/nx", {C}}, {"contacts/ny", {C}}, {"contacts/mr", {C}},
       {"contacts/sliding", {C}}};
@@ -114,10 +162,52 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
     fail("/snapshots/contact_start is not a non-decreasing index starting at 0");
 }
 
+std::string RunReader::vertices_dataset(const std::string& group) const {
+  return group + (legacy_bodies_ ? "/body_ends" : "/body_vertices");
+}
+
+std::vector<Body> RunReader::bodies_of(const std::vector<double>& flat, std::size_t row) const {
+  const std::size_t nb = bodies(), K = max_vertices_;
+  std::vector<Body> out(nb);
+  for (std::size_t b = 0; b < nb; ++b) {
+    Body& body = out[b];
+    body.name = body_names_[b];
+    body.shape = body_shapes_[b];
+    body.thickness = thickness_[b];
+    const double* v = &flat[((row * nb + b) * K) * 2];
+    for (std::int32_t q = 0; q < vertex_count_[b]; ++q) body.vertices.push_back({v[2 * q], v[2 * q + 1]});
+  }
+  return out;
+}
+
+std::size_t RunReader::body_index(const std::string& name) const {
+  std::string names;
+  for (std::size_t b = 0; b < bodies(); ++b) {
+    if (body_names_[b] == name) return b;
+    names += (names.empty() ? "" : ", ") + body_names_[b];
+  }
+  fail("no body named '" + name + "' (the run's bodies: " + (names.empty() ? "none" : names) + ")");
+}
+
+std::vector<Body> RunReader::body_rows(const std::string& group, std::size_t b) const {
+  const std::string name = vertices_dataset(group);
+  if (!h5::exists(file_, name)) fail("dataset /" + name + " is missing");
+  const std::vector<hsize_t> dims = h5::shape(file_, name);
+  const hsize_t rows = dims.empty() ? 0 : dims[0];
+  const std::vector<hsize_t> want =
+      legacy_bodies_ ? std::vector<hsize_t>{rows, bodies(), 4} : std::vector<hsize_t>{rows, bodies(), max_vertices_, 2};
+  if (dims != want) fail("dataset /" + name + " has shape " + show(dims) + ", expected " + show(want));
+  const std::vector<double> flat = h5::read<double>(file_, name);
+  std::vector<Body> out;
+  out.reserve(rows);
+  for (hsize_t r = 0; r < rows; ++r) out.push_back(bodies_of(flat, r)[b]);
+  return out;
+}
+
 Snapshot RunReader::snapshot(std::size_t k) const {
   if (k >= snapshots())
     fail("snapshot " + std::to_string(k) + " requested, the file has " + std::to_string(snapshots()));
-  const std::size_t n = particles(), nb = body_names_.size();
+  const std::size_t n = particles();
   Snapshot s;
   s.index = k;
   s.time = times_[k];
@@ -134,9 +224,7 @@ Snapshot RunReader::snapshot(std::size_t k) const {
   s.velocity = vec2("snapshots/velocity");
   s.omega = read_rows<double>(file_, "snapshots/omega", k, 1);
   s.active = read_rows<std::uint8_t>(file_, "snapshots/active", k, 1);
-  const std::vector<double> ends = read_rows<double>(file_, "snapshots/body_ends", k, 1);
-  for (std::size_t b = 0; b < nb; ++b)
-    s.bodies.push_back({body_names_[b], ends[4 * b], ends[4 * b + 1], ends[4 * b + 2], ends[4 * b + 3], thickness_[b]});
+  s.bodies = bodies_of(read_rows<double>(file_, vertices_dataset("snapshots"), k, 1), 0);
 
   const auto first = static_cast<hsize_t>(contact_start_[k]);
   const auto count = static_cast<hsize_t>(contact_start_[k + 1] - contact_start_[k]);
@@ -152,7 +240,7 @@ Snapshot RunReader::snapshot(std::size_t k) const {
   c.sliding = read_rows<std::uint8_t>(file_, "contacts/sliding", first, count);
   const auto in = [](std::int64_t v, std::size_t size) { return v >= 0 && static_cast<std::size_t>(v) < size; };
   for (std::size_t r = 0; r < c.size(); ++r)
-    if (!in(c.i[r], n) || (c.j[r] >= 0 ? !in(c.j[r], n) : !in(-1 - static_cast<std::int64_t>(c.j[r]), nb)))
+    if (!in(c.i[r], n) || (c.j[r] >= 0 ? !in(c.j[r], n) : !in(-1 - static_cast<std::int64_t>(c.j[r]), bodies())))
       fail("snapshot " + std::to_string(k) + ": contact row " + std::to_string(first + r) + " (i = " +
            std::to_string(c.i[r]) + ", j = " + std::to_string(c.j[r]) + ") refers to no grain or body");
   return s;

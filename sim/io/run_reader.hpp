@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "io/h5.hpp"
+#include "shape/shape.hpp"
 
 namespace dem2d {
 
@@ -21,11 +22,28 @@ struct Vec2 {
   double x = 0.0, y = 0.0;
 };
 
-// A sphero-line: segment (ax, ay)-(bx, by) with round caps of diameter `thickness` (m).
+// A body at one moment: a convex sphero-polygon (sim/shape/shape.hpp), the
+// core outline `vertices` rounded by thickness / 2. A sphero-line (SPEC's
+// walls and intruder) has two vertices, its ends C1 and C2.
 struct Body {
   std::string name;
-  double ax = 0.0, ay = 0.0, bx = 0.0, by = 0.0;
-  double thickness = 0.0;
+  std::string shape = "segment";  // the scene's shape kind
+  std::vector<Vec2> vertices;     // core outline (m); counter-clockwise if 3 or more
+  double thickness = 0.0;         // rounding diameter (m)
+
+  // A sphero-line C1C2 (for bodies built in code, e.g. in tests).
+  static Body segment(std::string name, double ax, double ay, double bx, double by, double thickness) {
+    return {std::move(name), "segment", {{ax, ay}, {bx, by}}, thickness};
+  }
+
+  double radius() const { return 0.5 * thickness; }
+  Vec2 centre() const;  // mean of the core's vertices (m)
+  // Bounding box, rounding included (m).
+  double xmin() const;
+  double xmax() const;
+  double ymin() const;
+  double ymax() const;
+  Shape core() const;  // the outline as the engine's shape (shape/shape.hpp)
 };
 
 // The touching contacts of one snapshot, one column per quantity (/contacts).
@@ -56,7 +74,7 @@ struct Snapshot {
   std::vector<std::uint8_t> active;  // 0 once the grain has left the domain [N]
   std::vector<double> diameter;      // (m)                [N]
   std::vector<double> mass;          // (kg/m)             [N]
-  std::vector<Body> bodies;          // names, thickness and the ends at this snapshot [B]
+  std::vector<Body> bodies;          // their outlines at this snapshot [B]
   Contacts contacts;
 
   std::size_t size() const { return position.size(); }
@@ -91,12 +109,26 @@ class RunReader {
   double displacement_window() const;
   std::vector<Vec2> displacement(std::size_t k) const;
 
+  std::size_t bodies() const { return body_names_.size(); }
+  const std::vector<std::string>& body_names() const { return body_names_; }
+  // Index of the body called `name`; an error naming the run's bodies if none.
+  std::size_t body_index(const std::string& name) const;
+  // Body b at every row of /series (group "series") or /snapshots ("snapshots").
+  std::vector<Body> body_rows(const std::string& group, std::size_t b) const;
+
  private:
   [[noreturn]] void fail(const std::string& what) const;
 
   h5::File file_;
+  // group's body outline dataset, [rows, B, K, 2] (format 1: body_ends [rows, B, 4], K = 2)
+  std::string vertices_dataset(const std::string& group) const;
+  std::vector<Body> bodies_of(const std::vector<double>& flat, std::size_t row) const;
+
   std::vector<double> diameter_, mass_, thickness_;
-  std::vector<std::string> body_names_;
+  std::vector<std::string> body_names_, body_shapes_;
+  std::vector<std::int32_t> vertex_count_;
+  hsize_t max_vertices_ = 2;
+  bool legacy_bodies_ = false;  // format dem2d-run-1: sphero-lines as /.../body_ends
   std::vector<double> times_;
   std::vector<std::int64_t> steps_, contact_start_;
 };

@@ -41,7 +41,7 @@ void PairList::resize_slots(std::size_t n) {
 }
 
 void WallList::resize_slots(std::size_t n) {
-  for (auto* v : {&sqrt_m, &sqrt_i}) v->assign(n, 0.0);
+  for (auto* v : {&sqrt_m, &sqrt_i, &dist, &nx, &ny}) v->assign(n, 0.0);
   for (const auto& [name, a] : carried()) (this->*a).assign(n, 0.0);
 }
 
@@ -109,9 +109,9 @@ void NeighbourLists::rebuild_pairs(const Particles& p) {
   ++rebuild_count;
 }
 
-void NeighbourLists::rebuild_walls(const Particles& p, const std::vector<Segment>& seg,
-                                   const std::vector<double>& seg_radius,
-                                   const std::vector<std::uint8_t>& seg_active) {
+void NeighbourLists::rebuild_walls(const Particles& p, const std::vector<Shape>& shape,
+                                   const std::vector<double>& body_radius,
+                                   const std::vector<std::uint8_t>& body_active) {
   const std::size_t n = p.size();
   std::swap(walls, old_walls_);
   WallList& nl = walls;
@@ -121,17 +121,18 @@ void NeighbourLists::rebuild_walls(const Particles& p, const std::vector<Segment
   // candidates from the grid cells within reach of each body (the grid was
   // binned by rebuild_pairs), then in rows: ascending grain, ascending body
   wall_candidates_.clear();
-  for (std::size_t b = 0; b < seg.size(); ++b) {
-    if (!seg_active[b]) continue;
-    const Segment& g = seg[b];
-    const double reach = seg_radius[b] + r_max_ + reach_;
-    const int cx0 = grid_.cell_x(std::min(g.ax, g.ax + g.ex) - reach), cx1 = grid_.cell_x(std::max(g.ax, g.ax + g.ex) + reach);
-    const int cy0 = grid_.cell_y(std::min(g.ay, g.ay + g.ey) - reach), cy1 = grid_.cell_y(std::max(g.ay, g.ay + g.ey) + reach);
+  for (std::size_t b = 0; b < shape.size(); ++b) {
+    if (!body_active[b]) continue;
+    const Shape& g = shape[b];
+    const Bounds box = core_bounds(g);
+    const double reach = body_radius[b] + r_max_ + reach_;
+    const int cx0 = grid_.cell_x(box.xmin - reach), cx1 = grid_.cell_x(box.xmax + reach);
+    const int cy0 = grid_.cell_y(box.ymin - reach), cy1 = grid_.cell_y(box.ymax + reach);
     for (int cy = cy0; cy <= cy1; ++cy)
       for (int cx = cx0; cx <= cx1; ++cx)
         for (std::int32_t k = grid_.begin(cx, cy); k < grid_.end(cx, cy); ++k) {
           const auto i = static_cast<std::size_t>(grid_.order()[static_cast<std::size_t>(k)]);
-          if (closest_point(g, p.x[i], p.y[i]).dist < p.radius[i] + seg_radius[b] + reach_)
+          if (closest_point(g, p.x[i], p.y[i]).dist < p.radius[i] + body_radius[b] + reach_)
             wall_candidates_.emplace_back(static_cast<std::int32_t>(i), static_cast<std::int32_t>(b));
         }
   }

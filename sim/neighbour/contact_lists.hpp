@@ -20,7 +20,7 @@
 #include <utility>
 #include <vector>
 
-#include "contact/spheroline.hpp"
+#include "shape/shape.hpp"
 #include "core/aligned_vector.hpp"
 #include "core/state.hpp"
 #include "neighbour/cell_grid.hpp"
@@ -74,6 +74,9 @@ struct WallList {
   AlignedVector<double> fn, overlap;
   // the springs at the start of the step (energy ledger only)
   AlignedVector<double> ft_prev, mr_prev;
+  // this step's closest point of the body, with polygon bodies only (the
+  // kernel's narrow phase): signed distance (m) and normal to the grain
+  AlignedVector<double> dist, nx, ny;
 
   std::size_t slots() const { return body.size(); }
   void resize_slots(std::size_t n);  // sizes the per-slot arrays to n, zeroed
@@ -97,8 +100,8 @@ class NeighbourLists {
 
   void rebuild_pairs(const Particles& p);
   // Uses the grid binned by the last rebuild_pairs: call it after that.
-  void rebuild_walls(const Particles& p, const std::vector<Segment>& seg,
-                     const std::vector<double>& seg_radius, const std::vector<std::uint8_t>& seg_active);
+  void rebuild_walls(const Particles& p, const std::vector<Shape>& shape,
+                     const std::vector<double>& body_radius, const std::vector<std::uint8_t>& body_active);
 
   // The slot of the candidate contact (i, partner j) / (i, body b), or -1 if
   // the lists hold no such candidate.

@@ -11,6 +11,7 @@
 #include "contact/stability.hpp"
 #include "core/effects.hpp"
 #include "core/motion.hpp"
+#include "shape/shape.hpp"
 
 namespace dem2d {
 
@@ -23,12 +24,23 @@ struct ParticleInit {
 
 struct BodySpec {
   std::string name;
-  double ax = 0.0, ay = 0.0, bx = 0.0, by = 0.0;  // segment end points C1, C2 (m)
-  double thickness = 0.0;                          // cap diameter d_s (m)
+  std::string shape = "segment";                   // its scene kind (shape/shape_kinds.hpp)
+  std::vector<Point> vertices;                     // core outline at t = 0 (m): a point, a segment's ends
+                                                   // C1, C2, or a convex polygon counter-clockwise
+  double thickness = 0.0;                          // rounding diameter (a segment's cap diameter d_s) (m)
   double vx = 0.0, vy = 0.0;                       // prescribed velocity (m/s)
   double remove_at = -1.0;                         // time the body is taken away (s); < 0: never
   std::vector<MotionSegment> motion;               // scheduled motion instead of `velocity` (empty: none)
   int motion_repeat = 1;                           // runs of the whole schedule
+
+  // A static sphero-line C1C2 (SPEC's walls), for scenes built in code.
+  static BodySpec segment(std::string name, double ax, double ay, double bx, double by, double thickness) {
+    BodySpec b;
+    b.name = std::move(name);
+    b.vertices = {{ax, ay}, {bx, by}};
+    b.thickness = thickness;
+    return b;
+  }
 };
 
 // Contact history carried over from an earlier run (the state a stage starts from).

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "scene/generators.hpp"
+#include "shape/shape_kinds.hpp"
 #include "scene/initial_state.hpp"
 
 namespace dem2d {
@@ -585,27 +586,37 @@ class SceneParser {
   }
 
   std::vector<Vec2> read_polygon(const TableReader& g) const {
-    const std::string what = "polygon [[x0, y0], [x1, y1], ...] in m, >= 3 vertices";
-    const toml::node* n = g.node("region");
-    if (!n) g.missing("region", what);
+    return read_points(g, "region", {"polygon vertex", "m", Rule::finite}, 3);
+  }
+
+  // A list of points [[x0, y0], [x1, y1], ...] of at least `min` entries.
+  std::vector<Vec2> read_points(const TableReader& g, std::string_view key, const Num& spec, std::size_t min = 1) const {
+    const std::string what = std::string("list of points [[x0, y0], [x1, y1], ...] in ") + spec.unit + ", >= " +
+                             std::to_string(min) + (min == 1 ? " point" : " points");
+    const toml::node* n = g.node(key);
+    if (!n) g.missing(key, what);
     const toml::array* a = n->as_array();
-    if (!a || a->size() < 3) g.fail("region", "must be a " + what);
-    std::vector<Vec2> poly;
+    if (!a || a->size() < min) g.fail(key, "must be a " + what);
+    std::vector<Vec2> pts;
     for (std::size_t k = 0; k < a->size(); ++k)
-      poly.push_back(g.vec2_at(*a->get(k), g.path("region") + "[" + std::to_string(k) + "]",
-                               {"polygon vertex", "m", Rule::finite}));
-    return poly;
+      pts.push_back(g.vec2_at(*a->get(k), g.path(key) + "[" + std::to_string(k) + "]", spec));
+    return pts;
   }
 
   void read_bodies() {
-    const auto bodies =
-        top_.entries("body", {"name", "a", "b", "thickness", "velocity", "motion", "motion_repeat", "remove_at"});
+    std::vector<std::string_view> keys{"name", "shape", "thickness", "velocity", "motion", "motion_repeat", "remove_at"};
+    std::vector<std::string_view> kinds;
+    for (const ShapeKind& k : shape_kinds()) {
+      kinds.push_back(k.name);
+      for (const ShapeKey& key : k.keys)
+        if (std::find(keys.begin(), keys.end(), key.name) == keys.end()) keys.push_back(key.name);
+    }
+    const auto bodies = top_.entries("body", keys);
     if (!bodies.empty() && !has(s_.effects, effect::walls))
       f_.fail(bodies.front().where(),
               "[[body]] given but effects.walls is false (bodies need effects.walls = true)");
     if (bodies.empty() && has(s_.effects, effect::walls))
       effects_.fail("walls", "the scene has no [[body]] (walls need at least one body)");
-    const Num pt{"end point", "m", Rule::finite};
     bool any_moving = false;
     for (std::size_t k = 0; k < bodies.size(); ++k) {
       const TableReader& b = bodies[k];
@@ -616,9 +627,11 @@ class SceneParser {
         if (s_.bodies[j].name == *name)
           b.fail("name", "duplicate name: body[" + std::to_string(j) + "] has it already");
       body.name = *name;
-      const Vec2 a = b.required_vec2("a", pt), e = b.required_vec2("b", pt);
-      body.ax = a[0], body.ay = a[1], body.bx = e[0], body.by = e[1];
-      body.thickness = b.required("thickness", {"cap diameter d_s", "m", Rule::non_negative});
+      body.shape = b.string("shape").value_or("segment");
+      const ShapeKind* kind = find_shape_kind(body.shape);
+      if (!kind) b.fail("shape", "unknown shape kind (allowed: " + join(kinds) + ")");
+      body.thickness = b.required("thickness", {"rounding diameter (a segment's cap diameter d_s)", "m", Rule::non_negative});
+      body.vertices = read_shape(b, *kind, body.thickness);
       const Vec2 v =
           b.vec2("velocity", {"prescribed velocity", "m/s", Rule::finite}).value_or(Vec2{0.0, 0.0});
       body.vx = v[0], body.vy = v[1];
@@ -636,6 +649,35 @@ class SceneParser {
                     "effect or give a body a velocity)");
     if (!s_.stop.body_free.empty() && !has_body(s_.stop.body_free))
       stop_.fail("body_free", "names no [[body]]");
+  }
+
+  // The keys of the body's shape kind (shape/shape_kinds.hpp) and its core outline.
+  std::vector<Point> read_shape(const TableReader& b, const ShapeKind& kind, double thickness) const {
+    for (const ShapeKind& other : shape_kinds())
+      for (const ShapeKey& key : other.keys)
+        if (std::none_of(kind.keys.begin(), kind.keys.end(), [&](const ShapeKey& k) { return k.name == std::string_view(key.name); }))
+          b.forbid(key.name, std::string("a ") + kind.name + " does not take it");
+    ShapeArgs args;
+    args.thickness = thickness;
+    const std::string why = std::string(" (shape = \"") + kind.name + "\")";
+    for (const ShapeKey& key : kind.keys) {
+      const Num spec{key.what, key.unit, Rule::finite};
+      if (key.required && !b.has(key.name)) b.missing(key.name, range(spec) + why);
+      if (key.type == ShapeKey::number) {
+        args.number[key.name] = b.number_or(key.name, spec, key.fallback);
+      } else if (key.type == ShapeKey::point) {
+        const Vec2 v = b.required_vec2(key.name, spec, why);
+        args.point[key.name] = {v[0], v[1]};
+      } else {
+        std::vector<Point>& pts = args.points[key.name];
+        for (const Vec2& v : read_points(b, key.name, spec)) pts.push_back({v[0], v[1]});
+      }
+    }
+    try {
+      return kind.outline(args);
+    } catch (const ShapeError& e) {
+      b.fail(e.key, e.what());
+    }
   }
 
   // [[body]] motion = [{ kind = "...", ... }, ...] and motion_repeat (core/motion.hpp).
@@ -790,11 +832,13 @@ class SceneParser {
                   sig3(100.0 * depth(i, first) / std::min(ps[i].d, ps[first].d)) +
                   "% of the smaller diameter); set allow_initial_overlap = true to accept");
     }
+    std::vector<Shape> shapes;
+    for (const BodySpec& b : s_.bodies) shapes.push_back(make_shape(b.vertices));
     for (std::size_t i = 0; i < n; ++i)
-      for (const BodySpec& b : s_.bodies) {
+      for (std::size_t k = 0; k < s_.bodies.size(); ++k) {
+        const BodySpec& b = s_.bodies[k];
         const double reach = 0.5 * (ps[i].d + b.thickness);
-        const double overlap =
-            reach - distance_to_segment(ps[i].x, ps[i].y, b.ax, b.ay, b.bx, b.by);
+        const double overlap = reach - closest_point(shapes[k], ps[i].x, ps[i].y).dist;
         if (overlap > kOverlapTolerance)
           f_.fail(origin(i).where,
                   who(i) + " overlaps body '" + b.name + "' by " + sig3(overlap) + " m (" +

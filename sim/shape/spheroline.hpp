@@ -34,12 +34,12 @@ inline Segment make_segment(double ax, double ay, double bx, double by) {
   return s;
 }
 
-struct SegmentProximity {
+struct Proximity {
   double dist;    // |O P| (m)
   double nx, ny;  // unit normal from P to O
 };
 
-inline SegmentProximity closest_point(const Segment& s, double ox, double oy) {
+inline Proximity closest_point(const Segment& s, double ox, double oy) {
   const double rx = ox - s.ax, ry = oy - s.ay;
   const double t = std::clamp((rx * s.ex + ry * s.ey) * s.inv_len2, 0.0, 1.0);
   const double dx = rx - t * s.ex, dy = ry - t * s.ey;
