@@ -48,7 +48,10 @@ PYTHON ?= /usr/bin/python3
 REPORT_SCRIPTS := pipeline/report
 
 PRESET ?= default
-RESULTS := results/$(PRESET)
+# INTRUDER=square: the experiment's square-ended 10 mm x 2 mm bar (pipeline/intruders/square.toml)
+# instead of SPEC's sphero-line, into results/<preset>_square/
+INTRUDER ?=
+RESULTS := results/$(PRESET)$(if $(INTRUDER),_$(INTRUDER))
 ifeq ($(PRESET),quick)
 # the pipeline's end-to-end test: the small scenes of the tests, as they are
 FILL_SCENE := tests/scenes/quick_fill.toml
@@ -62,7 +65,7 @@ CYCLIC_SCENE := pipeline/cyclic.toml
 PRESET_FILE := pipeline/presets/$(PRESET).toml
 endif
 # POINT_OVERLAY: more overlays after the preset's (make accuracy: one sweep point's knob).
-OVERLAY_FILES := $(PRESET_FILE) $(POINT_OVERLAY)
+OVERLAY_FILES := $(PRESET_FILE) $(if $(INTRUDER),pipeline/intruders/$(INTRUDER).toml) $(POINT_OVERLAY)
 OVERLAY := $(foreach f,$(OVERLAY_FILES),--overlay $(f))
 # FILL_RUN: the bed the pull-off starts from; by default the preset's own fill
 # (make accuracy gives each sweep point a bed made elsewhere).

@@ -595,6 +595,20 @@ Scene with_overlays(const TempDir& dir, std::initializer_list<std::string_view> 
   return load_scene(dir.file("scene.toml", std::string(kValid)), extra);
 }
 
+// An overlay that gives a body another shape replaces its outline keys (the
+// study's INTRUDER=square) and keeps the rest (its velocity).
+TEST(SceneOverlays, AnotherShapeReplacesTheOutline) {
+  TempDir dir;
+  const Scene s = with_overlays(dir, {"[[body]]\nname = \"intruder\"\nshape = \"rectangle\"\ncentre = [0, 0.15]\n"
+                                      "size = [0.01, 0.002]\nthickness = 0.0\n"});
+  const BodySpec& in = s.bodies[1];
+  EXPECT_EQ(in.shape, "rectangle");
+  ASSERT_EQ(in.vertices.size(), 4u);
+  EXPECT_EQ(in.vertices[0].x, -0.005);
+  EXPECT_EQ(in.vertices[2].y, 0.151);
+  EXPECT_EQ(in.vy, 1.2e-3);
+}
+
 TEST(SceneOverlays, TablesMergeKeyByKeyAndOtherValuesReplace) {
   TempDir dir;
   const Scene s = with_overlays(dir, {"[contact]\nkn = 3e6\n[gravity]\ng = [0, -1.62]\n", "[contact]\nfriction = 0.3\n"});

@@ -926,7 +926,9 @@ bool named_tables(const toml::node& n) {
 }
 
 // Overlay tables merge key by key; arrays of named tables merge element by
-// element by name (an unknown name is appended); anything else replaces.
+// element by name (an unknown name is appended); anything else replaces. An
+// overlay [[body]] that changes the body's shape replaces its outline: the
+// old shape's keys are dropped.
 // Nodes are moved, not copied: a copy would lose its source (file, line),
 // and error messages name the overlay a key came from.
 void merge_into(toml::table& base, toml::table&& over);
@@ -938,6 +940,10 @@ void merge_by_name(toml::array& base, toml::array&& over) {
     toml::table* match = nullptr;
     for (toml::node& b : base)
       if (b.as_table()->get_as<std::string>("name")->get() == name) match = b.as_table();
+    const auto shape_of = [](const toml::table& b) { return b.get_as<std::string>("shape") ? b.get_as<std::string>("shape")->get() : std::string("segment"); };
+    if (match && t.contains("shape") && shape_of(t) != shape_of(*match))
+      for (const ShapeKind& kind : shape_kinds())
+        for (const ShapeKey& key : kind.keys) match->erase(key.name);
     if (match)
       merge_into(*match, std::move(t));
     else
