@@ -36,18 +36,20 @@ Vec2 Body::centre() const {
   return {c.x / n, c.y / n};
 }
 
-double Body::xmin() const {
-  return std::min_element(vertices.begin(), vertices.end(), [](Vec2 a, Vec2 b) { return a.x < b.x; })->x - radius();
+namespace {
+// The largest (sign +1) or, negated, smallest (sign -1) coordinate c of the
+// body's vertices, pushed out by the rounding.
+double extreme(const Body& b, double Vec2::*c, double sign) {
+  double m = -std::numeric_limits<double>::infinity();
+  for (const Vec2& v : b.vertices) m = std::max(m, sign * (v.*c));
+  return sign * (m + b.radius());
 }
-double Body::xmax() const {
-  return std::max_element(vertices.begin(), vertices.end(), [](Vec2 a, Vec2 b) { return a.x < b.x; })->x + radius();
-}
-double Body::ymin() const {
-  return std::min_element(vertices.begin(), vertices.end(), [](Vec2 a, Vec2 b) { return a.y < b.y; })->y - radius();
-}
-double Body::ymax() const {
-  return std::max_element(vertices.begin(), vertices.end(), [](Vec2 a, Vec2 b) { return a.y < b.y; })->y + radius();
-}
+}  // namespace
+
+double Body::xmin() const { return extreme(*this, &Vec2::x, -1.0); }
+double Body::xmax() const { return extreme(*this, &Vec2::x, 1.0); }
+double Body::ymin() const { return extreme(*this, &Vec2::y, -1.0); }
+double Body::ymax() const { return extreme(*this, &Vec2::y, 1.0); }
 
 Shape Body::core() const {
   std::vector<Point> v;
@@ -166,18 +168,14 @@ std::string RunReader::vertices_dataset(const std::string& group) const {
   return group + (legacy_bodies_ ? "/body_ends" : "/body_vertices");
 }
 
-std::vector<Body> RunReader::bodies_of(const std::vector<double>& flat, std::size_t row) const {
-  const std::size_t nb = bodies(), K = max_vertices_;
-  std::vector<Body> out(nb);
-  for (std::size_t b = 0; b < nb; ++b) {
-    Body& body = out[b];
-    body.name = body_names_[b];
-    body.shape = body_shapes_[b];
-    body.thickness = thickness_[b];
-    const double* v = &flat[((row * nb + b) * K) * 2];
-    for (std::int32_t q = 0; q < vertex_count_[b]; ++q) body.vertices.push_back({v[2 * q], v[2 * q + 1]});
-  }
-  return out;
+Body RunReader::body_of(const std::vector<double>& flat, std::size_t row, std::size_t b) const {
+  Body body;
+  body.name = body_names_[b];
+  body.shape = body_shapes_[b];
+  body.thickness = thickness_[b];
+  const double* v = &flat[((row * bodies() + b) * max_vertices_) * 2];
+  for (std::int32_t q = 0; q < vertex_count_[b]; ++q) body.vertices.push_back({v[2 * q], v[2 * q + 1]});
+  return body;
 }
 
 std::size_t RunReader::body_index(const std::string& name) const {
@@ -200,7 +198,7 @@ std::vector<Body> RunReader::body_rows(const std::string& group, std::size_t b) 
   const std::vector<double> flat = h5::read<double>(file_, name);
   std::vector<Body> out;
   out.reserve(rows);
-  for (hsize_t r = 0; r < rows; ++r) out.push_back(bodies_of(flat, r)[b]);
+  for (hsize_t r = 0; r < rows; ++r) out.push_back(body_of(flat, r, b));
   return out;
 }
 
@@ -224,7 +222,8 @@ Snapshot RunReader::snapshot(std::size_t k) const {
   s.velocity = vec2("snapshots/velocity");
   s.omega = read_rows<double>(file_, "snapshots/omega", k, 1);
   s.active = read_rows<std::uint8_t>(file_, "snapshots/active", k, 1);
-  s.bodies = bodies_of(read_rows<double>(file_, vertices_dataset("snapshots"), k, 1), 0);
+  const std::vector<double> outlines = read_rows<double>(file_, vertices_dataset("snapshots"), k, 1);
+  for (std::size_t b = 0; b < bodies(); ++b) s.bodies.push_back(body_of(outlines, 0, b));
 
   const auto first = static_cast<hsize_t>(contact_start_[k]);
   const auto count = static_cast<hsize_t>(contact_start_[k + 1] - contact_start_[k]);

@@ -122,7 +122,8 @@ class RunReader {
   h5::File file_;
   // group's body outline dataset, [rows, B, K, 2] (format 1: body_ends [rows, B, 4], K = 2)
   std::string vertices_dataset(const std::string& group) const;
-  std::vector<Body> bodies_of(const std::vector<double>& flat, std::size_t row) const;
+  // body b at `row` of such a dataset, read as `flat`
+  Body body_of(const std::vector<double>& flat, std::size_t row, std::size_t b) const;
 
   std::vector<double> diameter_, mass_, thickness_;
   std::vector<std::string> body_names_, body_shapes_;
