@@ -385,9 +385,13 @@ void advance(System& s, std::int64_t steps) {
       }
       moved += std::sqrt(v2max) * s.dt;
       if (escaped || s.rebuild_pending || moved > 0.5 * s.lists.skin() || moved + s.moved_bodies > s.lists.skin()) {
-        if (ledger) {
+        // Every thread has taken this decision (and its open_step is done
+        // with the old lists) before the rebuild resets what it was taken
+        // from (rebuild_pending, moved_bodies, the drift reports): without
+        // this barrier a thread that runs late decides otherwise, skips the
+        // rebuild, and the threads' barriers no longer match (a hang, seen
+        // with 2 threads sharing one core).
 #pragma omp barrier
-        }  // every thread's open_step is done with the old lists
 #pragma omp single
         {
           s.rebuild_in_step(escaped);
