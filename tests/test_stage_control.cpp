@@ -77,13 +77,16 @@ TEST(Bodies, RemovedGateLetsGrainsFall) {
 // output.displacement_window: each snapshot holds the displacement over the
 // window before it (x(t) - x(t - window)): exact for a disk in free flight,
 // NaN where there was no reference (the first snapshot, the final state).
-TEST(Output, DisplacementOverTheWindow) {
+// A window as long as the interval (allowed) starts at the snapshot before.
+class Output : public ::testing::TestWithParam<double> {};
+
+TEST_P(Output, DisplacementOverTheWindow) {
   Scene s = glass_scene(effect::normal_damping);
   add_disk(s, 0.0, 0.0, 3e-3, 0.1, -0.05);
   set_dt_fraction(s, 20.0);
   s.stop.duration = 0.0505;
   s.output.snapshot_interval = 0.01;
-  s.output.displacement_window = 0.002;
+  s.output.displacement_window = GetParam();
   TempDir dir;
   const RunReport r = run_scene(s, {dir.path().string()});
   const h5::File f = h5::File::open_read(r.run_file);
@@ -91,7 +94,7 @@ TEST(Output, DisplacementOverTheWindow) {
   const auto t = h5::read<double>(f, "snapshots/time");
   ASSERT_EQ(t.size(), 7u);  // 0, 0.01, ..., 0.05 and the final state
   const double w = h5::read_attr_double(f, "/", "displacement_window");
-  EXPECT_NEAR(w, 0.002, s.dt);
+  EXPECT_NEAR(w, GetParam(), s.dt);
   EXPECT_TRUE(std::isnan(d[0]) && std::isnan(d[1]));
   for (std::size_t k = 1; k + 1 < t.size(); ++k) {
     EXPECT_NEAR(d[2 * k], 0.1 * w, 1e-15) << k;
@@ -99,6 +102,8 @@ TEST(Output, DisplacementOverTheWindow) {
   }
   EXPECT_TRUE(std::isnan(d[2 * (t.size() - 1)]));
 }
+
+INSTANTIATE_TEST_SUITE_P(Windows, Output, ::testing::Values(0.002, 0.01));
 
 // A small hopper whose outlet (2 d) jams: jams are detected and tapped, and
 // the run always ends (emptied, or stopped saying the outlet stays jammed).

@@ -14,7 +14,7 @@ namespace dem2d {
 
 namespace {
 
-constexpr const char* kFormat = "dem2d-checkpoint-2";
+constexpr const char* kFormat = "dem2d-checkpoint-3";
 
 // The particle arrays a checkpoint stores, by name.
 template <class P>
@@ -23,14 +23,6 @@ auto particle_arrays(P& p) {
                     std::pair{"vy", &p.vy},       std::pair{"theta", &p.theta},
                     std::pair{"omega", &p.omega}, std::pair{"fx", &p.fx},   std::pair{"fy", &p.fy},
                     std::pair{"torque", &p.torque}};
-}
-
-// The jam controller's counters.
-template <class S>
-auto jam_fields(S& st) {
-  return std::array{std::pair{"next_check", &st.next_check}, std::pair{"last_flow", &st.last_flow},
-                    std::pair{"last_count", &st.last_count}, std::pair{"tap_reverse", &st.tap_reverse},
-                    std::pair{"tap_end", &st.tap_end}};
 }
 
 // The body motion state a checkpoint stores (positions follow from it).
@@ -82,10 +74,35 @@ void read_history(const h5::File& f, const std::string& group, List& L, const Ne
   }
 }
 
+std::string controller_group(const Controller* c) { return "controllers/" + c->name(); }
+
 }  // namespace
 
-void write_checkpoint(const std::string& path, const System& sys, const RunProgress& pr,
-                      const std::string& scene_text) {
+void ControllerState::put(const std::string& key, std::int64_t value) const {
+  h5::write(file_, group_ + "/" + key, std::vector<std::int64_t>{value});
+}
+void ControllerState::put(const std::string& key, double value) const {
+  h5::write(file_, group_ + "/" + key, std::vector<double>{value});
+}
+void ControllerState::put(const std::string& key, const std::vector<double>& values) const {
+  h5::write(file_, group_ + "/" + key, values);
+}
+std::vector<double> ControllerState::get_doubles(const std::string& key) const {
+  return h5::read<double>(file_, group_ + "/" + key);
+}
+std::int64_t ControllerState::get_int(const std::string& key) const {
+  const auto v = h5::read<std::int64_t>(file_, group_ + "/" + key);
+  if (v.size() != 1) throw std::runtime_error(file_.path() + ": " + group_ + "/" + key + " is not one value");
+  return v[0];
+}
+double ControllerState::get_double(const std::string& key) const {
+  const auto v = get_doubles(key);
+  if (v.size() != 1) throw std::runtime_error(file_.path() + ": " + group_ + "/" + key + " is not one value");
+  return v[0];
+}
+
+void write_checkpoint(const std::string& path, const System& sys, std::span<Controller* const> controllers,
+                      double wall_seconds, const std::string& scene_text) {
   const std::string tmp = path + ".tmp";
   {
     const h5::File f = h5::File::create(tmp);
@@ -93,18 +110,8 @@ void write_checkpoint(const std::string& path, const System& sys, const RunProgr
     h5::write_attr(f, "/", "scene_text", scene_text);
     h5::write_attr(f, "/", "code_version", code_version());
     h5::write_attr(f, "/", "step", sys.step);
-    h5::write_attr(f, "/", "next_series", pr.next_series);
-    h5::write_attr(f, "/", "next_snapshot", pr.next_snapshot);
-    h5::write_attr(f, "/", "next_check", pr.next_check);
-    h5::write_attr(f, "/", "last_contact", pr.last_contact);
-    h5::write_attr(f, "/", "wall_seconds", pr.wall_seconds);
-    for (const auto& [name, v] : jam_fields(pr.jam)) h5::write_attr(f, "/", std::string("jam_") + name, *v);
-    h5::write(f, "jam_times", pr.jam.jam_times);
-    h5::write_attr(f, "/", "ref_for", pr.ref_for);
-    h5::write(f, "ref_position", pr.ref_position);
-    h5::write_attr(f, "/", "segments", static_cast<std::int64_t>(pr.segments));
-    h5::write_attr(f, "/", "series_rows", pr.series_rows);
-    h5::write_attr(f, "/", "snapshots", pr.snapshots);
+    h5::write_attr(f, "/", "wall_seconds", wall_seconds);
+    for (Controller* c : controllers) c->save(ControllerState(f, controller_group(c)));
     for (const auto& [name, v] : particle_arrays(sys.p)) h5::write(f, std::string("particles/") + name, *v);
     h5::write(f, "particles/active", sys.p.active);
     const bool cohesion = has(sys.effects, effect::cohesion);
@@ -135,7 +142,7 @@ std::string checkpoint_scene_text(const std::string& path) {
   return h5::read_attr_string(f, "/", "scene_text");
 }
 
-RunProgress read_checkpoint(const std::string& path, System& sys) {
+double read_checkpoint(const std::string& path, System& sys, std::span<Controller* const> controllers) {
   const h5::File f = h5::File::open_read(path);
   if (h5::read_attr_string(f, "/", "format") != kFormat)
     throw std::runtime_error(path + ": not a dem2d checkpoint");
@@ -181,20 +188,8 @@ RunProgress read_checkpoint(const std::string& path, System& sys) {
   sys.body_torque_sum = h5::read<double>(f, "bodies/torque_sum");
   sys.body_sum_steps = h5::read_attr_int(f, "/", "body_sum_steps");
 
-  RunProgress pr;
-  pr.next_series = h5::read_attr_int(f, "/", "next_series");
-  pr.next_snapshot = h5::read_attr_int(f, "/", "next_snapshot");
-  pr.next_check = h5::read_attr_int(f, "/", "next_check");
-  pr.last_contact = h5::read_attr_int(f, "/", "last_contact");
-  pr.wall_seconds = h5::read_attr_double(f, "/", "wall_seconds");
-  for (const auto& [name, v] : jam_fields(pr.jam)) *v = h5::read_attr_int(f, "/", std::string("jam_") + name);
-  pr.jam.jam_times = h5::read<double>(f, "jam_times");
-  pr.ref_for = h5::read_attr_int(f, "/", "ref_for");
-  pr.ref_position = h5::read<double>(f, "ref_position");
-  pr.segments = static_cast<int>(h5::read_attr_int(f, "/", "segments"));
-  pr.series_rows = h5::read_attr_int(f, "/", "series_rows");
-  pr.snapshots = h5::read_attr_int(f, "/", "snapshots");
-  return pr;
+  for (Controller* c : controllers) c->restore(ControllerState(f, controller_group(c)));
+  return h5::read_attr_double(f, "/", "wall_seconds");
 }
 
 }  // namespace dem2d

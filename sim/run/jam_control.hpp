@@ -13,14 +13,14 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/system.hpp"
+#include "run/controller.hpp"
 #include "scene/scene.hpp"
 
 namespace dem2d {
 
-class JamController {
+class JamController final : public Controller {
  public:
-  // What a checkpoint must keep.
+  // What a checkpoint keeps.
   struct State {
     std::int64_t next_check = 0;     // step of the next count
     std::int64_t last_flow = 0;      // last step at which grains left the hopper
@@ -32,15 +32,16 @@ class JamController {
 
   JamController(const JamControl& spec, const System& sys);
 
-  bool enabled() const { return spec_.enabled; }
-  // The next step at which update() must run (a check or a tap turning).
-  std::int64_t next_step() const;
-  // Runs at next_step(). Returns false once a jam was detected after
-  // max_taps taps (the hopper cannot be emptied).
-  bool update(System& sys);
+  std::string name() const override { return "jam"; }
+  // A check or a tap turning (kNever without [jam]).
+  std::int64_t next_step() const override;
+  // Ends the run once a jam was detected after max_taps taps (the hopper
+  // cannot be emptied).
+  std::string act(System& sys) override;
+  void save(const ControllerState& out) override;
+  void restore(const ControllerState& in) override;
 
-  const State& state() const { return st_; }
-  void restore(const State& s) { st_ = s; }
+  const std::vector<double>& jam_times() const { return st_.jam_times; }
 
  private:
   void move_walls(System& sys, double vx, double vy) const;

@@ -1,20 +1,23 @@
 #include "run/run.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
-#include <sstream>
 #include <stdexcept>
 
 #include "core/version.hpp"
-#include "engine/diagnostics.hpp"
 #include "engine/system.hpp"
 #include "io/run_file.hpp"
+#include "run/body_removals.hpp"
 #include "run/checkpoint.hpp"
+#include "run/jam_control.hpp"
+#include "run/output_control.hpp"
+#include "run/stop_criteria.hpp"
 
 namespace dem2d {
 
@@ -25,12 +28,6 @@ namespace {
 
 std::atomic<bool> g_interrupt{false};
 static_assert(std::atomic<bool>::is_always_lock_free);
-
-// Number of steps in an interval given in seconds (0 = off).
-std::int64_t steps_of(double interval, double dt) {
-  if (interval <= 0.0) return 0;
-  return std::max<std::int64_t>(1, std::llround(interval / dt));
-}
 
 std::string format_duration(double seconds) {
   const auto s = static_cast<long long>(seconds);
@@ -117,60 +114,33 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   fs::create_directories(out_dir);
 
   System sys(scene);
-  JamController jam(scene.jam, sys);
   RunReport report;
-  RunProgress pr;
-  const std::int64_t every_series = steps_of(scene.output.series_interval, scene.dt);
-  const std::int64_t every_snapshot = steps_of(scene.output.snapshot_interval, scene.dt);
-  // PIV-like displacements: positions are taken `window` steps before each scheduled snapshot
-  const std::int64_t window = every_snapshot ? steps_of(scene.output.displacement_window, scene.dt) : 0;
-  const StopCondition& stop = scene.stop;
-  const bool energy_stop = stop.energy_criterion();
-  const bool free_stop = !stop.body_free.empty();
-  const std::int64_t every_check = energy_stop || free_stop ? steps_of(stop.check_interval, scene.dt) : 0;
-  const std::size_t free_body = free_stop ? sys.body_index(stop.body_free) : 0;
-  const std::int64_t free_steps = free_stop ? steps_of(stop.free_time, scene.dt) : 0;
-  const std::int64_t total = std::llround(stop.duration / scene.dt);
-  // bodies taken away during the run, by step
-  std::vector<std::pair<std::int64_t, std::size_t>> removals;
-  for (std::size_t b = 0; b < scene.bodies.size(); ++b)
-    if (scene.bodies[b].remove_at >= 0.0) removals.emplace_back(std::llround(scene.bodies[b].remove_at / scene.dt), b);
-  std::sort(removals.begin(), removals.end());
-
-  if (!opt.fresh && fs::exists(ckpt)) {
-    if (checkpoint_scene_text(ckpt) != scene.text)
-      throw std::runtime_error(ckpt + " was written by a different scene; rerun with --fresh to discard it");
-    pr = read_checkpoint(ckpt, sys);
-    jam.restore(pr.jam);
-    report.resumed = true;
-  } else {
+  const bool resume = !opt.fresh && fs::exists(ckpt);
+  if (resume && checkpoint_scene_text(ckpt) != scene.text)
+    throw std::runtime_error(ckpt + " was written by a different scene or dem2d version; rerun with --fresh to discard it");
+  if (!resume) {
     fs::remove_all(work);
     fs::create_directories(work);
-    if (every_check) {  // first test at the first multiple of the interval at or after min_time
-      const std::int64_t first = std::llround(std::ceil(stop.min_time / scene.dt));
-      pr.next_check = std::max<std::int64_t>(every_check, (first + every_check - 1) / every_check * every_check);
-    }
   }
-  // removals at or before the checkpoint's step were applied before it was written
-  std::size_t next_removal = 0;
-  while (next_removal < removals.size() && report.resumed && removals[next_removal].first <= sys.step) ++next_removal;
-
   RunRecorder recorder(sys, work.string());
-  if (report.resumed) recorder.restore_counts(pr.segments, pr.series_rows, pr.snapshots);
+  // what acts at given steps, in the order it acts within a step
+  BodyRemovals removals(scene);
+  JamController jam(scene.jam, sys);
+  OutputController output(scene, recorder);
+  StopCriteria criteria(scene, sys);
+  DurationLimit duration(scene);
+  const std::array<Controller*, 5> controllers{&removals, &jam, &output, &criteria, &duration};
 
-  const double wall_before = pr.wall_seconds;  // spent by earlier invocations
+  double wall_before = 0.0;  // spent by earlier invocations
+  if (resume) {
+    wall_before = read_checkpoint(ckpt, sys, controllers);
+    report.resumed = true;
+  }
   auto wall_now = [&] { return wall_before + std::chrono::duration<double>(Clock::now() - t_start).count(); };
-  auto checkpoint = [&] {
-    pr.wall_seconds = wall_now();
-    recorder.flush_segment();
-    pr.segments = recorder.segments();
-    pr.series_rows = recorder.series_rows();
-    pr.snapshots = recorder.snapshot_count();
-    pr.jam = jam.state();
-    write_checkpoint(ckpt, sys, pr, scene.text);
-  };
+  auto checkpoint = [&] { write_checkpoint(ckpt, sys, controllers, wall_now(), scene.text); };
   const std::int64_t first_step = sys.step;
   const std::int64_t first_rebuild = sys.lists.rebuild_count;
+  const std::int64_t total = duration.last_step();
   Progress progress(opt.progress, out_dir / "run.log", total, sys.size(), first_step);
   progress.note(std::string(report.resumed ? "resumed" : "started") + " '" + scene.name + "' at step " +
                 std::to_string(first_step) + " of " + std::to_string(total) + ", " + std::to_string(sys.threads) +
@@ -186,61 +156,15 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     report.rebuilds = sys.lists.rebuild_count - first_rebuild;
     if (active > 0) report.candidates_per_grain = static_cast<double>(sys.lists.pairs.slots()) / active;
     report.lost = sys.lost.size();
-    report.jams = jam.state().jam_times.size();
+    report.jams = jam.jam_times().size();
     return report;
   };
   auto last_checkpoint = Clock::now();
   std::int64_t chunk = 64;
-  std::int64_t last_series = -1, last_snapshot = -1;
-  while (true) {
-    // events due at this step, always in this order
-    for (; next_removal < removals.size() && removals[next_removal].first == sys.step; ++next_removal)
-      sys.remove_body(removals[next_removal].second);
-    if (sys.step == jam.next_step() && !jam.update(sys)) {
-      report.stop_reason = "hopper outlet jammed: " + std::to_string(scene.jam.max_taps) + " taps did not clear it";
-      break;
-    }
-    if (every_series && sys.step == pr.next_series) {
-      recorder.record_series(sys);
-      last_series = sys.step;
-      pr.next_series += every_series;
-    }
-    if (window && sys.step == pr.next_snapshot - window) {
-      pr.ref_for = pr.next_snapshot;
-      pr.ref_position.resize(2 * sys.size());
-      for (std::size_t i = 0; i < sys.size(); ++i) {
-        pr.ref_position[2 * i] = sys.p.x[i];
-        pr.ref_position[2 * i + 1] = sys.p.y[i];
-      }
-    }
-    if (every_snapshot && sys.step == pr.next_snapshot) {
-      recorder.record_snapshot(sys, pr.ref_for == sys.step ? &pr.ref_position : nullptr);
-      pr.ref_for = -1;
-      last_snapshot = sys.step;
-      pr.next_snapshot += every_snapshot;
-    }
-    if (every_check && sys.step == pr.next_check) {
-      pr.next_check += every_check;
-      if (free_stop && held_by_bed(sys, free_body)) pr.last_contact = sys.step;
-      if (free_stop && sys.step - pr.last_contact >= free_steps) {
-        report.stop_reason = "body " + stop.body_free + " free of the bed for " + std::to_string(stop.free_time) + " s";
-        break;
-      }
-      if (energy_stop && kinetic_energy_criterion_met(sys, stop) && highest_grain(sys) < stop.all_below) {
-        std::ostringstream why;
-        if (stop.kinetic_energy_per_grain_below > 0.0)
-          why << "kinetic energy below " << stop.kinetic_energy_per_grain_below << " J/m per grain";
-        else
-          why << "kinetic energy below " << stop.kinetic_energy_below << " J/m";
-        if (stop.all_below < 1e300) why << " with every grain below " << stop.all_below << " m";
-        report.stop_reason = why.str();
-        break;
-      }
-    }
-    if (sys.step >= total) {
-      report.stop_reason = "duration reached";
-      break;
-    }
+  while (report.stop_reason.empty()) {
+    for (Controller* c : controllers)
+      if (c->next_step() == sys.step && !(report.stop_reason = c->act(sys)).empty()) break;
+    if (!report.stop_reason.empty()) break;
     if (g_interrupt.load() || sys.step == opt.interrupt_at_step) {
       checkpoint();
       progress.done();
@@ -254,12 +178,8 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
       progress.note("checkpoint at step " + std::to_string(sys.step));
     }
 
-    std::int64_t target = std::min({total, sys.step + chunk, jam.next_step()});
-    if (next_removal < removals.size()) target = std::min(target, removals[next_removal].first);
-    if (every_series) target = std::min(target, pr.next_series);
-    if (every_snapshot) target = std::min(target, pr.next_snapshot);
-    if (window && pr.next_snapshot - window > sys.step) target = std::min(target, pr.next_snapshot - window);
-    if (every_check) target = std::min(target, pr.next_check);
+    std::int64_t target = sys.step + chunk;
+    for (const Controller* c : controllers) target = std::min(target, c->next_step());
     if (opt.interrupt_at_step > sys.step) target = std::min(target, opt.interrupt_at_step);
     const auto t0 = Clock::now();
     const std::int64_t n = target - sys.step;
@@ -271,10 +191,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     progress.update(sys.step, sys.time());
   }
   progress.done();
-
-  // the final state always ends the run file, so that later stages can start from it
-  if (every_series && last_series != sys.step) recorder.record_series(sys);
-  if (last_snapshot != sys.step) recorder.record_snapshot(sys);
+  for (Controller* c : controllers) c->finish(sys);
 
   RunInfo info;
   info.scene_text = scene.text;
@@ -282,9 +199,9 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   info.code_version = code_version();
   info.threads = sys.threads;
   info.initial_run = scene.initial_run;
-  info.jam_times = jam.state().jam_times;
+  info.jam_times = jam.jam_times();
   info.wall_seconds = wall_now();
-  info.displacement_window = window ? static_cast<double>(window) * scene.dt : 0.0;
+  info.displacement_window = output.displacement_window(scene.dt);
   report.run_file = (out_dir / "run.h5").string();
   recorder.finish(sys, info, report.run_file, report.stop_reason);
   fs::remove_all(work);

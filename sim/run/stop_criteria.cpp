@@ -1,0 +1,50 @@
+#include "run/stop_criteria.hpp"
+
+#include <sstream>
+
+#include "engine/diagnostics.hpp"
+
+namespace dem2d {
+
+StopCriteria::StopCriteria(const Scene& scene, const System& sys)
+    : stop_(scene.stop), energy_(stop_.energy_criterion()), free_(!stop_.body_free.empty()) {
+  if (!energy_ && !free_) return;
+  every_ = steps_of_interval(stop_.check_interval, scene.dt);
+  if (every_ == 0) return;  // never tested
+  if (free_) {
+    free_body_ = sys.body_index(stop_.body_free);
+    free_steps_ = steps_of_interval(stop_.free_time, scene.dt);
+  }
+  // first test at the first multiple of the interval at or after min_time
+  const std::int64_t first = std::llround(std::ceil(stop_.min_time / scene.dt));
+  next_check_ = std::max<std::int64_t>(every_, (first + every_ - 1) / every_ * every_);
+}
+
+std::string StopCriteria::act(System& sys) {
+  next_check_ += every_;
+  if (free_ && held_by_bed(sys, free_body_)) last_contact_ = sys.step;
+  if (free_ && sys.step - last_contact_ >= free_steps_)
+    return "body " + stop_.body_free + " free of the bed for " + std::to_string(stop_.free_time) + " s";
+  if (energy_ && kinetic_energy_criterion_met(sys, stop_) && highest_grain(sys) < stop_.all_below) {
+    std::ostringstream why;
+    if (stop_.kinetic_energy_per_grain_below > 0.0)
+      why << "kinetic energy below " << stop_.kinetic_energy_per_grain_below << " J/m per grain";
+    else
+      why << "kinetic energy below " << stop_.kinetic_energy_below << " J/m";
+    if (stop_.all_below < 1e300) why << " with every grain below " << stop_.all_below << " m";
+    return why.str();
+  }
+  return "";
+}
+
+void StopCriteria::save(const ControllerState& out) {
+  out.put("next_check", next_check_);
+  out.put("last_contact", last_contact_);
+}
+
+void StopCriteria::restore(const ControllerState& in) {
+  next_check_ = in.get_int("next_check");
+  last_contact_ = in.get_int("last_contact");
+}
+
+}  // namespace dem2d

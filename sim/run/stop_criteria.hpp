@@ -1,0 +1,46 @@
+// The scene's stop criteria ([stop]): the duration, and the earlier ends
+// tested every check_interval from min_time on (kinetic energy with every
+// grain below a height; a body free of the bed for free_time).
+#pragma once
+
+#include <cstdint>
+
+#include "run/controller.hpp"
+
+namespace dem2d {
+
+// Ends the run when stop.duration is reached.
+class DurationLimit final : public Controller {
+ public:
+  explicit DurationLimit(const Scene& scene) : last_(std::llround(scene.stop.duration / scene.dt)) {}
+  std::string name() const override { return "duration"; }
+  std::int64_t next_step() const override { return last_; }
+  std::string act(System&) override { return "duration reached"; }
+  void save(const ControllerState&) override {}
+  void restore(const ControllerState&) override {}
+  std::int64_t last_step() const { return last_; }
+
+ private:
+  std::int64_t last_;
+};
+
+// The earlier ends (kNever if the scene sets none).
+class StopCriteria final : public Controller {
+ public:
+  StopCriteria(const Scene& scene, const System& sys);
+  std::string name() const override { return "stop"; }
+  std::int64_t next_step() const override { return next_check_; }
+  std::string act(System& sys) override;
+  void save(const ControllerState& out) override;
+  void restore(const ControllerState& in) override;
+
+ private:
+  StopCondition stop_;
+  bool energy_ = false, free_ = false;
+  std::size_t free_body_ = 0;
+  std::int64_t every_ = 0, free_steps_ = 0;
+  std::int64_t next_check_ = kNever;
+  std::int64_t last_contact_ = 0;  // last step the stop.body_free body was held by the bed
+};
+
+}  // namespace dem2d
