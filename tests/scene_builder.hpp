@@ -8,6 +8,7 @@
 #include <random>
 #include <string>
 
+#include "core/body_roles.hpp"
 #include "engine/system.hpp"
 #include "scene/scene.hpp"
 
@@ -52,6 +53,7 @@ inline void add_disk(Scene& s, double x, double y, double d, double vx = 0.0, do
 inline void add_wall(Scene& s, const std::string& name, double ax, double ay, double bx, double by,
                      double thickness = 2e-3, double vx = 0.0, double vy = 0.0) {
   BodySpec b = BodySpec::segment(name, ax, ay, bx, by, thickness);
+  b.role = legacy_body_role(name);  // the tests name the study's bodies after their roles
   b.vx = vx;
   b.vy = vy;
   s.bodies.push_back(b);

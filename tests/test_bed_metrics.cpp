@@ -37,9 +37,9 @@ const double kSquare = std::numbers::pi / 4.0;
 Snapshot box(double width, double height) {
   Snapshot s;
   const double h = 0.5 * kWall;
-  s.bodies = {Body::segment("floor", -kWall, -h, width + kWall, -h, kWall),
-              Body::segment("left", -h, -h, -h, height, kWall),
-              Body::segment("right", width + h, -h, width + h, height, kWall)};
+  s.bodies = {Body::segment("floor", -kWall, -h, width + kWall, -h, kWall, "floor"),
+              Body::segment("left", -h, -h, -h, height, kWall, "left_wall"),
+              Body::segment("right", width + h, -h, width + h, height, kWall, "right_wall")};
   return s;
 }
 
@@ -115,7 +115,7 @@ TEST(BedMetrics, HoleAroundTheIntruderIsExcluded) {
   Snapshot full = box(width, width);
   fill_lattice(full, width, 33, true);
   Snapshot s = box(width, width);
-  s.bodies.push_back(Body::segment("intruder", 0.5 * width - 5e-3, 15 * kD, 0.5 * width + 5e-3, 15 * kD, kWall));
+  s.bodies.push_back(Body::segment("bar", 0.5 * width - 5e-3, 15 * kD, 0.5 * width + 5e-3, 15 * kD, kWall, "intruder"));
   const Rounded gap{make_shape({{0.5 * width - 5e-3, 15 * kD}, {0.5 * width + 5e-3, 15 * kD}}), 0.5 * kWall + kD};
   for (std::size_t i = 0; i < full.size(); ++i)
     if (!gap.contains(full.position[i].x, full.position[i].y)) add_grain(s, full.position[i].x, full.position[i].y, kD);
@@ -127,9 +127,9 @@ TEST(BedMetrics, HoleAroundTheIntruderIsExcluded) {
   EXPECT_NEAR(f["intruder_exclusion_radius_mm"].get<double>(), (0.5 * kWall + 2 * kD) * 1e3, 1e-9);
   EXPECT_GT(f["sampling_points_excluded"].get<std::int64_t>(), 0);
 
-  BedConfig blind;
-  blind.intruder = "not there";
-  const double phi_with_hole = fill_metrics(s, blind)["solid_fraction"].get<double>();
+  Snapshot blind = s;  // the same bar, not declared the intruder
+  blind.bodies.back().role = "";
+  const double phi_with_hole = fill_metrics(blind, BedConfig{})["solid_fraction"].get<double>();
   EXPECT_LT(phi_with_hole, kTriangular - 0.005) << "the hole must matter when it is not excluded";
   std::printf("lattice with a hole: phi = %.5f excluding the intruder, %.5f not excluding it\n",
               f["solid_fraction"].get<double>(), phi_with_hole);
@@ -196,7 +196,7 @@ TEST(BedMetrics, TriangularLatticeInteriorHasSixContacts) {
   const double width = 20 * kD;
   Snapshot s = box(width, width);
   fill_lattice(s, width, 21, true);
-  const Cell cell = find_cell(s, BedConfig{});
+  const Cell cell = find_cell(s);
   add_touching_contacts(s, cell);
   const auto f = fill_metrics(s, BedConfig{});
   EXPECT_DOUBLE_EQ(f["coordination_number_bulk"].get<double>(), 6.0);
@@ -261,13 +261,14 @@ TEST(BedMetrics, KineticEnergyCountsTranslationAndRotationOfActiveGrains) {
 TEST(BedMetrics, MissingWallIsAnErrorNamingIt) {
   Snapshot s = box(0.05, 0.05);
   add_grain(s, 0.01, 0.01, kD);
-  s.bodies.erase(s.bodies.begin() + 1);  // no "left"
+  s.bodies.erase(s.bodies.begin() + 1);  // no left wall
   try {
     fill_metrics(s, BedConfig{});
     FAIL() << "expected BedError";
   } catch (const BedError& e) {
-    EXPECT_NE(std::string(e.what()).find("no body named 'left'"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("floor, right"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no body has the role 'left_wall'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("floor (floor), right (right_wall)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("role = \"left_wall\""), std::string::npos) << e.what();
   }
   s.bodies.clear();
   EXPECT_THROW(fill_metrics(s, BedConfig{}), BedError);
@@ -297,10 +298,8 @@ TEST(BedMetricsConfig, DefaultFileHoldsTheDefaults) {
 
 TEST(BedMetricsConfig, KeysAreReadAndBadOnesRejectedWithTheirPlace) {
   TempDir dir;
-  const BedConfig c = load_bed_config(dir.file("a.toml", "margin_d = 3\n[bodies]\nintruder = \"bar\"\n"));
+  const BedConfig c = load_bed_config(dir.file("a.toml", "margin_d = 3\n"));
   EXPECT_EQ(c.margin_d, 3.0);
-  EXPECT_EQ(c.intruder, "bar");
-  EXPECT_EQ(c.left, "left");
   const auto error = [&](const std::string& text) {
     try {
       load_bed_config(dir.file("b.toml", text));
@@ -310,11 +309,11 @@ TEST(BedMetricsConfig, KeysAreReadAndBadOnesRejectedWithTheirPlace) {
     return std::string("no error");
   };
   EXPECT_NE(error("margin = 2\n").find("b.toml:1:1: unknown key 'margin'"), std::string::npos) << error("margin = 2\n");
-  EXPECT_NE(error("\n[bodies]\nceiling = \"top\"\n").find(":3:1: unknown key 'bodies.ceiling'"), std::string::npos);
+  // bodies are found by their roles in the run file, not named here
+  EXPECT_NE(error("\n[bodies]\nleft = \"left\"\n").find("b.toml:2:2: unknown key 'bodies'"), std::string::npos);
   EXPECT_NE(error("sampling_per_d = 0\n").find("sampling_per_d = 0: must be >= 1"), std::string::npos);
   EXPECT_NE(error("column_width_d = \"wide\"\n").find("wrong type"), std::string::npos);
   EXPECT_NE(error("margin_d = = 2\n").find("b.toml:1:"), std::string::npos);
-  EXPECT_NE(error("[bodies]\nleft = \"\"\n").find("non-empty string"), std::string::npos);
   EXPECT_THROW(load_bed_config(dir.file("missing.toml")), BedError);
 }
 
@@ -427,7 +426,8 @@ TEST(BedMetricsRunFile, BadFilesAreErrorsNamingTheFile) {
   }
   EXPECT_NE(message(empty).find(empty + ": the run file has no snapshots"), std::string::npos) << message(empty);
 
-  // A run file whose walls have other names.
+  // A run file whose walls have other names: found by their roles; without
+  // the role, an error.
   const std::string unnamed = dir.file("unnamed.h5");
   {
     Scene scene = test::boxed_bed(effect::gravity | effect::walls, 10, 0.02);
@@ -435,9 +435,16 @@ TEST(BedMetricsRunFile, BadFilesAreErrorsNamingTheFile) {
     System sys(scene);
     RunRecorder rec(sys, dir.file(""));
     rec.record_snapshot(sys);
-    rec.finish(sys, run_info(), unnamed, "test");
+    rec.finish(sys, run_info(), dir.file("west.h5"), "test");
+    scene.bodies[1].role = "";
+    System unroled(scene);
+    RunRecorder rec2(unroled, dir.file(""));
+    rec2.record_snapshot(unroled);
+    rec2.finish(unroled, run_info(), unnamed, "test");
   }
-  EXPECT_NE(message(unnamed).find(unnamed + ": no body named 'left'"), std::string::npos) << message(unnamed);
+  EXPECT_EQ(RunReader(dir.file("west.h5")).body_with_role("left_wall"), 1u);
+  EXPECT_EQ(message(dir.file("west.h5")).find("role"), std::string::npos) << message(dir.file("west.h5"));
+  EXPECT_NE(message(unnamed).find(unnamed + ": no body has the role 'left_wall'"), std::string::npos) << message(unnamed);
 }
 
 }  // namespace

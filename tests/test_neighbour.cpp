@@ -152,23 +152,23 @@ TEST(Determinism, OneTwoAndThreeThreadsAreBitwiseIdentical) {
     EXPECT_GT(b.lists.rebuild_count, 5);
     // the ranges cover the grains in order, and no cache line of a per-grain
     // array is shared by two threads' ranges
-    ASSERT_EQ(b.part.size(), static_cast<std::size_t>(threads) + 1);
-    EXPECT_EQ(b.part.front(), 0u);
-    EXPECT_EQ(b.part.back(), b.size());
-    for (std::size_t t = 1; t < b.part.size(); ++t) {
-      EXPECT_LE(b.part[t - 1], b.part[t]);
-      EXPECT_TRUE(b.part[t] % System::kGrainsPerLine == 0 || b.part[t] == b.size()) << b.part[t];
+    ASSERT_EQ(b.work.part.size(), static_cast<std::size_t>(threads) + 1);
+    EXPECT_EQ(b.work.part.front(), 0u);
+    EXPECT_EQ(b.work.part.back(), b.size());
+    for (std::size_t t = 1; t < b.work.part.size(); ++t) {
+      EXPECT_LE(b.work.part[t - 1], b.work.part[t]);
+      EXPECT_TRUE(b.work.part[t] % System::kGrainsPerLine == 0 || b.work.part[t] == b.size()) << b.work.part[t];
     }
     // shared_end[t] is one past the highest grain of thread t that a lower
     // thread's pair row reads (part[t] if none)
-    std::vector<std::size_t> expected(b.part.begin(), b.part.end() - 1);
+    std::vector<std::size_t> expected(b.work.part.begin(), b.work.part.end() - 1);
     for (std::size_t sl = 0; sl < b.lists.pairs.slots(); ++sl) {
       const auto i = static_cast<std::size_t>(b.lists.pairs.owner[sl]), j = static_cast<std::size_t>(b.lists.pairs.partner[sl]);
       for (std::size_t t = 1; t < expected.size(); ++t)
-        if (i < b.part[t] && j >= b.part[t] && j < b.part[t + 1]) expected[t] = std::max(expected[t], j + 1);
+        if (i < b.work.part[t] && j >= b.work.part[t] && j < b.work.part[t + 1]) expected[t] = std::max(expected[t], j + 1);
     }
-    EXPECT_EQ(b.shared_end, expected);
-    EXPECT_GT(b.shared_end[1], b.part[1]);  // a packed bed: the threads share grains
+    EXPECT_EQ(b.work.shared_end, expected);
+    EXPECT_GT(b.work.shared_end[1], b.work.part[1]);  // a packed bed: the threads share grains
     EXPECT_TRUE(bitwise_equal(state_of(a), state_of(b))) << threads << " threads";
     EXPECT_EQ(kinetic_energy(a), kinetic_energy(b));
   }

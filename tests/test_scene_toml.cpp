@@ -402,10 +402,28 @@ TEST(SceneTomlErrors, UnknownKeys) {
        "rolling_damping_ratio, cohesion_force, cohesion_range, wall)"},
       18);
   expect_error(edit(kValid, "name = \"intruder\"", "name = \"intruder\"\ncolour = \"red\""),
-               {"unknown key 'colour' in body[1]", "allowed: name, shape, thickness, velocity, motion, motion_repeat, remove_at, a, b, centre, size, angle, vertices"}, 66);
+               {"unknown key 'colour' in body[1]", "allowed: name, role, shape, thickness, velocity, motion, motion_repeat, remove_at, a, b, centre, size, angle, vertices"}, 66);
   expect_error(
       edit(kValid, "{ min = 2e-3, max = 4e-3 }", "{ min = 2e-3, max = 4e-3, mean = 3e-3 }"),
       {"unknown key 'mean' in generator[0].diameter", "allowed: min, max"}, 56);
+}
+
+// [[body]] role: what the analyses find a body by (core/body_roles.hpp).
+TEST(SceneToml, BodyRoles) {
+  const Scene s = parse_scene(edit(kValid, "name = \"intruder\"", "name = \"intruder\"\nrole = \"intruder\""), kPath);
+  EXPECT_EQ(s.bodies[0].role, "");
+  EXPECT_EQ(s.bodies[1].role, "intruder");
+}
+
+TEST(SceneTomlErrors, BodyRoles) {
+  expect_error(edit(kValid, "name = \"intruder\"", "name = \"intruder\"\nrole = \"pusher\""),
+               {"body[1].role = \"pusher\"", "unknown role (allowed: intruder, floor, left_wall, right_wall, hopper)"}, 66);
+  const std::string two = edit(edit(kValid, "name = \"intruder\"", "name = \"intruder\"\nrole = \"intruder\""),
+                               "name = \"floor\"", "name = \"floor\"\nrole = \"intruder\"");
+  expect_error(two, {"body[1].role = \"intruder\"", "body[0] 'floor' has this role already (one body at most)"});
+  // several hopper walls
+  EXPECT_NO_THROW(parse_scene(edit(edit(kValid, "name = \"intruder\"", "name = \"intruder\"\nrole = \"hopper\""),
+                                   "name = \"floor\"", "name = \"floor\"\nrole = \"hopper\""), kPath));
 }
 
 TEST(SceneTomlErrors, KeyOfADisabledEffect) {

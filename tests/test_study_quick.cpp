@@ -87,7 +87,7 @@ TEST_F(QuickStudy, PullOffStartsFromTheFillAndEndsClear) {
 TEST_F(QuickStudy, DragIsPositiveWhileBuriedAndVanishesOnceClear) {
   const RunReader run(pull.run_file);
   const analysis::Study study;
-  const analysis::DragProfile p = analysis::read_drag_profile(run, study);
+  const analysis::DragProfile p = analysis::read_drag_profile(run);
   const double bed = analysis::measure_run_file(fill.run_file, analysis::BedConfig{}, "")["fill"]["bed_height_mm"]
                          .get<double>() * 1e-3;
   std::vector<double> buried;
@@ -111,8 +111,8 @@ TEST_F(QuickStudy, DragIsPositiveWhileBuriedAndVanishesOnceClear) {
 TEST_F(QuickStudy, StaticLoadIsTheBedsAtRestNotThePullsFirstRow) {
   const RunReader run(pull.run_file), bed(fill.run_file);
   const analysis::Study study;
-  const double at_rest = analysis::static_load(bed, study);
-  const analysis::DragProfile p = analysis::read_drag_profile(run, study);
+  const double at_rest = analysis::static_load(bed);
+  const analysis::DragProfile p = analysis::read_drag_profile(run);
   EXPECT_GT(at_rest, 0.0);  // the grains above press on it
   EXPECT_GT(p.drag.front(), at_rest);
   EXPECT_LT(p.drag.front(), 1.2 * at_rest);
@@ -147,7 +147,7 @@ TEST_F(QuickStudy, CyclicRunFollowsItsScheduleAndCutsIntoCycles) {
   ASSERT_TRUE(cyc.complete);
   EXPECT_EQ(cyc.lost, 0u);
   const RunReader run(cyc.run_file);
-  const analysis::DragProfile p = analysis::read_drag_profile(run, analysis::Study{});
+  const analysis::DragProfile p = analysis::read_drag_profile(run);
   const std::vector<analysis::DragLeg> legs = analysis::drag_legs(p);
   ASSERT_EQ(legs.size(), 7u);  // the rise, then up and down three times
   for (std::size_t k = 0; k < legs.size(); ++k) {

@@ -30,12 +30,6 @@ void read_number(const std::string& path, const std::string& key, const toml::no
   out = *v;
 }
 
-void read_name(const std::string& path, const std::string& key, const toml::node& n, std::string& out) {
-  if (!n.is_string() || n.as_string()->get().empty())
-    fail(path, n.source(), key + " = " + show(n) + ": must be a non-empty string (a body name)");
-  out = n.as_string()->get();
-}
-
 }  // namespace
 
 BedConfig load_bed_config(const std::string& path) {
@@ -55,19 +49,9 @@ BedConfig load_bed_config(const std::string& path) {
       read_number(path, k, node, 1.0, true, "sample points per mean diameter", c.sampling_per_d);
     } else if (k == "column_width_d") {
       read_number(path, k, node, 0.0, false, "mean diameters", c.column_width_d);
-    } else if (k == "bodies" && node.is_table()) {
-      for (const auto& [bkey, bnode] : *node.as_table()) {
-        const std::string b(bkey.str());
-        std::string* field = b == "left" ? &c.left : b == "right" ? &c.right : b == "floor" ? &c.floor
-                           : b == "intruder" ? &c.intruder : nullptr;
-        if (!field) fail(path, bkey.source(), "unknown key 'bodies." + b + "' (allowed: left, right, floor, intruder)");
-        read_name(path, "bodies." + b, bnode, *field);
-      }
-    } else if (k == "bodies") {
-      fail(path, node.source(), "bodies = " + show(node) + ": wrong type, expected a table");
     } else {
       fail(path, key.source(),
-           "unknown key '" + k + "' (allowed: margin_d, sampling_per_d, column_width_d, [bodies])");
+           "unknown key '" + k + "' (allowed: margin_d, sampling_per_d, column_width_d)");
     }
   }
   return c;

@@ -15,8 +15,6 @@ struct BedConfig {
   double margin_d = 2.0;         // bulk region: this many mean diameters from walls, surface and intruder
   double sampling_per_d = 50.0;  // solid fraction: sample points per mean diameter
   double column_width_d = 1.0;   // free surface: column width in mean diameters
-  std::string left = "left", right = "right", floor = "floor";  // the cell's walls (required)
-  std::string intruder = "intruder";                             // optional in the run file
   bool operator==(const BedConfig&) const = default;
 };
 

@@ -24,26 +24,27 @@ double ratio(double sum, std::int64_t count) { return count > 0 ? sum / static_c
 
 }  // namespace
 
-Cell find_cell(const Snapshot& s, const BedConfig& cfg) {
-  const auto body = [&](const std::string& name, const char* role) -> const Body& {
-    const int b = s.find_body(name);
+Cell find_cell(const Snapshot& s) {
+  const auto body = [&](const char* role) -> const Body& {
+    const int b = s.find_role(role);
     if (b >= 0) return s.bodies[static_cast<std::size_t>(b)];
     std::string names;
-    for (const Body& other : s.bodies) names += (names.empty() ? "" : ", ") + other.name;
-    throw BedError("no body named '" + name + "' (" + role + "); the bodies are: " +
-                   (names.empty() ? "none" : names));
+    for (const Body& other : s.bodies)
+      names += (names.empty() ? "" : ", ") + other.name + (other.role.empty() ? "" : " (" + other.role + ")");
+    throw BedError(std::string("no body has the role '") + role + "' (the bodies: " + (names.empty() ? "none" : names) +
+                   "); the scene declares it: [[body]] role = \"" + role + "\"");
   };
-  const Body& l = body(cfg.left, "the cell's left wall");
-  const Body& r = body(cfg.right, "the cell's right wall");
-  const Body& f = body(cfg.floor, "the cell's floor");
+  const Body& l = body("left_wall");
+  const Body& r = body("right_wall");
+  const Body& f = body("floor");
   Cell c;
   c.left = l.xmax();
   c.right = r.xmin();
   c.floor = f.ymax();
   if (c.right <= c.left)
-    throw BedError("the walls' inner faces x = " + mm(c.left) + " ('" + cfg.left + "') and " + mm(c.right) + " ('" +
-                   cfg.right + "') enclose no cell");
-  if (const int b = s.find_body(cfg.intruder); b >= 0) {
+    throw BedError("the walls' inner faces x = " + mm(c.left) + " ('" + l.name + "') and " + mm(c.right) + " ('" +
+                   r.name + "') enclose no cell");
+  if (const int b = s.find_role("intruder"); b >= 0) {
     const Body& in = s.bodies[static_cast<std::size_t>(b)];
     c.intruder = Rounded{in.core(), in.radius()};
   }
@@ -235,7 +236,7 @@ double kinetic_energy(const Snapshot& s) {
 
 nlohmann::ordered_json fill_metrics(const Snapshot& s, const BedConfig& cfg) {
   using json = nlohmann::ordered_json;
-  const Cell cell = find_cell(s, cfg);
+  const Cell cell = find_cell(s);
   const double d = mean_active_diameter(s);
   const Surface surface = bed_surface(s, cell, cfg.column_width_d * d);
   const Region bulk = bulk_region(cell, surface.height, cfg.margin_d * d);
@@ -282,9 +283,7 @@ nlohmann::ordered_json fill_metrics(const Snapshot& s, const BedConfig& cfg) {
   f["snapshot"] = {{"index", s.index}, {"time_s", s.time}, {"step", s.step}};
   f["config"] = {{"margin_d", cfg.margin_d},
                  {"sampling_per_d", cfg.sampling_per_d},
-                 {"column_width_d", cfg.column_width_d},
-                 {"bodies",
-                  {{"left", cfg.left}, {"right", cfg.right}, {"floor", cfg.floor}, {"intruder", cfg.intruder}}}};
+                 {"column_width_d", cfg.column_width_d}};
   return f;
 }
 

@@ -38,13 +38,14 @@ struct Region {
   bool contains(double x, double y) const { return box.contains(x, y) && !(hole && hole->contains(x, y)); }
 };
 
-// The cell's inner faces (the sides facing the grains) and the intruder.
+// The cell's inner faces (the sides facing the grains) and the intruder: the
+// bodies with the roles left_wall, right_wall, floor and intruder (optional).
 struct Cell {
   double left = 0.0, right = 0.0, floor = 0.0;  // x, x, y (m)
   std::optional<Rounded> intruder;              // its outline
 };
 // Throws BedError if a wall is missing or the faces enclose nothing.
-Cell find_cell(const Snapshot& s, const BedConfig& cfg);
+Cell find_cell(const Snapshot& s);
 
 // Mean diameter of the active grains (m); BedError if there are none.
 double mean_active_diameter(const Snapshot& s);

@@ -35,9 +35,9 @@ std::size_t with(std::vector<double>& values, double v) {
   return values.size() - 1;
 }
 
-const Body& intruder_body(const Snapshot& s, const Study& study, const std::string& path) {
-  const int b = s.find_body(study.intruder);
-  if (b < 0) throw CgError(path + ": no body named '" + study.intruder + "' (the intruder)");
+const Body& intruder_body(const Snapshot& s, const std::string& path) {
+  const int b = s.find_role("intruder");
+  if (b < 0) throw CgError(path + ": no body has the role 'intruder'");
   return s.bodies[static_cast<std::size_t>(b)];
 }
 
@@ -97,24 +97,20 @@ Setup make_setup(const RunReader& run, const Snapshot& s0, const CgInput& in) {
   const CgConfig& c = in.config;
   const std::string& path = run.path();
   Setup su;
-  BedConfig names;
-  names.left = in.study.left, names.right = in.study.right, names.floor = in.study.floor;
-  names.intruder = in.study.intruder;
   try {
-    su.cell = find_cell(s0, names);
+    su.cell = find_cell(s0);
     su.d = mean_active_diameter(s0);
     su.grain_density = s0.mass.empty() ? 0.0 : s0.mass[0] / (std::numbers::pi * s0.diameter[0] * s0.diameter[0] / 4.0);
   } catch (const BedError& e) {
     throw CgError(path + ": " + e.what());
   }
-  su.start = intruder_of(intruder_body(s0, in.study, path));
+  su.start = intruder_of(intruder_body(s0, path));
   {
-    const std::vector<std::string> bn = h5::read_strings(run.file(), "bodies/name");
     const std::vector<double> bv = h5::read<double>(run.file(), "bodies/velocity");
-    const auto b = static_cast<std::size_t>(std::find(bn.begin(), bn.end(), in.study.intruder) - bn.begin());
+    const std::size_t b = run.body_with_role("intruder");
     su.frame_vx = bv.at(2 * b), su.frame_vy = bv.at(2 * b + 1);
     su.v_ref = std::hypot(su.frame_vx, su.frame_vy);
-    if (!(su.v_ref > 0.0)) throw CgError(path + ": the intruder '" + in.study.intruder + "' does not move (/bodies/velocity = 0): no v* = |V|/V_intruder");
+    if (!(su.v_ref > 0.0)) throw CgError(path + ": the intruder '" + run.body_names()[b] + "' does not move (/bodies/velocity = 0): no v* = |V|/V_intruder");
   }
   // the kernel and the grid: the settings applied to this run's grains and cell
   const double dx = c.spacing_mm / kMm;
@@ -217,7 +213,7 @@ Measured measure_all(const RunReader& run, const Setup& su, const CgInput& in, b
       const bool full = std::binary_search(fields_at.begin(), fields_at.end(), k);
       try {
         out.ms[k] = measure_snapshot(su, c, avg[q], avg_piv[q] != 0, snaps[q],
-                                 intruder_of(intruder_body(snaps[q], in.study, path)), full, primary);
+                                 intruder_of(intruder_body(snaps[q], path)), full, primary);
       } catch (const std::exception& e) {
         errors[q] = e.what();
       }
@@ -290,7 +286,7 @@ CgResult compute_cg(const CgInput& in) {
   const std::size_t primary = c.velocity == "piv" && has_piv ? kPiv : kInst;
   std::vector<double> heights(S);
   {
-    const std::vector<Body> track = run.body_rows("snapshots", run.body_index(in.study.intruder));
+    const std::vector<Body> track = run.body_rows("snapshots", run.body_with_role("intruder"));
     for (std::size_t k = 0; k < S; ++k) heights[k] = track[k].centre().y - su.cell.floor;
   }
   const bool have_events = !in.events_path.empty();

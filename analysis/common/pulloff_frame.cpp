@@ -52,27 +52,25 @@ void intruder_axis(const Body& in, PulloffGeometry& g) {
 }
 }  // namespace
 
-PulloffGeometry pulloff_geometry(const Snapshot& s, const Study& study) {
+PulloffGeometry pulloff_geometry(const Snapshot& s) {
   // The walls' inner faces as bed_metrics finds them.
-  BedConfig names;
-  names.left = study.left, names.right = study.right, names.floor = study.floor, names.intruder = study.intruder;
   Cell cell;
   try {
-    cell = find_cell(s, names);
+    cell = find_cell(s);
   } catch (const BedError& e) {
-    throw StageError(std::string(e.what()) + " (names: data/study.toml [bodies])");
+    throw StageError(e.what());
   }
   if (!cell.intruder) {
     std::string bodies;
     for (const Body& b : s.bodies) bodies += (bodies.empty() ? "" : ", ") + b.name;
-    throw StageError("no body named '" + study.intruder + "' (the intruder, data/study.toml [bodies]); the bodies are: " +
-                     (bodies.empty() ? "none" : bodies));
+    throw StageError("no body has the role 'intruder' (the bodies: " + (bodies.empty() ? "none" : bodies) +
+                     "); the scene declares it: [[body]] role = \"intruder\"");
   }
   PulloffGeometry g;
-  g.left = s.find_body(study.left);
-  g.right = s.find_body(study.right);
-  g.floor = s.find_body(study.floor);
-  g.intruder = s.find_body(study.intruder);
+  g.left = s.find_role("left_wall");
+  g.right = s.find_role("right_wall");
+  g.floor = s.find_role("floor");
+  g.intruder = s.find_role("intruder");
   g.x_left = cell.left;
   g.x_right = cell.right;
   g.y_floor = cell.floor;

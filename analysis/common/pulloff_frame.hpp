@@ -1,5 +1,5 @@
 // What the `network` and `friction` stages share about one pull-off snapshot:
-// the cell and the intruder (body names from data/study.toml), the intruder's
+// the cell and the intruder (found by their roles in the run file), the intruder's
 // height, each contact's partner class and contact point, and binning by
 // intruder height. Definitions: analysis/network/README.md ("Shared").
 // SI units (m, N/m) throughout.
@@ -21,7 +21,7 @@ struct StageError : std::runtime_error {
 };
 
 // What a contact's partner is. Grain-grain contacts are `grain`; a contact
-// with a body the study does not name (none in the study's scenes) is `other`.
+// with a body of another role (none in the study's pull-off) is `other`.
 enum class Partner : std::uint8_t { grain = 0, left = 1, right = 2, floor = 3, intruder = 4, other = 5 };
 const char* partner_name(Partner p);
 
@@ -46,7 +46,7 @@ struct PulloffGeometry {
 };
 
 // Throws StageError naming a missing body and listing the snapshot's bodies.
-PulloffGeometry pulloff_geometry(const Snapshot& s, const Study& study);
+PulloffGeometry pulloff_geometry(const Snapshot& s);
 
 // One class per contact of s.contacts.
 std::vector<Partner> classify_contacts(const Snapshot& s, const PulloffGeometry& g);

@@ -36,7 +36,7 @@ Study load_study(const std::string& path) {
   } catch (const toml::parse_error& e) {
     throw std::runtime_error(path + ": " + std::string(e.description()));
   }
-  only(root, {"experiment", "bodies"}, "", path);
+  only(root, {"experiment"}, "", path);
   Study s;
   if (const auto* e = root["experiment"].as_table()) {
     only(*e, {"intruder_depth", "cell_width", "intruder_length", "pull_speed", "mean_diameter"}, "experiment", path);
@@ -45,13 +45,6 @@ Study load_study(const std::string& path) {
     s.intruder_length = positive(*e, "intruder_length", s.intruder_length, path);
     s.pull_speed = positive(*e, "pull_speed", s.pull_speed, path);
     s.mean_diameter = positive(*e, "mean_diameter", s.mean_diameter, path);
-  }
-  if (const auto* b = root["bodies"].as_table()) {
-    only(*b, {"intruder", "floor", "left", "right"}, "bodies", path);
-    s.intruder = b->get("intruder") ? b->get("intruder")->value_or(s.intruder) : s.intruder;
-    s.floor = b->get("floor") ? b->get("floor")->value_or(s.floor) : s.floor;
-    s.left = b->get("left") ? b->get("left")->value_or(s.left) : s.left;
-    s.right = b->get("right") ? b->get("right")->value_or(s.right) : s.right;
   }
   return s;
 }

@@ -1,5 +1,6 @@
 // The study's constants (data/study.toml): what the analysis stages need to
-// compare with the experiment (W, V, L_c, L, d) and the names of the bodies.
+// compare with the experiment (W, V, L_c, L, d). The stages find the bodies by
+// their roles in the run file (core/body_roles.hpp).
 #pragma once
 
 #include <string>
@@ -12,7 +13,6 @@ struct Study {
   double intruder_length = 0.010;  // m, L
   double pull_speed = 0.0012;      // m/s, V
   double mean_diameter = 0.003;    // m, d
-  std::string intruder = "intruder", floor = "floor", left = "left", right = "right";
 };
 
 // Reads the file (default: DEM2D_DATA_DIR/study.toml). Unknown keys and bad

@@ -148,7 +148,7 @@ FrictionResult run_friction(const std::string& run_path, const std::string& conf
   for (std::size_t k = 0; k < S; ++k) {
     const Snapshot s = run.snapshot(k);
     try {
-      const PulloffGeometry geo = pulloff_geometry(s, study);
+      const PulloffGeometry geo = pulloff_geometry(s);
       if (k == 0) {
         bed0 = bed_height(s, geo);
         hc = cfg.critical_height_mm ? *cfg.critical_height_mm / kMm

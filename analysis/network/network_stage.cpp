@@ -273,7 +273,7 @@ NetworkResult run_network(const NetworkInputs& in, const NetworkConfig& cfg, con
   for (std::size_t k = 0; k < S; ++k) {
     const Snapshot s = run.snapshot(k);
     try {
-      const PulloffGeometry geo = pulloff_geometry(s, study);
+      const PulloffGeometry geo = pulloff_geometry(s);
       if (k == 0) {
         measured_d = mean_diameter(s);
         bed0 = bed_height(s, geo);

@@ -28,10 +28,10 @@ Snapshot cell(const std::vector<Vec2>& grains) {
   s.active.assign(grains.size(), 1);
   s.diameter.assign(grains.size(), 0.003);
   s.mass.assign(grains.size(), 1e-5);
-  s.bodies = {Body::segment("left", -0.001, -0.001, -0.001, 0.1, 0.002),
-              Body::segment("right", 0.031, -0.001, 0.031, 0.1, 0.002),
-              Body::segment("floor", -0.001, -0.001, 0.031, -0.001, 0.002),
-              Body::segment("intruder", 0.011, 0.010, 0.019, 0.010, 0.002)};
+  s.bodies = {Body::segment("left", -0.001, -0.001, -0.001, 0.1, 0.002, "left_wall"),
+              Body::segment("right", 0.031, -0.001, 0.031, 0.1, 0.002, "right_wall"),
+              Body::segment("floor", -0.001, -0.001, 0.031, -0.001, 0.002, "floor"),
+              Body::segment("intruder", 0.011, 0.010, 0.019, 0.010, 0.002, "intruder")};
   return s;
 }
 
@@ -45,7 +45,7 @@ struct Built {
 };
 Built build(Snapshot s) {
   Built b{std::move(s), {}, {}, {}};
-  b.geo = pulloff_geometry(b.s, Study{});
+  b.geo = pulloff_geometry(b.s);
   b.partners = classify_contacts(b.s, b.geo);
   b.g = build_contact_graph(b.s, b.partners);
   return b;

@@ -6,15 +6,15 @@
 
 namespace dem2d::analysis {
 
-DragProfile read_drag_profile(const RunReader& run, const Study& study) {
+DragProfile read_drag_profile(const RunReader& run) {
   const h5::File& f = run.file();
-  const std::size_t b = run.body_index(study.intruder);
+  const std::size_t b = run.body_with_role("intruder");
   const std::size_t nb = run.bodies();
   DragProfile p;
   p.time = h5::read<double>(f, "series/time");
   if (p.time.empty()) throw std::runtime_error(run.path() + ": the run has no time series (output.series_interval = 0?)");
   const auto force = h5::read<double>(f, "series/body_force_mean");  // [T, B, 2]
-  const std::vector<Body> intruder = run.body_rows("series", b), floor = run.body_rows("series", run.body_index(study.floor));
+  const std::vector<Body> intruder = run.body_rows("series", b), floor = run.body_rows("series", run.body_with_role("floor"));
   for (std::size_t k = 0; k < p.time.size(); ++k) {
     p.height.push_back(intruder[k].centre().y - floor[k].ymax());
     p.drag.push_back(-force[(k * nb + b) * 2 + 1]);
@@ -22,9 +22,9 @@ DragProfile read_drag_profile(const RunReader& run, const Study& study) {
   return p;
 }
 
-double static_load(const RunReader& bed, const Study& study) {
+double static_load(const RunReader& bed) {
   const h5::File& f = bed.file();
-  const std::size_t b = bed.body_index(study.intruder);
+  const std::size_t b = bed.body_with_role("intruder");
   const std::size_t nb = bed.bodies();
   const auto force = h5::read<double>(f, "series/body_force_mean");  // [T, B, 2]
   if (force.size() < nb * 2 || nb == 0)
@@ -56,7 +56,7 @@ nlohmann::ordered_json pulloff_metrics(const RunReader& run, const DragProfile& 
             {"drag_max_N_per_m", *max_it},
             {"drag_max_N", *max_it * study.intruder_depth},
             {"height_at_drag_max_mm", 1e3 * p.height[k_max]},
-            {"drag_static_N_per_m", bed ? nlohmann::ordered_json(static_load(*bed, study)) : nullptr},
+            {"drag_static_N_per_m", bed ? nlohmann::ordered_json(static_load(*bed)) : nullptr},
             {"drag_static_from", bed ? bed->path() : ""},
             {"drag_start_N_per_m", p.drag.front()},  // the first row: the intruder already moving
             {"drag_final_N_per_m", p.drag.back()},

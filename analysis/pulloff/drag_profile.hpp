@@ -22,14 +22,14 @@ struct DragProfile {
 };
 
 // Throws std::runtime_error naming the file if the run has no series or lacks the bodies.
-DragProfile read_drag_profile(const RunReader& run, const Study& study);
+DragProfile read_drag_profile(const RunReader& run);
 
 // The bed's load on the intruder at rest, before the pull (N/m): -F_y of the
 // intruder in the last series row of the run the pull-off started from (the
 // fill, which ends at rest), as a mean over that row's interval. The pull-off's
 // own first row is not it: the intruder moves from t = 0 and the dashpots
 // add c V (+1 % on the study's bed).
-double static_load(const RunReader& bed, const Study& study);
+double static_load(const RunReader& bed);
 
 // Summary of the pull-off (pulloff.* metrics, lengths in mm, forces in N/m
 // and, x W, in N) and the run's cost. `bed`: the run the pull-off started

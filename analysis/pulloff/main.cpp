@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
   try {
     const Study study = load_study(study_path);
     const dem2d::RunReader run(run_path);
-    const DragProfile profile = read_drag_profile(run, study);
+    const DragProfile profile = read_drag_profile(run);
     if (bed_path.empty()) {
       metrics = pulloff_metrics(run, profile, study);
     } else {

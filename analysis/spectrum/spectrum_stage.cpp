@@ -19,13 +19,6 @@ namespace {
 
 [[noreturn]] void fail(const std::string& path, const std::string& what) { throw SpectrumError(path + ": " + what); }
 
-std::size_t body_index(const RunReader& run, const std::string& name) {
-  const auto names = h5::read_strings(run.file(), "bodies/name");
-  const auto it = std::find(names.begin(), names.end(), name);
-  if (it == names.end()) fail(run.path(), "the run has no body named '" + name + "'");
-  return static_cast<std::size_t>(it - names.begin());
-}
-
 // Height at which the intruder left the bed by the run's own stop criterion
 // ([stop] body_free: no grain touching it connects to the walls, for
 // free_time seconds): the height at end_time - free_time. NaN if the run
@@ -167,11 +160,11 @@ void write_h5(const std::string& path, const SpectrumStage& st) {
 
 SpectrumStage compute_spectrum_stage(const SpectrumInputs& in, const SpectrumConfig& config, const Study& study) {
   const RunReader run(in.run);
-  const DragProfile profile = read_drag_profile(run, study);
+  const DragProfile profile = read_drag_profile(run);
   const auto diameter = h5::read<double>(run.file(), "particles/diameter");
   if (diameter.empty()) fail(in.run, "the run has no particles");
   const auto velocity = h5::read<double>(run.file(), "bodies/velocity");  // [B, 2]
-  const double body_speed = velocity.at(2 * body_index(run, study.intruder) + 1);
+  const double body_speed = velocity.at(2 * run.body_with_role("intruder") + 1);
 
   SpectrumStage st;
   st.intruder_depth = study.intruder_depth;

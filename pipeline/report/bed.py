@@ -5,7 +5,7 @@ import numpy as np
 from matplotlib.collections import EllipseCollection, LineCollection
 from matplotlib.patches import Polygon
 
-from common import MM, InputError, study
+from common import MM, InputError
 
 
 class Run:
@@ -15,11 +15,13 @@ class Run:
         self.h5 = inp.h5("pulloff", "run.h5")
         self.path = self.h5.path
         names = [str(n) for n in self.h5.dset("bodies/name").asstr()[...]]
-        want = study()["bodies"]
+        roles = body_roles(self.h5, names)
+        want = {"left": "left_wall", "right": "right_wall", "floor": "floor", "intruder": "intruder"}
         try:
-            self.body = {role: names.index(want[role]) for role in ("left", "right", "floor", "intruder")}
+            self.body = {key: roles.index(role) for key, role in want.items()}
         except ValueError as e:
-            raise InputError(f"{self.path}: bodies {names} lack one of {dict(want)} (data/study.toml)") from e
+            raise InputError(f"{self.path}: no body has one of the roles {list(want.values())} "
+                             f"(bodies {names}, roles {roles}); the scene declares them: [[body]] role") from e
         self.thickness = self.h5.read("bodies/thickness")
         self.diameter = self.h5.read("particles/diameter")
         self.time = self.h5.read("snapshots/time")
@@ -83,6 +85,18 @@ class Run:
             xy[:, 1] -= self.floor_y * MM
             out.append((role, xy))
         return out
+
+
+# Run files written before roles (no /bodies/role): the study's scenes named
+# the bodies after their roles (sim/core/body_roles.hpp, legacy_body_role).
+LEGACY_ROLES = {"intruder": "intruder", "floor": "floor", "left": "left_wall", "right": "right_wall"}
+
+
+def body_roles(h5, names):
+    """Each body's role ("" none)."""
+    if h5.has("bodies/role"):
+        return [str(r) for r in h5.dset("bodies/role").asstr()[...]]
+    return [LEGACY_ROLES.get(n, "") for n in names]
 
 
 def body_vertices(h5):

@@ -11,6 +11,7 @@ void Particles::resize(std::size_t n) {
 
 void Bodies::resize(std::size_t n) {
   name.resize(n);
+  role.resize(n);
   kind.resize(n);
   shape.resize(n);
   line.resize(n);

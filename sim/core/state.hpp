@@ -52,6 +52,7 @@ struct Particles {
 // (a segment's middle).
 struct Bodies {
   std::vector<std::string> name;
+  std::vector<std::string> role;       // core/body_roles.hpp ("" none)
   std::vector<std::string> kind;       // the scene's shape kind (shape/shape_kinds.hpp)
   std::vector<Shape> shape;            // core outline at the current step
   std::vector<Segment> line;           // shape[b].edge[0], contiguous: the vectorised sphero-line

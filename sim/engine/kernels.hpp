@@ -38,7 +38,7 @@ using std::size_t;
 // This thread's grains [first, second).
 inline std::pair<size_t, size_t> my_grains(const System& s) {
   const auto t = static_cast<size_t>(omp_get_thread_num());
-  return {s.part[t], s.part[t + 1]};
+  return {s.work.part[t], s.work.part[t + 1]};
 }
 
 // This thread's slots [first, last) of a list whose row i is [start[i], start[i+1]).
@@ -108,7 +108,7 @@ inline void integrate(System& s) {
   }
   if constexpr (Open) {
     const auto t = static_cast<size_t>(omp_get_thread_num());
-    s.drift[t] = {std::bit_cast<double>(v2max_bits), escaped != 0};
+    s.work.drift[t] = {std::bit_cast<double>(v2max_bits), escaped != 0};
   }
 }
 
@@ -254,7 +254,7 @@ inline void body_forces(System& s, const ContactModel<E> model) {
 }
 
 // Asks, with write intent, for the lines of this thread's grains that lower
-// threads' pair rows read this step (System::shared_end). Called after the
+// threads' pair rows read this step (System::StepWork::shared_end). Called after the
 // barrier that ends the pair loops, before the sums: the other cores give the
 // lines up while the sums run, and the integration that follows writes lines
 // it already owns (measured: thread 1's integration 5.8-6.6k -> 4.5k cycles
@@ -263,7 +263,7 @@ inline void claim_shared_grains(System& s) {
   const auto t = static_cast<size_t>(omp_get_thread_num());
   Particles& p = s.p;
   for (double* a : {p.x.data(), p.y.data(), p.vx.data(), p.vy.data(), p.omega.data()})
-    for (size_t i = s.part[t]; i < s.shared_end[t]; i += System::kGrainsPerLine) __builtin_prefetch(a + i, 1, 3);
+    for (size_t i = s.work.part[t]; i < s.work.shared_end[t]; i += System::kGrainsPerLine) __builtin_prefetch(a + i, 1, 3);
 }
 
 // Per-grain resultant force and torque, summed in a fixed order (own row by
@@ -315,8 +315,8 @@ inline void body_sums(System& s) {
   std::fill(B.fy.begin(), B.fy.end(), 0.0);
   std::fill(B.torque.begin(), B.torque.end(), 0.0);
   for (size_t b = 0; b < B.size(); ++b) {
-    s.body_centre_x[b] = B.centre_x(b);
-    s.body_centre_y[b] = B.centre_y(b);
+    s.work.body_centre_x[b] = B.centre_x(b);
+    s.work.body_centre_y[b] = B.centre_y(b);
   }
   for (size_t sl = 0; sl < W.slots(); ++sl) {
     const auto b = static_cast<size_t>(W.body[sl]);
@@ -324,7 +324,7 @@ inline void body_sums(System& s) {
     B.fy[b] -= W.fy[sl];
     // lever arm from the body's middle to the contact point, force -F,
     // plus the reaction of the rolling moment
-    const double lx = W.cx[sl] - s.body_centre_x[b], ly = W.cy[sl] - s.body_centre_y[b];
+    const double lx = W.cx[sl] - s.work.body_centre_x[b], ly = W.cy[sl] - s.work.body_centre_y[b];
     B.torque[b] -= lx * W.fy[sl] - ly * W.fx[sl];
     B.torque[b] -= W.mr[sl];
   }
@@ -379,7 +379,7 @@ void advance(System& s, std::int64_t steps) {
       if (ledger) energy::open_step(s);
       double v2max = 0.0;
       bool escaped = false;
-      for (const System::DriftReport& r : s.drift) {
+      for (const auto& r : s.work.drift) {
         v2max = std::max(v2max, r.v2max);
         escaped |= r.escaped;
       }

@@ -27,7 +27,7 @@ System::System(const Scene& scene)
   if (threads > omp_get_thread_limit())  // the kernels need every thread they split the work for
     throw std::invalid_argument("threads = " + std::to_string(threads) + " exceeds OpenMP's thread limit " +
                                 std::to_string(omp_get_thread_limit()) + " (OMP_THREAD_LIMIT)");
-  drift.assign(static_cast<std::size_t>(threads), DriftReport{});
+  work.drift.assign(static_cast<std::size_t>(threads), StepWork::DriftReport{});
 
   const std::size_t n = scene.particles.size();
   p.resize(n);
@@ -59,6 +59,7 @@ System::System(const Scene& scene)
   for (std::size_t b = 0; b < nb; ++b) {
     const BodySpec& q = scene.bodies[b];
     bodies.name[b] = q.name;
+    bodies.role[b] = q.role;
     bodies.kind[b] = q.shape;
     bodies.set_shape(b, make_shape(q.vertices));
     polygon_bodies = polygon_bodies || bodies.shape[b].n > 2;
@@ -80,8 +81,8 @@ System::System(const Scene& scene)
   body_fx_sum.assign(nb, 0.0);
   body_fy_sum.assign(nb, 0.0);
   body_torque_sum.assign(nb, 0.0);
-  body_centre_x.assign(nb, 0.0);
-  body_centre_y.assign(nb, 0.0);
+  work.body_centre_x.assign(nb, 0.0);
+  work.body_centre_y.assign(nb, 0.0);
 
   double range = 0.0;  // how far beyond touching contacts act
   if (has(effects, effect::cohesion))
@@ -236,8 +237,8 @@ void System::split_work() {
   double total = 0.0;
   for (std::size_t i = 0; i < n; ++i) total += cost(i);
   const auto nt = static_cast<std::size_t>(threads);
-  part.assign(nt + 1, n);
-  part[0] = 0;
+  work.part.assign(nt + 1, n);
+  work.part[0] = 0;
   double acc = 0.0;
   std::size_t t = 1;
   for (std::size_t i = 0; i < n && t < nt; ++i) {
@@ -245,16 +246,16 @@ void System::split_work() {
     // boundaries on whole cache lines of the per-grain arrays, so that no line
     // is written by two threads (measured: 5 % at 1600 grains, 2 threads)
     while (t < nt && acc >= total * static_cast<double>(t) / static_cast<double>(nt))
-      part[t++] = std::min(n, (i + 1 + kGrainsPerLine - 1) / kGrainsPerLine * kGrainsPerLine);
+      work.part[t++] = std::min(n, (i + 1 + kGrainsPerLine - 1) / kGrainsPerLine * kGrainsPerLine);
   }
-  shared_end.assign(part.begin(), part.end() - 1);
+  work.shared_end.assign(work.part.begin(), work.part.end() - 1);
   for (std::size_t t_i = 0; t_i + 1 < nt; ++t_i) {
-    const auto first = static_cast<std::size_t>(L.start[part[t_i]]), last = static_cast<std::size_t>(L.start[part[t_i + 1]]);
+    const auto first = static_cast<std::size_t>(L.start[work.part[t_i]]), last = static_cast<std::size_t>(L.start[work.part[t_i + 1]]);
     for (std::size_t sl = first; sl < last; ++sl) {
       const auto j = static_cast<std::size_t>(L.partner[sl]);
-      if (j < part[t_i + 1]) continue;
-      const auto t_j = static_cast<std::size_t>(std::upper_bound(part.begin(), part.end(), j) - part.begin()) - 1;
-      shared_end[t_j] = std::max(shared_end[t_j], j + 1);
+      if (j < work.part[t_i + 1]) continue;
+      const auto t_j = static_cast<std::size_t>(std::upper_bound(work.part.begin(), work.part.end(), j) - work.part.begin()) - 1;
+      work.shared_end[t_j] = std::max(work.shared_end[t_j], j + 1);
     }
   }
 }

@@ -59,26 +59,31 @@ struct System {
   // Sums of the body force and torque over steps, for interval means.
   std::vector<double> body_fx_sum, body_fy_sum, body_torque_sum;
   std::int64_t body_sum_steps = 0;
-  std::vector<double> body_centre_x, body_centre_y;  // scratch of body_sums (m)
-
-  // What each thread's last drift found, one cache line per thread (written
-  // by its thread every step, read by all after the next barrier).
-  struct alignas(kCacheLine) DriftReport {
-    double v2max = 0.0;    // largest speed^2 (m^2/s^2)
-    bool escaped = false;  // a grain left the domain or became non-finite
-  };
-  std::vector<DriftReport> drift;
-  // Thread t integrates and sums the grains [part[t], part[t+1]) and evaluates
-  // their rows of the pair and wall lists; set at each rebuild so that the
-  // threads' shares of work are even (threads + 1 entries). The results do
-  // not depend on it. Inner boundaries are multiples of kGrainsPerLine.
-  std::vector<std::size_t> part;
+  // What one step uses and no checkpoint keeps: the threads' shares of the
+  // work and their scratch. Everything else in the System is the world: the
+  // state a checkpoint saves, and what is derived from it (the lists).
+  struct StepWork {
+    // What each thread's last drift found, one cache line per thread (written
+    // by its thread every step, read by all after the next barrier).
+    struct alignas(kCacheLine) DriftReport {
+      double v2max = 0.0;    // largest speed^2 (m^2/s^2)
+      bool escaped = false;  // a grain left the domain or became non-finite
+    };
+    std::vector<DriftReport> drift;
+    // Thread t integrates and sums the grains [part[t], part[t+1]) and
+    // evaluates their rows of the pair and wall lists; set at each rebuild so
+    // that the threads' shares of work are even (threads + 1 entries). The
+    // results do not depend on it. Inner boundaries are multiples of
+    // kGrainsPerLine.
+    std::vector<std::size_t> part;
+    // Thread t's grains [part[t], shared_end[t]) are the ones whose kinematics
+    // the pair rows of lower threads read (the half list has j > i): their
+    // cache lines sit in another core when thread t integrates them. Set with
+    // `part`.
+    std::vector<std::size_t> shared_end;
+    std::vector<double> body_centre_x, body_centre_y;  // of body_sums (m)
+  } work;
   static constexpr std::size_t kGrainsPerLine = kCacheLine / sizeof(double);
-  // Thread t's grains [part[t], shared_end[t]) are the ones whose kinematics
-  // the pair rows of lower threads read (the half list has j > i): their
-  // cache lines sit in another core when thread t integrates them. Set with
-  // `part`.
-  std::vector<std::size_t> shared_end;
 
   std::vector<LostParticle> lost;
   std::string failure;  // set by a kernel when the state became non-finite
@@ -118,7 +123,7 @@ struct System {
   void reset_body_sums();
 
  private:
-  void split_work();  // sets `part`
+  void split_work();  // sets work.part and work.shared_end
   AdvanceFn advance_ = nullptr;
   ForceFn initial_forces_ = nullptr;
 };

@@ -92,6 +92,7 @@ void write_header(const h5::File& f, const System& sys, const RunInfo& info, con
   std::vector<std::int32_t> vertices;
   for (const Shape& s : B.shape) vertices.push_back(s.n);
   h5::write_strings(f, "bodies/name", B.name);
+  h5::write_strings(f, "bodies/role", B.role);
   h5::write_strings(f, "bodies/shape", B.kind);
   h5::write(f, "bodies/vertex_count", vertices);
   h5::write(f, "bodies/thickness", thickness);

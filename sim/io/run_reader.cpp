@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/body_roles.hpp"
 #include "io/run_file.hpp"
 
 namespace dem2d {
@@ -57,9 +58,9 @@ Shape Body::core() const {
   return make_shape(v);
 }
 
-int Snapshot::find_body(std::string_view name) const {
+int Snapshot::find_role(std::string_view role) const {
   for (std::size_t b = 0; b < bodies.size(); ++b)
-    if (bodies[b].name == name) return static_cast<int>(b);
+    if (bodies[b].role == role) return static_cast<int>(b);
   return -1;
 }
 
@@ -125,6 +126,13 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
   mass_ = h5::read<double>(file_, "particles/mass");
   body_names_ = h5::read_strings(file_, "bodies/name");
   thickness_ = h5::read<double>(file_, "bodies/thickness");
+  if (h5::exists(file_, "bodies/role")) {
+    body_roles_ = h5::read_strings(file_, "bodies/role");
+    if (body_roles_.size() != body_names_.size())
+      fail("/bodies/role must have one entry per body (" + std::to_string(body_names_.size()) + ")");
+  } else {
+    for (const std::string& name : body_names_) body_roles_.push_back(legacy_body_role(name));
+  }
   if (legacy_bodies_) {
     body_shapes_.assign(body_names_.size(), "segment");
     vertex_count_.assign(body_names_.size(), 2);
@@ -173,18 +181,20 @@ Body RunReader::body_of(const std::vector<double>& flat, std::size_t row, std::s
   body.name = body_names_[b];
   body.shape = body_shapes_[b];
   body.thickness = thickness_[b];
+  body.role = body_roles_[b];
   const double* v = &flat[((row * bodies() + b) * max_vertices_) * 2];
   for (std::int32_t q = 0; q < vertex_count_[b]; ++q) body.vertices.push_back({v[2 * q], v[2 * q + 1]});
   return body;
 }
 
-std::size_t RunReader::body_index(const std::string& name) const {
+std::size_t RunReader::body_with_role(std::string_view role) const {
   std::string names;
   for (std::size_t b = 0; b < bodies(); ++b) {
-    if (body_names_[b] == name) return b;
-    names += (names.empty() ? "" : ", ") + body_names_[b];
+    if (body_roles_[b] == role) return b;
+    names += (names.empty() ? "" : ", ") + body_names_[b] + (body_roles_[b].empty() ? "" : " (" + body_roles_[b] + ")");
   }
-  fail("no body named '" + name + "' (the run's bodies: " + (names.empty() ? "none" : names) + ")");
+  fail("no body has the role '" + std::string(role) + "' (the run's bodies: " + (names.empty() ? "none" : names) +
+       "); the scene declares it: [[body]] role = \"" + std::string(role) + "\"");
 }
 
 std::vector<Body> RunReader::body_rows(const std::string& group, std::size_t b) const {

@@ -30,10 +30,12 @@ struct Body {
   std::string shape = "segment";  // the scene's shape kind
   std::vector<Vec2> vertices;     // core outline (m); counter-clockwise if 3 or more
   double thickness = 0.0;         // rounding diameter (m)
+  std::string role;               // core/body_roles.hpp ("" none)
 
   // A sphero-line C1C2 (for bodies built in code, e.g. in tests).
-  static Body segment(std::string name, double ax, double ay, double bx, double by, double thickness) {
-    return {std::move(name), "segment", {{ax, ay}, {bx, by}}, thickness};
+  static Body segment(std::string name, double ax, double ay, double bx, double by, double thickness,
+                      std::string role = "") {
+    return {std::move(name), "segment", {{ax, ay}, {bx, by}}, thickness, std::move(role)};
   }
 
   double radius() const { return 0.5 * thickness; }
@@ -79,8 +81,8 @@ struct Snapshot {
 
   std::size_t size() const { return position.size(); }
   std::size_t active_count() const;
-  // Index of the body called `name`, or -1.
-  int find_body(std::string_view name) const;
+  // Index of the body with this role (core/body_roles.hpp), or -1.
+  int find_role(std::string_view role) const;
 };
 
 class RunReader {
@@ -111,8 +113,12 @@ class RunReader {
 
   std::size_t bodies() const { return body_names_.size(); }
   const std::vector<std::string>& body_names() const { return body_names_; }
-  // Index of the body called `name`; an error naming the run's bodies if none.
-  std::size_t body_index(const std::string& name) const;
+  // Roles (core/body_roles.hpp; "" none). Files written before roles: from
+  // the names the study's scenes gave them (legacy_body_role).
+  const std::vector<std::string>& body_roles() const { return body_roles_; }
+  // Index of the body with this role; an error naming the run's bodies and
+  // roles if none.
+  std::size_t body_with_role(std::string_view role) const;
   // Body b at every row of /series (group "series") or /snapshots ("snapshots").
   std::vector<Body> body_rows(const std::string& group, std::size_t b) const;
 
@@ -126,7 +132,7 @@ class RunReader {
   Body body_of(const std::vector<double>& flat, std::size_t row, std::size_t b) const;
 
   std::vector<double> diameter_, mass_, thickness_;
-  std::vector<std::string> body_names_, body_shapes_;
+  std::vector<std::string> body_names_, body_roles_, body_shapes_;
   std::vector<std::int32_t> vertex_count_;
   hsize_t max_vertices_ = 2;
   bool legacy_bodies_ = false;  // format dem2d-run-1: sphero-lines as /.../body_ends

@@ -24,6 +24,7 @@ struct ParticleInit {
 
 struct BodySpec {
   std::string name;
+  std::string role;                                // what it is for (core/body_roles.hpp); "" none
   std::string shape = "segment";                   // its scene kind (shape/shape_kinds.hpp)
   std::vector<Point> vertices;                     // core outline at t = 0 (m): a point, a segment's ends
                                                    // C1, C2, or a convex polygon counter-clockwise

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/body_roles.hpp"
 #include "scene/generators.hpp"
 #include "shape/shape_kinds.hpp"
 #include "scene/initial_state.hpp"
@@ -604,7 +605,7 @@ class SceneParser {
   }
 
   void read_bodies() {
-    std::vector<std::string_view> keys{"name", "shape", "thickness", "velocity", "motion", "motion_repeat", "remove_at"};
+    std::vector<std::string_view> keys{"name", "role", "shape", "thickness", "velocity", "motion", "motion_repeat", "remove_at"};
     std::vector<std::string_view> kinds;
     for (const ShapeKind& k : shape_kinds()) {
       kinds.push_back(k.name);
@@ -627,6 +628,13 @@ class SceneParser {
         if (s_.bodies[j].name == *name)
           b.fail("name", "duplicate name: body[" + std::to_string(j) + "] has it already");
       body.name = *name;
+      body.role = b.string("role").value_or("");
+      if (const BodyRole* role = find_body_role(body.role); !body.role.empty()) {
+        if (!role) b.fail("role", "unknown role (allowed: " + body_role_names() + ")");
+        for (std::size_t j = 0; j < k; ++j)
+          if (role->unique && s_.bodies[j].role == body.role)
+            b.fail("role", "body[" + std::to_string(j) + "] '" + s_.bodies[j].name + "' has this role already (one body at most)");
+      }
       body.shape = b.string("shape").value_or("segment");
       const ShapeKind* kind = find_shape_kind(body.shape);
       if (!kind) b.fail("shape", "unknown shape kind (allowed: " + join(kinds) + ")");
