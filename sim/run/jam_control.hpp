@@ -20,16 +20,6 @@ namespace dem2d {
 
 class JamController final : public Controller {
  public:
-  // What a checkpoint keeps.
-  struct State {
-    std::int64_t next_check = 0;     // step of the next count
-    std::int64_t last_flow = 0;      // last step at which grains left the hopper
-    std::int64_t last_count = -1;    // grains above the outlet at the last check
-    std::int64_t tap_reverse = -1;   // steps at which the tap in progress turns back / ends (-1: none)
-    std::int64_t tap_end = -1;
-    std::vector<double> jam_times;   // (s)
-  };
-
   JamController(const JamControl& spec, const System& sys);
 
   std::string name() const override { return "jam"; }
@@ -44,6 +34,15 @@ class JamController final : public Controller {
   const std::vector<double>& jam_times() const { return st_.jam_times; }
 
  private:
+  // What a checkpoint keeps (save, restore).
+  struct State {
+    std::int64_t next_check = 0;     // step of the next count
+    std::int64_t last_flow = 0;      // last step at which grains left the hopper
+    std::int64_t last_count = -1;    // grains above the outlet at the last check
+    std::int64_t tap_reverse = -1;   // steps at which the tap in progress turns back / ends (-1: none)
+    std::int64_t tap_end = -1;
+    std::vector<double> jam_times;   // (s)
+  };
   void move_walls(System& sys, double vx, double vy) const;
 
   JamControl spec_;
