@@ -1,6 +1,7 @@
-// Runs a scene to its end: steps the System, records the time series and
-// snapshots on the scene's schedule, tests the stop criterion, checkpoints,
-// and assembles the run file. Layout of the output directory:
+// Runs a scene to its end: steps the System between the steps at which its
+// controllers act (run/controller.hpp: body removals, jam taps, output on the
+// scene's schedule, stop criteria, the duration), checkpoints, and assembles
+// the run file. Layout of the output directory:
 //   DIR/run.h5, DIR/run.xdmf   written only when the run is complete
 //   DIR/.run.work/             segments and checkpoint while it runs
 //   DIR/run.log                how far it is: start, resume, a line a minute, checkpoints, end (appended)
