@@ -27,12 +27,8 @@ double ratio(double sum, std::int64_t count) { return count > 0 ? sum / static_c
 Cell find_cell(const Snapshot& s) {
   const auto body = [&](const char* role) -> const Body& {
     const int b = s.find_role(role);
-    if (b >= 0) return s.bodies[static_cast<std::size_t>(b)];
-    std::string names;
-    for (const Body& other : s.bodies)
-      names += (names.empty() ? "" : ", ") + other.name + (other.role.empty() ? "" : " (" + other.role + ")");
-    throw BedError(std::string("no body has the role '") + role + "' (the bodies: " + (names.empty() ? "none" : names) +
-                   "); the scene declares it: [[body]] role = \"" + role + "\"");
+    if (b < 0) throw BedError(s.no_body_with_role(role));
+    return s.bodies[static_cast<std::size_t>(b)];
   };
   const Body& l = body("left_wall");
   const Body& r = body("right_wall");

@@ -37,7 +37,7 @@ std::size_t with(std::vector<double>& values, double v) {
 
 const Body& intruder_body(const Snapshot& s, const std::string& path) {
   const int b = s.find_role("intruder");
-  if (b < 0) throw CgError(path + ": no body has the role 'intruder'");
+  if (b < 0) throw CgError(path + ": " + s.no_body_with_role("intruder"));
   return s.bodies[static_cast<std::size_t>(b)];
 }
 

@@ -60,12 +60,7 @@ PulloffGeometry pulloff_geometry(const Snapshot& s) {
   } catch (const BedError& e) {
     throw StageError(e.what());
   }
-  if (!cell.intruder) {
-    std::string bodies;
-    for (const Body& b : s.bodies) bodies += (bodies.empty() ? "" : ", ") + b.name;
-    throw StageError("no body has the role 'intruder' (the bodies: " + (bodies.empty() ? "none" : bodies) +
-                     "); the scene declares it: [[body]] role = \"intruder\"");
-  }
+  if (!cell.intruder) throw StageError(s.no_body_with_role("intruder"));
   PulloffGeometry g;
   g.left = s.find_role("left_wall");
   g.right = s.find_role("right_wall");

@@ -16,11 +16,11 @@ class Run:
         self.path = self.h5.path
         names = [str(n) for n in self.h5.dset("bodies/name").asstr()[...]]
         roles = body_roles(self.h5, names)
-        want = {"left": "left_wall", "right": "right_wall", "floor": "floor", "intruder": "intruder"}
+        want = ("left_wall", "right_wall", "floor", "intruder")
         try:
-            self.body = {key: roles.index(role) for key, role in want.items()}
+            self.body = {role: roles.index(role) for role in want}  # role -> body index
         except ValueError as e:
-            raise InputError(f"{self.path}: no body has one of the roles {list(want.values())} "
+            raise InputError(f"{self.path}: no body has one of the roles {list(want)} "
                              f"(bodies {names}, roles {roles}); the scene declares them: [[body]] role") from e
         self.thickness = self.h5.read("bodies/thickness")
         self.diameter = self.h5.read("particles/diameter")
@@ -159,8 +159,8 @@ def draw_network(ax, seg, fn, fn_max, lw_max=3.0, cmap=None, colour="k", zorder=
 
 def frame(ax, run, k, top_mm, bottom_mm=0.0):
     """Axes limits on the cell (inner faces) from bottom_mm to top_mm, equal aspect, labels."""
-    xl = (run.core(k, "left")[:, 0].max() + run.thickness[run.body["left"]] / 2) * MM
-    xr = (run.core(k, "right")[:, 0].min() - run.thickness[run.body["right"]] / 2) * MM
+    xl = (run.core(k, "left_wall")[:, 0].max() + run.thickness[run.body["left_wall"]] / 2) * MM
+    xr = (run.core(k, "right_wall")[:, 0].min() - run.thickness[run.body["right_wall"]] / 2) * MM
     ax.set_xlim(xl - 1, xr + 1)
     ax.set_ylim(bottom_mm - 1, top_mm)
     ax.set_aspect("equal")

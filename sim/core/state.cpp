@@ -15,7 +15,7 @@ void Bodies::resize(std::size_t n) {
   kind.resize(n);
   shape.resize(n);
   line.resize(n);
-  for (auto* v : {&radius, &vx, &vy, &anchor_x, &anchor_y, &origin_x, &origin_y, &fx, &fy, &torque})
+  for (auto* v : {&centre_x, &centre_y, &radius, &vx, &vy, &anchor_x, &anchor_y, &origin_x, &origin_y, &fx, &fy, &torque})
     v->resize(n, 0.0);
   schedule.resize(n);
   anchor_step.resize(n, 0);
@@ -32,21 +32,20 @@ double vertex_mean(const Shape& s, Coordinate c) {
 }
 }  // namespace
 
+void Bodies::shape_changed(std::size_t b) {
+  line[b] = shape[b].edge[0];
+  centre_x[b] = vertex_mean(shape[b], [](Point v) { return v.x; });
+  centre_y[b] = vertex_mean(shape[b], [](Point v) { return v.y; });
+}
+
 void Bodies::set_shape(std::size_t b, const Shape& s) {
   shape[b] = s;
-  line[b] = s.edge[0];
+  shape_changed(b);
 }
 
 void Bodies::move_to(std::size_t b, double x, double y) {
   dem2d::move_to(shape[b], x, y);
-  line[b] = shape[b].edge[0];
-}
-
-double Bodies::centre_x(std::size_t b) const {
-  return vertex_mean(shape[b], [](Point v) { return v.x; });
-}
-double Bodies::centre_y(std::size_t b) const {
-  return vertex_mean(shape[b], [](Point v) { return v.y; });
+  shape_changed(b);
 }
 
 }  // namespace dem2d

@@ -57,6 +57,7 @@ struct Bodies {
   std::vector<Shape> shape;            // core outline at the current step
   std::vector<Segment> line;           // shape[b].edge[0], contiguous: the vectorised sphero-line
                                        // loop reads it (gathers from the large Shapes do not vectorise)
+  std::vector<double> centre_x, centre_y;  // mean of the core's vertices (m), kept by set_shape and move_to
   std::vector<double> radius;          // rounding radius (m): half the scene's thickness
   std::vector<double> vx, vy;          // prescribed velocity (m/s)
   std::vector<double> anchor_x, anchor_y;  // C1 when the velocity last changed (m)
@@ -73,9 +74,9 @@ struct Bodies {
   void resize(std::size_t n);
   void set_shape(std::size_t b, const Shape& s);
   void move_to(std::size_t b, double x, double y);  // vertex 0 to (x, y) (m)
-  // mean of the core's vertices (m)
-  double centre_x(std::size_t b) const;
-  double centre_y(std::size_t b) const;
+
+ private:
+  void shape_changed(std::size_t b);  // line and centre from shape[b]
 };
 
 }  // namespace dem2d

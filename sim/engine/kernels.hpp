@@ -314,17 +314,13 @@ inline void body_sums(System& s) {
   std::fill(B.fx.begin(), B.fx.end(), 0.0);
   std::fill(B.fy.begin(), B.fy.end(), 0.0);
   std::fill(B.torque.begin(), B.torque.end(), 0.0);
-  for (size_t b = 0; b < B.size(); ++b) {
-    s.work.body_centre_x[b] = B.centre_x(b);
-    s.work.body_centre_y[b] = B.centre_y(b);
-  }
   for (size_t sl = 0; sl < W.slots(); ++sl) {
     const auto b = static_cast<size_t>(W.body[sl]);
     B.fx[b] -= W.fx[sl];
     B.fy[b] -= W.fy[sl];
     // lever arm from the body's middle to the contact point, force -F,
     // plus the reaction of the rolling moment
-    const double lx = W.cx[sl] - s.work.body_centre_x[b], ly = W.cy[sl] - s.work.body_centre_y[b];
+    const double lx = W.cx[sl] - B.centre_x[b], ly = W.cy[sl] - B.centre_y[b];
     B.torque[b] -= lx * W.fy[sl] - ly * W.fx[sl];
     B.torque[b] -= W.mr[sl];
   }

@@ -81,8 +81,6 @@ System::System(const Scene& scene)
   body_fx_sum.assign(nb, 0.0);
   body_fy_sum.assign(nb, 0.0);
   body_torque_sum.assign(nb, 0.0);
-  work.body_centre_x.assign(nb, 0.0);
-  work.body_centre_y.assign(nb, 0.0);
 
   double range = 0.0;  // how far beyond touching contacts act
   if (has(effects, effect::cohesion))

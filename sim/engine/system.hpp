@@ -81,7 +81,6 @@ struct System {
     // cache lines sit in another core when thread t integrates them. Set with
     // `part`.
     std::vector<std::size_t> shared_end;
-    std::vector<double> body_centre_x, body_centre_y;  // of body_sums (m)
   } work;
   static constexpr std::size_t kGrainsPerLine = kCacheLine / sizeof(double);
 

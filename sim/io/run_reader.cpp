@@ -64,6 +64,22 @@ int Snapshot::find_role(std::string_view role) const {
   return -1;
 }
 
+std::string Snapshot::no_body_with_role(std::string_view role) const {
+  std::vector<std::string> names, roles;
+  for (const Body& b : bodies) names.push_back(b.name), roles.push_back(b.role);
+  return dem2d::no_body_with_role(role, names, roles);
+}
+
+std::string no_body_with_role(std::string_view role, const std::vector<std::string>& names,
+                              const std::vector<std::string>& roles) {
+  std::string list;
+  for (std::size_t b = 0; b < names.size(); ++b)
+    list += (list.empty() ? "" : ", ") + names[b] + (roles[b].empty() ? "" : " (" + roles[b] + ")");
+  const std::string r(role);
+  return "no body has the role '" + r + "' (the bodies: " + (list.empty() ? "none" : list) +
+         "); the scene declares it: [[body]] role = \"" + r + "\"";
+}
+
 template <class T>
 std::vector<T> read_rows(const h5::File& f, const std::string& name, hsize_t first, hsize_t count) {
   const auto fail = [&](const std::string& what) { throw std::runtime_error(f.path() + ": " + name + ": " + what); };
@@ -159,7 +175,7 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
   const std::vector<std::pair<std::string, std::vector<hsize_t>>> shapes = {
       {"particles/mass", {N}},          {"bodies/thickness", {B}},        {"snapshots/step", {S}},
       {"snapshots/contact_start", {S + 1}}, {"snapshots/position", {S, N, 2}}, {"snapshots/velocity", {S, N, 2}},
-      {"snapshots/omega", {S, N}},      {"snapshots/active", {S, N}},     {vertices_dataset("snapshots"), legacy_bodies_ ? std::vector<hsize_t>{S, B, 4} : std::vector<hsize_t>{S, B, max_vertices_, 2}},
+      {"snapshots/omega", {S, N}},      {"snapshots/active", {S, N}},     {vertices_dataset("snapshots"), vertices_dims(S)},
       {"contacts/i", {C}},  {"contacts/j", {C}},  {"contacts/fn", {C}}, {"contacts/ft", {C}},
       {"contacts/overlap", {C}}, {"contacts/nx", {C}}, {"contacts/ny", {C}}, {"contacts/mr", {C}},
       {"contacts/sliding", {C}}};
@@ -176,6 +192,11 @@ std::string RunReader::vertices_dataset(const std::string& group) const {
   return group + (legacy_bodies_ ? "/body_ends" : "/body_vertices");
 }
 
+std::vector<hsize_t> RunReader::vertices_dims(hsize_t rows) const {
+  if (legacy_bodies_) return {rows, bodies(), 4};
+  return {rows, bodies(), max_vertices_, 2};
+}
+
 Body RunReader::body_of(const std::vector<double>& flat, std::size_t row, std::size_t b) const {
   Body body;
   body.name = body_names_[b];
@@ -188,13 +209,9 @@ Body RunReader::body_of(const std::vector<double>& flat, std::size_t row, std::s
 }
 
 std::size_t RunReader::body_with_role(std::string_view role) const {
-  std::string names;
-  for (std::size_t b = 0; b < bodies(); ++b) {
+  for (std::size_t b = 0; b < bodies(); ++b)
     if (body_roles_[b] == role) return b;
-    names += (names.empty() ? "" : ", ") + body_names_[b] + (body_roles_[b].empty() ? "" : " (" + body_roles_[b] + ")");
-  }
-  fail("no body has the role '" + std::string(role) + "' (the run's bodies: " + (names.empty() ? "none" : names) +
-       "); the scene declares it: [[body]] role = \"" + std::string(role) + "\"");
+  fail(no_body_with_role(role, body_names_, body_roles_));
 }
 
 std::vector<Body> RunReader::body_rows(const std::string& group, std::size_t b) const {
@@ -202,8 +219,7 @@ std::vector<Body> RunReader::body_rows(const std::string& group, std::size_t b) 
   if (!h5::exists(file_, name)) fail("dataset /" + name + " is missing");
   const std::vector<hsize_t> dims = h5::shape(file_, name);
   const hsize_t rows = dims.empty() ? 0 : dims[0];
-  const std::vector<hsize_t> want =
-      legacy_bodies_ ? std::vector<hsize_t>{rows, bodies(), 4} : std::vector<hsize_t>{rows, bodies(), max_vertices_, 2};
+  const std::vector<hsize_t> want = vertices_dims(rows);
   if (dims != want) fail("dataset /" + name + " has shape " + show(dims) + ", expected " + show(want));
   const std::vector<double> flat = h5::read<double>(file_, name);
   std::vector<Body> out;

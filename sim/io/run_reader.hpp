@@ -83,7 +83,14 @@ struct Snapshot {
   std::size_t active_count() const;
   // Index of the body with this role (core/body_roles.hpp), or -1.
   int find_role(std::string_view role) const;
+  // The error message when find_role finds none (no_body_with_role below).
+  std::string no_body_with_role(std::string_view role) const;
 };
+
+// "no body has the role 'R' (the bodies: NAME (ROLE), ...); the scene declares
+// it: [[body]] role = "R"": names[b], roles[b] for every body.
+std::string no_body_with_role(std::string_view role, const std::vector<std::string>& names,
+                              const std::vector<std::string>& roles);
 
 class RunReader {
  public:
@@ -128,6 +135,7 @@ class RunReader {
   h5::File file_;
   // group's body outline dataset, [rows, B, K, 2] (format 1: body_ends [rows, B, 4], K = 2)
   std::string vertices_dataset(const std::string& group) const;
+  std::vector<hsize_t> vertices_dims(hsize_t rows) const;  // its shape for `rows` rows
   // body b at `row` of such a dataset, read as `flat`
   Body body_of(const std::vector<double>& flat, std::size_t row, std::size_t b) const;
 
