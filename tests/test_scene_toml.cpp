@@ -398,8 +398,8 @@ TEST(SceneTomlErrors, UnknownKeys) {
   expect_error(
       edit(kValid, "friction = 0.5", "frictoin = 0.5"),
       {"unknown key 'frictoin' in [contact]",
-       "(allowed: kn, kt, restitution, friction, rolling_friction, rolling_stiffness, tangential_damping_ratio, "
-       "rolling_damping_ratio, cohesion_force, cohesion_range, wall)"},
+       "(allowed: kn, restitution, cohesion_force, cohesion_range, kt, friction, tangential_damping_ratio, "
+       "rolling_friction, rolling_stiffness, rolling_damping_ratio, wall)"},
       18);
   expect_error(edit(kValid, "name = \"intruder\"", "name = \"intruder\"\ncolour = \"red\""),
                {"unknown key 'colour' in body[1]", "allowed: name, role, shape, thickness, velocity, motion, motion_repeat, remove_at, a, b, centre, size, angle, vertices"}, 66);

@@ -83,11 +83,11 @@ bool held_by_bed(const System& sys, std::size_t b) {
   const PairList& L = sys.lists.pairs;
   const WallList& W = sys.lists.walls;
   const std::size_t n = sys.size();
-  const bool cohesion = has(sys.effects, effect::cohesion);  // grains held across a gap hold too
+  const bool gaps = reaches_beyond_contact(sys.effects);  // grains held across a gap hold too
   std::vector<std::uint8_t> seen(n, 0), anchored(n, 0);  // anchored: touches another body
   std::vector<std::size_t> queue;
   for (std::size_t s = 0; s < W.slots(); ++s) {
-    if (!acted(W.overlap[s], cohesion)) continue;
+    if (!acted(W.overlap[s], gaps)) continue;
     const auto i = static_cast<std::size_t>(W.owner[s]);
     if (static_cast<std::size_t>(W.body[s]) == b) {
       if (!seen[i]) queue.push_back(i);
@@ -100,7 +100,7 @@ bool held_by_bed(const System& sys, std::size_t b) {
     const std::size_t i = queue[q];
     if (anchored[i]) return true;
     auto visit = [&](std::size_t s, std::size_t k) {
-      if (acted(L.overlap[s], cohesion) && !seen[k]) {
+      if (acted(L.overlap[s], gaps) && !seen[k]) {
         seen[k] = 1;
         queue.push_back(k);
       }

@@ -140,16 +140,16 @@ inline void pair_forces(System& s, const ContactModel<E> model) {  // by value: 
     const double nx = apart ? dx * inv : 1.0, ny = apart ? dy * inv : 0.0;
     const double delta = dist - rsum;
     const double rvx = vx[i] - vx[j], rvy = vy[i] - vy[j];
-    ContactKinematics k{delta, rvx * nx + rvy * ny, 0.0, 0.0, sqm[sl], 0.0};
     // branch vectors end at the middle of the overlap: a = r + delta/2
     const double ai = ri + 0.5 * delta, aj = rj + 0.5 * delta;
     const double tx = -ny, ty = nx;
-    if constexpr (has(E, effect::friction)) k.vt = rvx * tx + rvy * ty - (ai * w[i] + aj * w[j]);
+    double vt = 0.0, spin = 0.0, sqrt_i = 0.0;
+    if constexpr (has(E, effect::friction)) vt = rvx * tx + rvy * ty - (ai * w[i] + aj * w[j]);
     if constexpr (has(E, effect::rolling_resistance)) {
-      k.spin = w[i] - w[j];
-      k.sqrt_i = sqi[sl];
+      spin = w[i] - w[j];
+      sqrt_i = sqi[sl];
     }
-    const ContactForce f = model.eval(k, acts, ft[sl], mr[sl]);
+    const ContactForce f = model.eval({delta, rvx * nx + rvy * ny, vt, spin, sqm[sl], sqrt_i}, acts, ft[sl], mr[sl]);
     double fxs = f.fn * nx, fys = f.fn * ny, tqi = 0.0, tqj = 0.0;
     if constexpr (has(E, effect::friction)) {
       fxs += f.ft * tx;
@@ -221,13 +221,13 @@ inline void wall_forces(System& s, const ContactModel<E> model) {  // by value: 
     }
     const double a = ri + 0.5 * delta;  // centre to contact point (m)
     const double tx = -g.ny, ty = g.nx;
-    ContactKinematics k{delta, rvx * g.nx + rvy * g.ny, 0.0, 0.0, sqm[sl], 0.0};
-    if constexpr (has(E, effect::friction)) k.vt = rvx * tx + rvy * ty - a * w[i];
+    double vt = 0.0, spin = 0.0, sqrt_i = 0.0;
+    if constexpr (has(E, effect::friction)) vt = rvx * tx + rvy * ty - a * w[i];
     if constexpr (has(E, effect::rolling_resistance)) {
-      k.spin = w[i];
-      k.sqrt_i = sqi[sl];
+      spin = w[i];
+      sqrt_i = sqi[sl];
     }
-    const ContactForce f = model.eval(k, acts, ft[sl], mr[sl]);
+    const ContactForce f = model.eval({delta, rvx * g.nx + rvy * g.ny, vt, spin, sqm[sl], sqrt_i}, acts, ft[sl], mr[sl]);
     double fx = f.fn * g.nx, fy = f.fn * g.ny, tq = 0.0;
     if constexpr (has(E, effect::friction)) {
       fx += f.ft * tx;

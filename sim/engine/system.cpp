@@ -82,9 +82,8 @@ System::System(const Scene& scene)
   body_fy_sum.assign(nb, 0.0);
   body_torque_sum.assign(nb, 0.0);
 
-  double range = 0.0;  // how far beyond touching contacts act
-  if (has(effects, effect::cohesion))
-    range = std::max(law_pp.cohesion_range, has(effects, effect::walls) ? law_pw.cohesion_range : 0.0);
+  // how far beyond touching contacts act (m)
+  const double range = std::max(law_range(pp, effects), has(effects, effect::walls) ? law_range(pw, effects) : 0.0);
   lists.configure(domain.xmin, domain.ymin, domain.xmax, domain.ymax, std::max(r_max, 1e-300), scene.skin,
                   range);
   advance_ = advance_kernel(effects);

@@ -259,13 +259,13 @@ void RunRecorder::record_snapshot(const System& sys, const std::vector<double>* 
 
   // acting slots, pairs then walls, in slot order: touching ones, and with
   // cohesion also those attracting across a gap (overlap < 0)
-  const bool friction = has(sys.effects, effect::friction);
-  const bool cohesion = has(sys.effects, effect::cohesion);
+  const bool friction = has(sys.effects, effect::friction), cohesion = has(sys.effects, effect::cohesion);
+  const bool gaps = reaches_beyond_contact(sys.effects);
   const std::size_t before = contact_.i.size();
   const auto add = [&](std::size_t i, std::int32_t j, double fn, double ft, double overlap, double nx,
                        double ny, double mr, const LawCoefficients& c) {
     // the load pressing the surfaces together caps friction: F_n, plus the adhesive pull with cohesion
-    const double load = cohesion && overlap > 0.0 ? fn + cohesive_pull(c, -overlap) : fn;
+    const double load = cohesion && overlap > 0.0 ? fn + Cohesion::pull(c, -overlap) : fn;
     contact_.i.push_back(static_cast<std::int32_t>(i));
     contact_.j.push_back(j);
     contact_.fn.push_back(fn);
@@ -279,7 +279,7 @@ void RunRecorder::record_snapshot(const System& sys, const std::vector<double>* 
   const PairList& P = sys.lists.pairs;
   for (std::size_t i = 0; i + 1 < P.start.size(); ++i)
     for (auto sl = static_cast<std::size_t>(P.start[i]); sl < static_cast<std::size_t>(P.start[i + 1]); ++sl) {
-      if (!acted(P.overlap[sl], cohesion)) continue;
+      if (!acted(P.overlap[sl], gaps)) continue;
       const auto j = static_cast<std::size_t>(P.partner[sl]);
       const double dx = p.x[i] - p.x[j], dy = p.y[i] - p.y[j], dist = std::sqrt(dx * dx + dy * dy);
       add(i, P.partner[sl], P.fn[sl], P.ft[sl], P.overlap[sl], dist > 0.0 ? dx / dist : 1.0,
@@ -288,7 +288,7 @@ void RunRecorder::record_snapshot(const System& sys, const std::vector<double>* 
   const WallList& W = sys.lists.walls;
   for (std::size_t i = 0; i + 1 < W.start.size(); ++i)
     for (auto sl = static_cast<std::size_t>(W.start[i]); sl < static_cast<std::size_t>(W.start[i + 1]); ++sl) {
-      if (!acted(W.overlap[sl], cohesion)) continue;
+      if (!acted(W.overlap[sl], gaps)) continue;
       const Proximity g = closest_point(sys.bodies.shape[static_cast<std::size_t>(W.body[sl])], p.x[i], p.y[i]);
       add(i, -1 - W.body[sl], W.fn[sl], W.ft[sl], W.overlap[sl], g.nx, g.ny, W.mr[sl], sys.pw);
     }

@@ -36,12 +36,12 @@ auto body_arrays(B& b) {
 // every carried per-slot array (history, last evaluation) as columns.
 template <class List>
 void write_history(const h5::File& f, const std::string& group, const List& L,
-                   const AlignedVector<std::int32_t>& key, bool cohesion) {
+                   const AlignedVector<std::int32_t>& key, bool gaps) {
   std::vector<std::int32_t> row, col;
   std::vector<std::size_t> slots;
   for (std::size_t i = 0; i + 1 < L.start.size(); ++i)
     for (auto s = static_cast<std::size_t>(L.start[i]); s < static_cast<std::size_t>(L.start[i + 1]); ++s)
-      if (acted(L.overlap[s], cohesion)) {
+      if (acted(L.overlap[s], gaps)) {
         row.push_back(static_cast<std::int32_t>(i));
         col.push_back(key[s]);
         slots.push_back(s);
@@ -114,9 +114,9 @@ void write_checkpoint(const std::string& path, const System& sys, std::span<Cont
     for (Controller* c : controllers) c->save(ControllerState(f, controller_group(c)));
     for (const auto& [name, v] : particle_arrays(sys.p)) h5::write(f, std::string("particles/") + name, *v);
     h5::write(f, "particles/active", sys.p.active);
-    const bool cohesion = has(sys.effects, effect::cohesion);
-    write_history(f, "pairs", sys.lists.pairs, sys.lists.pairs.partner, cohesion);
-    write_history(f, "walls", sys.lists.walls, sys.lists.walls.body, cohesion);
+    const bool gaps = reaches_beyond_contact(sys.effects);
+    write_history(f, "pairs", sys.lists.pairs, sys.lists.pairs.partner, gaps);
+    write_history(f, "walls", sys.lists.walls, sys.lists.walls.body, gaps);
     const Bodies& B = sys.bodies;
     for (const auto& [name, v] : body_arrays(B)) h5::write(f, std::string("bodies/") + name, *v);
     h5::write(f, "bodies/anchor_step", B.anchor_step);

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/body_roles.hpp"
+#include "core/key_spec.hpp"
 #include "scene/generators.hpp"
 #include "shape/shape_kinds.hpp"
 #include "scene/initial_state.hpp"
@@ -33,13 +34,6 @@ constexpr double kOverlapTolerance = 1e-12;  // m: exact touching is not an over
 std::string shortest(double v) {  // shortest text that reads back as v
   char buf[32];
   return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
-}
-
-std::string sig3(double v) {  // derived quantities: 3 significant digits
-  std::ostringstream os;
-  os.precision(3);
-  os << v;
-  return os.str();
 }
 
 // A value as the user wrote it (near enough), shortened if long.
@@ -107,31 +101,7 @@ struct File {
 
 // ---------------------------------------------------------------- typed keys
 
-enum class Rule { finite, positive, non_negative, unit_open_closed };
-
-struct Num {
-  const char* what;  // "normal stiffness"
-  const char* unit;  // "N/m", "" if dimensionless
-  Rule rule;
-};
-
-const char* rule_text(Rule r) {
-  constexpr const char* kText[] = {"finite", "> 0", ">= 0", "in (0, 1]"};
-  return kText[static_cast<int>(r)];
-}
-
-bool obeys(Rule r, double v) {
-  return std::isfinite(v) && (r == Rule::finite || (r == Rule::positive && v > 0.0) ||
-                              (r == Rule::non_negative && v >= 0.0) ||
-                              (r == Rule::unit_open_closed && v > 0.0 && v <= 1.0));
-}
-
-// "normal stiffness in N/m"
-std::string describe(const Num& n) {
-  return std::string(n.what) + (*n.unit ? std::string(" in ") + n.unit : "");
-}
-// "normal stiffness in N/m, > 0"
-std::string range(const Num& n) { return describe(n) + ", " + rule_text(n.rule); }
+// Rule, Num, obeys, describe, range_text: core/key_spec.hpp
 
 // One table of the file: rejects unknown keys on construction, then reads
 // typed keys with range checks. Key paths in messages are dotted from the root
@@ -186,7 +156,7 @@ class TableReader {
     return number(key, spec).value_or(fallback);
   }
   double required(std::string_view key, const Num& spec, const std::string& why = "") const {
-    if (!has(key)) missing(key, range(spec) + why);
+    if (!has(key)) missing(key, range_text(spec) + why);
     return *number(key, spec);
   }
   std::optional<bool> boolean(std::string_view key) const {
@@ -235,7 +205,7 @@ class TableReader {
     return n ? std::optional(vec2_at(*n, path(key), spec)) : std::nullopt;
   }
   Vec2 required_vec2(std::string_view key, const Num& spec, const std::string& why = "") const {
-    if (!has(key)) missing(key, "[x, y], " + range(spec) + why);
+    if (!has(key)) missing(key, "[x, y], " + range_text(spec) + why);
     return *vec2(key, spec);
   }
   // The number at n (p: its dotted path), checked against spec.
@@ -252,7 +222,7 @@ class TableReader {
   Vec2 vec2_at(const toml::node& n, const std::string& p, const Num& spec) const {
     const toml::array* a = n.as_array();
     if (!a || a->size() != 2)
-      f_->fail(n, p + " = " + show(n) + ": must be an array [x, y] (" + range(spec) + ")");
+      f_->fail(n, p + " = " + show(n) + ": must be an array [x, y] (" + range_text(spec) + ")");
     return {number_at(*a->get(0), p + "[0]", spec), number_at(*a->get(1), p + "[1]", spec)};
   }
   TableReader table(std::string_view key, std::vector<std::string_view> allowed) const {
@@ -291,39 +261,9 @@ std::string effect_key(EffectSet bit) {
   return "effects.?";
 }
 
-struct LawKey {
-  std::string_view key;
-  double ContactLaw::*field;
-  EffectSet needs;  // 0: always used
-  Num spec;
-};
-
-// clang-format off
-const std::array<LawKey, 10> kLawKeys{{
-  {"kn", &ContactLaw::kn, 0, {"normal stiffness", "N/m", Rule::positive}},
-  {"kt", &ContactLaw::kt, effect::friction, {"tangential stiffness", "N/m", Rule::non_negative}},
-  {"restitution", &ContactLaw::restitution, effect::normal_damping,
-   {"normal coefficient of restitution", "", Rule::unit_open_closed}},
-  {"friction", &ContactLaw::friction, effect::friction,
-   {"Coulomb friction coefficient mu", "", Rule::non_negative}},
-  {"rolling_friction", &ContactLaw::rolling_friction, effect::rolling_resistance,
-   {"rolling friction length mu_r", "m", Rule::non_negative}},
-  {"rolling_stiffness", &ContactLaw::rolling_stiffness, effect::rolling_resistance,
-   {"rolling stiffness k_r", "N m/rad", Rule::non_negative}},
-  {"tangential_damping_ratio", &ContactLaw::tangential_damping_ratio, effect::tangential_damping,
-   {"tangential damping ratio nu_t (c_t = 2 nu_t sqrt(m_eff k_t))", "", Rule::non_negative}},
-  {"rolling_damping_ratio", &ContactLaw::rolling_damping_ratio, effect::rolling_damping,
-   {"rolling damping ratio nu_r (c_r = 2 nu_r sqrt(I_eff k_r))", "", Rule::non_negative}},
-  {"cohesion_force", &ContactLaw::cohesion_force, effect::cohesion,
-   {"pull-off force f_c of a cohesive contact", "N/m", Rule::positive}},
-  {"cohesion_range", &ContactLaw::cohesion_range, effect::cohesion,
-   {"range delta_c of the attraction beyond contact", "m", Rule::positive}},
-}};
-// clang-format on
-
 std::vector<std::string_view> law_keys(bool with_wall) {
   std::vector<std::string_view> keys;
-  for (const auto& k : kLawKeys) keys.push_back(k.key);
+  for (const auto& k : contact_law_keys()) keys.push_back(k.key);
   if (with_wall) keys.push_back("wall");
   return keys;
 }
@@ -332,7 +272,7 @@ std::vector<std::string_view> law_keys(bool with_wall) {
 // otherwise overrides of base (all optional).
 ContactLaw read_law(const TableReader& r, EffectSet effects, const ContactLaw* base) {
   ContactLaw law = base ? *base : ContactLaw{};
-  for (const LawKey& k : kLawKeys) {
+  for (const LawKey<ContactLaw>& k : contact_law_keys()) {
     if (k.needs && !has(effects, k.needs)) {
       r.forbid(k.key, effect_key(k.needs) + " is false");
       continue;
@@ -343,17 +283,12 @@ ContactLaw read_law(const TableReader& r, EffectSet effects, const ContactLaw* b
     else if (const auto v = r.number(k.key, k.spec))
       law.*k.field = *v;
   }
-  // the attraction's slope f_c/delta_c must not exceed k_n: the time step and
-  // its stability limit are set by k_n
-  // (named at the first of its keys the table gives: a [contact.wall] law
-  // that gives none of them equals [contact]'s, already checked)
-  if (has(effects, effect::cohesion) && law.cohesion_force / law.cohesion_range > law.kn)
-    for (const char* key : {"cohesion_range", "cohesion_force", "kn"})
-      if (r.has(key))
-        r.fail(key, "the cohesive attraction f_c/delta_c = " + sig3(law.cohesion_force / law.cohesion_range) +
-                        " N/m per m is steeper than the contact spring k_n = " + sig3(law.kn) +
-                        " N/m; need cohesion_range >= cohesion_force/kn = " + sig3(law.cohesion_force / law.kn) +
-                        " m");
+  // conditions across the law's terms, named at the first of their keys the
+  // table gives (a [contact.wall] law that gives none of them equals
+  // [contact]'s, already checked)
+  for (const LawIssue& issue : law_issues(law, effects))
+    for (const std::string_view key : issue.keys)
+      if (r.has(key)) r.fail(key, issue.message);
   return law;
 }
 
@@ -670,7 +605,7 @@ class SceneParser {
     const std::string why = std::string(" (shape = \"") + kind.name + "\")";
     for (const ShapeKey& key : kind.keys) {
       const Num spec{key.what, key.unit, Rule::finite};
-      if (key.required && !b.has(key.name)) b.missing(key.name, range(spec) + why);
+      if (key.required && !b.has(key.name)) b.missing(key.name, range_text(spec) + why);
       if (key.type == ShapeKey::number) {
         args.number[key.name] = b.number_or(key.name, spec, key.fallback);
       } else if (key.type == ShapeKey::point) {

@@ -81,7 +81,10 @@ inline void move_to(Shape& s, double x, double y) {
 }
 
 // Signed distance from O = (px, py) to the core and the unit normal from the core to O.
-inline Proximity closest_point(const Shape& s, double px, double py) {
+// Always inlined: the kernels' narrow phase calls it per contact slot, and
+// GCC 12 left it out of line there once the contact law's terms were folded
+// in (polygon pull-off 2 % slower).
+[[gnu::always_inline]] inline Proximity closest_point(const Shape& s, double px, double py) {
   if (s.n <= 2) return closest_point(s.edge[0], px, py);
   Proximity best{std::numeric_limits<double>::infinity(), 0.0, 0.0};
   double depth = -std::numeric_limits<double>::infinity();

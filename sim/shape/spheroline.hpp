@@ -39,7 +39,7 @@ struct Proximity {
   double nx, ny;  // unit normal from P to O
 };
 
-inline Proximity closest_point(const Segment& s, double ox, double oy) {
+[[gnu::always_inline]] inline Proximity closest_point(const Segment& s, double ox, double oy) {  // per contact slot
   const double rx = ox - s.ax, ry = oy - s.ay;
   const double t = std::clamp((rx * s.ex + ry * s.ey) * s.inv_len2, 0.0, 1.0);
   const double dx = rx - t * s.ex, dy = ry - t * s.ey;

@@ -1,4 +1,6 @@
-#include "contact/contact_law.hpp"
+#include "contact/normal.hpp"
+
+#include <cmath>
 
 #include <stdexcept>
 #include <string>
@@ -34,20 +36,6 @@ double damping_ratio(double restitution) {
     (restitution_of_damping_ratio(mid) > e ? lo : hi) = mid;
   }
   return 0.5 * (lo + hi);
-}
-
-LawCoefficients coefficients(const ContactLaw& law, double dt) {
-  return {law.kn,
-          2.0 * damping_ratio(law.restitution) * std::sqrt(law.kn),
-          law.kt * dt,
-          law.rolling_stiffness * dt,
-          law.friction,
-          law.rolling_friction,
-          2.0 * law.tangential_damping_ratio * std::sqrt(law.kt),
-          2.0 * law.rolling_damping_ratio * std::sqrt(law.rolling_stiffness),
-          law.cohesion_force,
-          law.cohesion_range > 0.0 ? law.cohesion_force / law.cohesion_range : 0.0,
-          law.cohesion_range};
 }
 
 }  // namespace dem2d

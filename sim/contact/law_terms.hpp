@@ -1,0 +1,108 @@
+// The parts a contact law is made of. A law is a list of terms (sub-laws),
+// applied in order to every candidate contact by the contact model
+// (contact/contact_model.hpp); the list is LawTerms in contact/contact_law.hpp.
+// A term is one struct in its own header (contact/normal.hpp is the shortest):
+//
+//   static constexpr EffectSet effect;   // compiled in only with this effect (0: always)
+//   struct Params { double ... = default; };            // the scene's values (SI)
+//   static constexpr std::array<LawKey<Params>, N> keys; // their [contact] keys, units, ranges
+//   struct Coeffs { double ...; };                      // what one step uses
+//   static Coeffs coefficients(const Params&, double dt);
+//   template <EffectSet E> static ContactState apply(const Coeffs&, ContactKinematics, ContactState);
+// and, where it has them,
+//   static double range(const Coeffs&);      // how far beyond touching it acts (m)
+//   template <class Law> static std::optional<LawIssue> check(const Law&);  // conditions across terms
+//
+// Parameter and coefficient names must be unique across terms (ContactLaw
+// and LawCoefficients inherit every term's, so a clash does not compile).
+// Within apply, `if constexpr (has(E, ...))` compiles out what an effect set
+// lacks; apply must be branch-free (selects), and takes and returns the
+// contact by value (a loop-local whose address is taken stays in memory
+// inside an `omp simd` loop), so that the loops over list slots vectorise.
+//
+// Sign conventions: delta < 0 is an overlap, n points from the partner to
+// the grain, t = z x n.
+#pragma once
+
+#include <algorithm>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/effects.hpp"
+#include "core/key_spec.hpp"
+
+namespace dem2d {
+
+// One candidate contact as a loop sees it.
+struct ContactKinematics {
+  double delta;   // gap (m): centre distance minus the sum of radii, < 0 when overlapping
+  double vn;      // (v_i - v_j).n (m/s)
+  double vt;      // tangential velocity of i's contact point relative to the partner's (m/s); friction only
+  double spin;    // omega_i - omega_j (rad/s); rolling resistance only
+  double sqrt_m;  // sqrt(m_eff) (sqrt(kg/m))
+  double sqrt_i;  // sqrt(I_eff) (sqrt(kg m)); rolling damping only
+};
+
+// What the law gives: on i, in the contact frame; the partner gets the opposite.
+struct ContactForce {
+  double fn;  // normal force along n (N/m), > 0 pushes the grains apart
+  double ft;  // tangential force along t (N/m)
+  double mr;  // rolling moment on i (N)
+};
+
+// One contact while the terms are applied to it.
+struct ContactState {
+  bool acts;     // the loop found its gap below the law's range
+  bool touch;    // the surfaces touch: springs act (= acts unless a term acts across a gap)
+  double load;   // what presses the surfaces together (N/m): the base of the friction caps
+  ContactForce f;
+  double* ft;    // stored tangential spring (N/m), updated in place
+  double* mr;    // stored rolling spring (N), updated in place
+};
+
+// A scene key of a term's parameter.
+template <class Params>
+struct LawKey {
+  std::string_view key;   // in [contact] and [contact.wall]
+  double Params::*field;
+  EffectSet needs;        // the effect that uses it (0: always used)
+  Num spec;
+};
+
+// A condition on the law as a whole that it breaks: the message, and the
+// keys to name (the first of them the scene's table gives).
+struct LawIssue {
+  std::vector<std::string_view> keys;
+  std::string message;
+};
+
+template <class... Terms>
+struct TermList {};
+
+// Whether term T is compiled into the law for effect set E.
+template <class T>
+constexpr bool term_active(EffectSet e) {
+  return T::effect == 0 || has(e, T::effect);
+}
+
+// An incremental spring capped at +-cap, with (Damped) a dashpot beside it
+// and their sum capped again: the tangential force and the rolling moment.
+// `increment` is the spring's change this step (-k v dt), `dashpot` the
+// dashpot's force c v.
+struct CappedSpring {
+  double force;   // what acts on the grain
+  double spring;  // the spring stored for the next step
+};
+
+template <bool Damped>
+inline CappedSpring capped_spring(double stored, double increment, double dashpot, double cap) {
+  const double spring = std::clamp(stored + increment, -cap, cap);
+  if constexpr (!Damped)
+    return {spring, spring};
+  else
+    return {std::clamp(spring - dashpot, -cap, cap), spring};
+}
+
+}  // namespace dem2d

@@ -1,0 +1,54 @@
+// Rolling term (effect rolling_resistance): an incremental rolling spring
+// k_r capped by mu_r times the load, and (effect rolling_damping) a dashpot
+// c_r = 2 nu_r sqrt(I_eff k_r) beside it, their sum capped again:
+//
+//   S_r <- clamp(S_r - k_r spin dt, +-mu_r F_n),   M_r = clamp(S_r - c_r spin, +-mu_r F_n)
+//
+// The same spring-slider as the tangential term (contact/tangential.hpp),
+// on the relative spin. It acts only while the surfaces touch.
+#pragma once
+
+#include <array>
+#include <cmath>
+
+#include "contact/law_terms.hpp"
+
+namespace dem2d {
+
+struct Rolling {
+  static constexpr EffectSet effect = effect::rolling_resistance;
+
+  struct Params {
+    double rolling_friction = 0.0;       // mu_r (m): |M_r| <= mu_r F_n
+    double rolling_stiffness = 0.0;      // k_r (N m/rad)
+    double rolling_damping_ratio = 0.0;  // nu_r
+  };
+  static constexpr std::array<LawKey<Params>, 3> keys{{
+      {"rolling_friction", &Params::rolling_friction, effect::rolling_resistance,
+       {"rolling friction length mu_r", "m", Rule::non_negative}},
+      {"rolling_stiffness", &Params::rolling_stiffness, effect::rolling_resistance,
+       {"rolling stiffness k_r", "N m/rad", Rule::non_negative}},
+      {"rolling_damping_ratio", &Params::rolling_damping_ratio, effect::rolling_damping,
+       {"rolling damping ratio nu_r (c_r = 2 nu_r sqrt(I_eff k_r))", "", Rule::non_negative}},
+  }};
+
+  struct Coeffs {
+    double kr_dt;   // k_r dt (N m s/rad)
+    double mu_r;    // m
+    double damp_r;  // 2 nu_r sqrt(k_r): c_r = damp_r * sqrt(I_eff)
+  };
+  static Coeffs coefficients(const Params& p, double dt) {
+    return {p.rolling_stiffness * dt, p.rolling_friction, 2.0 * p.rolling_damping_ratio * std::sqrt(p.rolling_stiffness)};
+  }
+
+  template <EffectSet E>
+  static ContactState apply(const Coeffs& c, const ContactKinematics k, ContactState s) {
+    const CappedSpring r = capped_spring<has(E, effect::rolling_damping)>(
+        *s.mr, -c.kr_dt * k.spin, c.damp_r * k.sqrt_i * k.spin, c.mu_r * s.load);
+    s.f.mr = s.touch ? r.force : 0.0;
+    *s.mr = s.touch ? r.spring : 0.0;
+    return s;
+  }
+};
+
+}  // namespace dem2d

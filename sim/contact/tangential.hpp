@@ -1,0 +1,62 @@
+// Tangential term (effect friction): an incremental spring k_t capped by
+// Coulomb's mu times the load, and (effect tangential_damping) a dashpot
+// c_t = 2 nu_t sqrt(m_eff k_t) beside it, their sum capped again:
+//
+//   S_t <- clamp(S_t - k_t vt dt, +-mu F_n),   F_t = clamp(S_t - c_t vt, +-mu F_n)
+//
+// Without the dashpot F_t = S_t: the paper's law. This differs from LAMMPS's
+// granular models and MercuryDPM, which while sliding reset the spring to
+// S = F_cap + c v: that can load the spring beyond the cap (c v > mu F_n)
+// and hand the energy back to the grains later (the energy ledger measured
+// negative slip dissipation on a single oblique collision). Here the
+// spring-slider and the dashpot each dissipate >= 0 at every step
+// (docs/contact_law.md).
+//
+// In 2D the tangent direction is unique, so the stored spring is a scalar
+// along the current t: it turns with the contact, keeping its magnitude,
+// which is exactly "kept in the current tangent direction". It acts only
+// while the surfaces touch and is released otherwise.
+#pragma once
+
+#include <array>
+#include <cmath>
+
+#include "contact/law_terms.hpp"
+
+namespace dem2d {
+
+struct Tangential {
+  static constexpr EffectSet effect = effect::friction;
+
+  struct Params {
+    double kt = 0.0;                        // tangential stiffness (N/m)
+    double friction = 0.0;                  // Coulomb coefficient mu
+    double tangential_damping_ratio = 0.0;  // nu_t
+  };
+  static constexpr std::array<LawKey<Params>, 3> keys{{
+      {"kt", &Params::kt, effect::friction, {"tangential stiffness", "N/m", Rule::non_negative}},
+      {"friction", &Params::friction, effect::friction, {"Coulomb friction coefficient mu", "", Rule::non_negative}},
+      {"tangential_damping_ratio", &Params::tangential_damping_ratio, effect::tangential_damping,
+       {"tangential damping ratio nu_t (c_t = 2 nu_t sqrt(m_eff k_t))", "", Rule::non_negative}},
+  }};
+
+  struct Coeffs {
+    double kt_dt;   // k_t dt (N s/m)
+    double mu;      // -
+    double damp_t;  // 2 nu_t sqrt(k_t): c_t = damp_t * sqrt(m_eff)
+  };
+  static Coeffs coefficients(const Params& p, double dt) {
+    return {p.kt * dt, p.friction, 2.0 * p.tangential_damping_ratio * std::sqrt(p.kt)};
+  }
+
+  template <EffectSet E>
+  static ContactState apply(const Coeffs& c, const ContactKinematics k, ContactState s) {
+    const CappedSpring t = capped_spring<has(E, effect::tangential_damping)>(
+        *s.ft, -c.kt_dt * k.vt, c.damp_t * k.sqrt_m * k.vt, c.mu * s.load);
+    s.f.ft = s.touch ? t.force : 0.0;
+    *s.ft = s.touch ? t.spring : 0.0;
+    return s;
+  }
+};
+
+}  // namespace dem2d
