@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string_view>
+#include <vector>
 
 #include "contact/cohesion.hpp"
 #include "contact/contact_model.hpp"
@@ -56,6 +58,26 @@ TEST(CohesionLaw, ForceAgainstGapPullOffAndSeparationWork) {
   EXPECT_NEAR(tension, kPull, 1e-3 * kPull);
   EXPECT_NEAR(work, cohesive_separation_work(cohesive_law()), 1e-6 * work);
   EXPECT_NEAR(cohesive_separation_work(cohesive_law()), kPull * kPull / (2 * kKn) + 0.5 * kPull * kRange, 1e-20);
+}
+
+// Cohesion is one term of the law's list (contact/cohesion.hpp): the scene
+// keys, the coefficients and the reach beyond contact come from that list.
+TEST(CohesionLaw, TermRegisteredThroughTheLawsList) {
+  std::vector<std::string_view> cohesive;
+  for (const auto& k : contact_law_keys())
+    if (k.needs == effect::cohesion) cohesive.push_back(k.key);
+  EXPECT_EQ(cohesive, (std::vector<std::string_view>{"cohesion_force", "cohesion_range"}));
+  EXPECT_TRUE(reaches_beyond_contact(kCohesive | effect::friction));
+  EXPECT_FALSE(reaches_beyond_contact(effect::all & ~effect::cohesion));
+  const LawCoefficients c = coefficients(cohesive_law(), 1e-6);
+  EXPECT_EQ(law_range(c, kCohesive), kRange);
+  EXPECT_EQ(law_range(c, effect::all & ~effect::cohesion), 0.0);
+  EXPECT_DOUBLE_EQ(c.coh_k, kPull / kRange);
+  ContactLaw steep = cohesive_law();
+  steep.cohesion_range = 0.5 * kPull / kKn;  // attraction twice as steep as the spring
+  ASSERT_EQ(law_issues(steep, kCohesive).size(), 1u);
+  EXPECT_TRUE(law_issues(steep, effect::all & ~effect::cohesion).empty());
+  EXPECT_TRUE(law_issues(cohesive_law(), kCohesive).empty());
 }
 
 TEST(CohesionLaw, FrictionCappedByTheLoadPressingTheSurfaces) {
