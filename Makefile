@@ -27,6 +27,9 @@
 #   make validate   validation cases against analytic and established results (Chung & Ooi impacts,
 #                   rolling, statics, energy error order, stability limit, Janssen, Beverloo, repose):
 #                   results/validate/table.md and figures
+#   make ensemble   MEMBERS (default 4) independent realisations of the study (other grain seeds), each
+#                   its whole pipeline, and their aggregate: results/<preset>/ensemble/ (stats.json,
+#                   table.md; docs/ensemble.md). EXECUTOR=local runs JOBS members side by side
 #   make accuracy   the accuracy/cost sweep of data/accuracy.toml (use make -j2): results/accuracy/
 #                   table.md, pareto.png (pipeline/accuracy/README.md)
 #   make clean      remove build/ (results/ stays)
@@ -36,12 +39,6 @@ JOBS ?= $(shell nproc)
 BUILD := build/release
 SANITIZE_BUILD := build/sanitize
 DEM2D := $(BUILD)/sim/dem2d
-BED_METRICS := $(BUILD)/analysis/bed_metrics
-PULLOFF_METRICS := $(BUILD)/analysis/pulloff_metrics
-SPECTRUM := $(BUILD)/analysis/spectrum
-CG := $(BUILD)/analysis/cg
-NETWORK := $(BUILD)/analysis/network
-FRICTION := $(BUILD)/analysis/friction
 CHECK := $(BUILD)/tests/paper_targets/check_paper_targets
 # any Python with h5py, numpy and matplotlib (Debian's python3-* by default): make PYTHON=...
 PYTHON ?= /usr/bin/python3
@@ -64,7 +61,8 @@ PULLOFF_SCENE := pipeline/pulloff.toml
 CYCLIC_SCENE := pipeline/cyclic.toml
 PRESET_FILE := pipeline/presets/$(PRESET).toml
 endif
-# POINT_OVERLAY: more overlays after the preset's (make accuracy: one sweep point's knob).
+# POINT_OVERLAY: more overlays after the preset's (make accuracy: one sweep point's knob);
+# FILL_OVERLAY: one more for the fill only (make ensemble: a member's grain seeds).
 OVERLAY_FILES := $(PRESET_FILE) $(if $(INTRUDER),pipeline/intruders/$(INTRUDER).toml) $(POINT_OVERLAY)
 OVERLAY := $(foreach f,$(OVERLAY_FILES),--overlay $(f))
 # FILL_RUN: the bed the pull-off starts from; by default the preset's own fill
@@ -78,8 +76,8 @@ DEBIAN_PACKAGES := g++ cmake make pkg-config git \
   python3-h5py python3-numpy python3-matplotlib
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: deps build test test-release test-sanitize test-pipeline bench bench-scaling bench-compare reproduce check fill pulloff validate \
-  pulloff-slice cyclic spectrum cg network friction metrics figures report accuracy clean FORCE
+.PHONY: deps build test test-release test-sanitize test-pipeline bench bench-scaling bench-compare reproduce check validate \
+  pulloff-slice cyclic metrics figures report accuracy ensemble clean FORCE
 
 deps:
 	@missing=$$(for p in $(DEBIAN_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done); \
@@ -125,11 +123,23 @@ bench-compare: build
 	/usr/bin/python3 pipeline/bench_compare/compare.py data/bench/compare.toml $(DEM2D) results/bench_compare
 
 # --- the study's stages: file targets, so only what is stale reruns --------
+# The analysis stages' rules come from their registry, pipeline/stages.toml
+# (generated into $(BUILD)/stages.mk; docs/stages.md).
+STAGE_REGISTRY ?= pipeline/stages.toml
+STAGES_MK := $(BUILD)/$(basename $(notdir $(STAGE_REGISTRY))).mk
+ifneq ($(MAKECMDGOALS),clean)
+include $(STAGES_MK)
+endif
+$(STAGES_MK): $(STAGE_REGISTRY) pipeline/stages.py | deps
+	@mkdir -p $(@D)
+	$(PYTHON) pipeline/stages.py make $(STAGE_REGISTRY) > $@.tmp && mv $@.tmp $@
+
+
 # The programs are always asked to build (a no-op when up to date; one build
 # at a time in the tree, as make -j may ask for several at once); a stage
 # reruns only when its inputs or its program actually changed. An interrupted
 # simulation stage resumes from its checkpoint when rerun.
-$(DEM2D) $(BED_METRICS) $(PULLOFF_METRICS) $(SPECTRUM) $(CG) $(NETWORK) $(FRICTION) $(CHECK): FORCE | $(BUILD)/CMakeCache.txt
+$(DEM2D) $(STAGE_PROGRAMS) $(CHECK): FORCE | $(BUILD)/CMakeCache.txt
 	@MAKEFLAGS= flock $(BUILD)/.build.lock cmake --build $(BUILD) -j $(JOBS) --target $(notdir $@) > $(BUILD)/$(notdir $@).build.log || \
 	  (cat $(BUILD)/$(notdir $@).build.log; exit 1)
 
@@ -148,19 +158,12 @@ timed = echo '$(strip $(1))' && t0=$$(date +%s.%N) && \
   mv $(@D)/timing.json.tmp $(@D)/timing.json
 
 ifeq ($(FILL_RUN),$(RESULTS)/fill/run.h5)
-$(RESULTS)/fill/run.h5: $(FILL_SCENE) $(OVERLAY_FILES) $(DEM2D)
-	$(DEM2D) run $(FILL_SCENE) $(OVERLAY) --out $(@D) --threads $(THREADS)
+$(RESULTS)/fill/run.h5: $(FILL_SCENE) $(OVERLAY_FILES) $(FILL_OVERLAY) $(DEM2D)
+	$(DEM2D) run $(FILL_SCENE) $(OVERLAY) $(if $(FILL_OVERLAY),--overlay $(FILL_OVERLAY)) --out $(@D) --threads $(THREADS)
 endif
-
-$(RESULTS)/fill/metrics.json: $(FILL_RUN) data/bed_metrics.toml $(BED_METRICS)
-	@mkdir -p $(@D)
-	$(BED_METRICS) $< --out $@
 
 $(RESULTS)/pulloff/run.h5: $(PULLOFF_SCENE) $(OVERLAY_FILES) $(FILL_RUN) $(DEM2D)
 	$(DEM2D) run $(PULLOFF_SCENE) $(OVERLAY) --initial $(FILL_RUN) --out $(@D) --threads $(THREADS)
-
-$(RESULTS)/pulloff/metrics.json: $(RESULTS)/pulloff/run.h5 $(FILL_RUN) data/study.toml $(PULLOFF_METRICS)
-	$(PULLOFF_METRICS) $< --bed $(FILL_RUN) --out $@ --csv $(@D)/drag.csv
 
 # The slice starts from the bed of preset BED_FROM (default: the same preset):
 # `make pulloff-slice PRESET=paper BED_FROM=default` measures the paper's cost
@@ -180,35 +183,19 @@ $(RESULTS)/cyclic/run.h5: $(CYCLIC_SCENE) $(OVERLAY_FILES) $(FILL_RUN) $(DEM2D)
 $(RESULTS)/cyclic/metrics.json: $(RESULTS)/cyclic/run.h5 data/study.toml $(PULLOFF_METRICS)
 	$(PULLOFF_METRICS) $< --out $@ --csv $(@D)/drag.csv --cycles $(@D)/cycles.csv
 
-PULLOFF_RUN := $(RESULTS)/pulloff/run.h5
-
-$(RESULTS)/spectrum/metrics.json: $(PULLOFF_RUN) $(RESULTS)/fill/metrics.json data/spectrum.toml data/study.toml \
-                                  $(SPECTRUM)
-	@$(call timed,$(SPECTRUM) $< --out $(@D) --fill-metrics $(RESULTS)/fill/metrics.json)
-
-$(RESULTS)/cg/metrics.json: $(PULLOFF_RUN) $(RESULTS)/spectrum/metrics.json data/cg.toml data/study.toml $(CG)
-	@$(call timed,$(CG) $< --out $(@D) --events $(RESULTS)/spectrum/spectrum.h5 --threads $(THREADS))
-
-$(RESULTS)/network/metrics.json: $(PULLOFF_RUN) $(RESULTS)/spectrum/metrics.json data/network.toml data/study.toml \
-                                 $(NETWORK)
-	@$(call timed,$(NETWORK) $< --out $(@D) --events $(RESULTS)/spectrum/spectrum.h5 \
-	  --spectrum-metrics $(RESULTS)/spectrum/metrics.json)
-
-$(RESULTS)/friction/metrics.json: $(PULLOFF_RUN) data/friction.toml data/study.toml $(FRICTION)
-	@$(call timed,$(FRICTION) $< --out $(@D))
-
 # --- metrics, tolerance tests, figures, report -------------------------------
-STAGE_METRICS := $(foreach s,fill pulloff spectrum cg network friction,$(RESULTS)/$(s)/metrics.json)
-
-$(RESULTS)/metrics.json: $(STAGE_METRICS) $(REPORT_SCRIPTS)/merge_metrics.py $(REPORT_SCRIPTS)/files.py
+$(RESULTS)/metrics.json: $(STAGE_METRICS) pipeline/stages.toml $(REPORT_SCRIPTS)/merge_metrics.py $(REPORT_SCRIPTS)/files.py
 	$(PYTHON) $(REPORT_SCRIPTS)/merge_metrics.py $(RESULTS) $(PRESET) $(FILL_RUN)
 
 # The tolerance tests' verdicts for the report: misses do not stop the
 # reproduction (`make check` fails on them); a broken check program does.
+# $(call check_into,ARGS): the tolerance tests of ARGS (metrics [--ensemble stats])
+# into $@ (GoogleTest JSON) and $(@D)/check.log
+check_into = $(CHECK) $(1) data/paper_targets.toml $(2) --gtest_output=json:$@.tmp > $(@D)/check.log 2>&1; rc=$$?; \
+  if [ $$rc -le 1 ] && [ -s $@.tmp ]; then mv $@.tmp $@; grep -E '^\[  (PASSED|FAILED)  \] [0-9]+ test' $(@D)/check.log; \
+  else cat $(@D)/check.log; exit 1; fi
 $(RESULTS)/check.json: $(RESULTS)/metrics.json data/paper_targets.toml $(CHECK)
-	@$(CHECK) $< data/paper_targets.toml --gtest_output=json:$@.tmp > $(RESULTS)/check.log 2>&1; rc=$$?; \
-	  if [ $$rc -le 1 ] && [ -s $@.tmp ]; then mv $@.tmp $@; grep -E '^\[  (PASSED|FAILED)  \] [0-9]+ test' $(RESULTS)/check.log; \
-	  else cat $(RESULTS)/check.log; exit 1; fi
+	@$(call check_into,$<)
 
 FIGURE_SCRIPTS := $(filter-out %/report.py %/merge_metrics.py,$(wildcard $(REPORT_SCRIPTS)/*.py))
 $(RESULTS)/figures/index.json: $(STAGE_METRICS) data/study.toml $(FIGURE_SCRIPTS)
@@ -218,14 +205,8 @@ $(RESULTS)/report.md: $(RESULTS)/metrics.json $(RESULTS)/check.json $(RESULTS)/f
                       $(REPORT_SCRIPTS)/report.py $(REPORT_SCRIPTS)/deviations.toml
 	$(PYTHON) $(REPORT_SCRIPTS)/report.py $(RESULTS) $(PRESET)
 
-fill: $(RESULTS)/fill/metrics.json
-pulloff: $(RESULTS)/pulloff/metrics.json
 pulloff-slice: $(SLICE_DIR)/metrics.json
 cyclic: $(RESULTS)/cyclic/metrics.json
-spectrum: $(RESULTS)/spectrum/metrics.json
-cg: $(RESULTS)/cg/metrics.json
-network: $(RESULTS)/network/metrics.json
-friction: $(RESULTS)/friction/metrics.json
 metrics: $(RESULTS)/metrics.json
 figures: $(RESULTS)/figures/index.json
 report: $(RESULTS)/report.md
@@ -254,6 +235,52 @@ accuracy: $(ACCURACY)/table.md
 # (pipeline/validate/README.md): results/validate/table.md and figures; fails on any miss
 validate: build
 	$(PYTHON) pipeline/validate/validate.py $(DEM2D) results/validate --jobs $(JOBS)
+
+# --- make ensemble: MEMBERS independent realisations (docs/ensemble.md) ----
+# Member k (results/<preset>/ensemble/member_NNN/) is the whole study with the
+# fill's grain seeds moved by k (member 0: the single run's seeds), made by
+# the same rules on one thread; EXECUTOR=local runs JOBS members side by side
+# through make's own job server. The aggregate (stats.json, metrics.json of
+# the means, drag.csv/png) and its tolerance tests (check.json, table.md)
+# follow. A rerun skips finished members and resumes a killed one.
+MEMBERS ?= 4
+EXECUTOR ?= local
+ENSEMBLE := $(RESULTS)/ensemble
+ifneq ($(filter ensemble $(ENSEMBLE)/%,$(MAKECMDGOALS)),)
+ifneq ($(shell [ "$(MEMBERS)" -ge 1 ] 2>/dev/null && echo ok),ok)
+$(error MEMBERS=$(MEMBERS): must be an integer >= 1)
+endif
+endif
+MEMBER_DIRS := $(foreach k,$(shell seq -f '%03g' 0 $$(( $(MEMBERS) - 1 )) 2>/dev/null),$(ENSEMBLE)/member_$(k))
+
+$(ENSEMBLE)/member_%/member.toml: $(FILL_SCENE) $(OVERLAY_FILES) pipeline/ensemble/member_overlay.py
+	$(PYTHON) pipeline/ensemble/member_overlay.py $(FILL_SCENE) $$((10#$*)) $@ $(OVERLAY_FILES)
+
+.PRECIOUS: $(ENSEMBLE)/member_%/member.toml
+# the member's own make decides what is stale in it
+$(ENSEMBLE)/member_%/metrics.json: $(ENSEMBLE)/member_%/member.toml FORCE
+	+@$(MAKE) --no-print-directory metrics PRESET=$(PRESET) RESULTS=$(@D) FILL_OVERLAY=$< THREADS=1
+
+# the member list, rewritten only when MEMBERS changes it (then the aggregate is redone)
+$(ENSEMBLE)/members.txt: FORCE
+	@mkdir -p $(@D); echo '$(notdir $(MEMBER_DIRS))' | cmp -s - $@ || echo '$(notdir $(MEMBER_DIRS))' > $@
+
+$(ENSEMBLE)/stats.json: $(addsuffix /metrics.json,$(MEMBER_DIRS)) $(ENSEMBLE)/members.txt pipeline/ensemble/aggregate.py
+	$(PYTHON) pipeline/ensemble/aggregate.py $(@D) $(PRESET) $(MEMBER_DIRS)
+
+$(ENSEMBLE)/check.json: $(ENSEMBLE)/stats.json data/paper_targets.toml $(CHECK)
+	@$(call check_into,$(@D)/metrics.json,--ensemble $<)
+
+$(ENSEMBLE)/table.md: $(ENSEMBLE)/check.json pipeline/ensemble/table.py
+	$(PYTHON) pipeline/ensemble/table.py $(@D)
+
+ensemble:
+ifeq ($(EXECUTOR),local)
+	+@$(MAKE) --no-print-directory -j$(JOBS) $(ENSEMBLE)/table.md
+	@echo "make ensemble: $(MEMBERS) members of $(PRESET) in $(ENSEMBLE); the table is $(ENSEMBLE)/table.md"
+else
+	$(error EXECUTOR=$(EXECUTOR): use local (slurm: not yet))
+endif
 
 reproduce: $(RESULTS)/report.md
 	@echo "make reproduce: $(RESULTS) is up to date; the report is $(RESULTS)/report.md"

@@ -16,9 +16,11 @@ fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 $PY - "$R" <<'PYEOF' || fail "outputs of $R"
 import json, sys, tomllib
 from pathlib import Path
+sys.path.insert(0, "pipeline")
+from stages import load
 r = Path(sys.argv[1])
 m = json.load(open(r / "metrics.json"))
-for stage in ["fill", "pulloff", "spectrum", "cg", "network", "friction"]:
+for stage in [s.name for s in load()]:
     assert isinstance(m.get(stage), dict) and m[stage], f"metrics.json: no {stage}"
     assert m["cost"][stage]["wall_seconds"] > 0, f"cost of {stage}"
 assert m["cost"]["pulloff"]["ns_per_particle_step"] > 0
@@ -52,6 +54,36 @@ grep -q "report.py" "$WORK/friction" || fail "the report was not rewritten"
 grep -qE "dem2d run|analysis/(spectrum|cg|network|bed_metrics|pulloff_metrics) " "$WORK/friction" &&
   fail "a changed friction setting reran other stages: $(ran "$WORK/friction")"
 
+# --- an ensemble of two members: member 0 is the single run, member 1 another
+# bed; the aggregate, its tolerance tests and table; a rerun runs nothing
+make --no-print-directory ensemble PRESET=quick MEMBERS=2 >"$WORK/ens" 2>&1 || fail "make ensemble: $(tail -20 "$WORK/ens")"
+E=$R/ensemble
+for s in fill pulloff; do
+  $PY tests/tools/same_run.py "$E/member_000/$s/run.h5" "$R/$s/run.h5" --ignore-attr scene_text >/dev/null ||
+    fail "ensemble member 0's $s differs from the single run's"
+done
+$PY tests/tools/same_run.py "$E/member_001/fill/run.h5" "$R/fill/run.h5" --ignore-attr scene_text >/dev/null &&
+  fail "ensemble member 1's bed is the single run's: its seeds did not change"
+$PY - "$E" <<'PYEOF' || fail "ensemble outputs of $E"
+import json, sys
+from pathlib import Path
+e = Path(sys.argv[1])
+st = json.load(open(e / "stats.json"))
+assert st["members"] == ["member_000", "member_001"], st["members"]
+s = st["metrics"]["fill.solid_fraction"]
+assert s["n"] == 2 and len(s["values"]) == 2 and s["values"][0] != s["values"][1], s
+assert s["ci95"][0] <= s["mean"] <= s["ci95"][1] and min(s["values"]) <= s["ci95"][0], s
+assert abs(s["mean"] - sum(s["values"]) / 2) < 1e-12
+m = json.load(open(e / "metrics.json"))
+assert m["fill"]["solid_fraction"] == s["mean"]
+table = (e / "table.md").read_text()
+assert "| R1 | `fill.solid_fraction` |" in table and "targets pass" in table
+assert (e / "drag.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+print(f"ensemble outputs: {len(st['metrics'])} metrics over {len(st['members'])} members")
+PYEOF
+make --no-print-directory ensemble PRESET=quick MEMBERS=2 >"$WORK/ens2" 2>&1 || fail "second make ensemble"
+grep -q "dem2d run\|analysis/" "$WORK/ens2" && fail "a second make ensemble reran a member: $(grep 'dem2d run\|analysis/' "$WORK/ens2")"
+
 # --- missing or corrupt inputs: the message names the file and what to run
 Q=$WORK/quick  # a results folder named after its preset, as results/quick is
 mkdir -p "$Q"
@@ -66,6 +98,19 @@ expect_msg "quick/metrics.json: no such file: run \`make reproduce PRESET=quick\
 expect_msg "quick/fill/metrics.json: no such file: run \`make fill PRESET=quick\`" -- \
   $PY pipeline/report/merge_metrics.py "$Q" quick
 expect_msg "quick/fill/metrics.json missing: run \`make fill PRESET=quick\`" -- $PY pipeline/report/figures.py "$Q"
+# the registry of stages: an added entry is a make target; a bad one is named
+cp pipeline/stages.toml "$WORK/more.toml"
+printf '[[stage]]\nname = "friction_again"\nprogram = "friction"\nrun = "pulloff"\nout = "dir"\n%s\n' \
+  'config = "data/friction.toml"
+outputs = ["friction.h5", "metrics.json"]' >>"$WORK/more.toml"
+make --no-print-directory "$R/friction_again/metrics.json" PRESET=quick STAGE_REGISTRY="$WORK/more.toml" \
+  >"$WORK/more.out" 2>&1 || fail "a stage added to the registry did not run: $(cat "$WORK/more.out")"
+grep -q "analysis/friction .*--out $R/friction_again" "$WORK/more.out" || fail "the added stage ran no program"
+[ -s "$R/friction_again/metrics.json" ] || fail "the added stage wrote no metrics.json"
+rm -rf "$R/friction_again" build/release/more.mk
+sed 's|"spectrum/metrics.json"|"spectra/metrics.json"|' pipeline/stages.toml >"$WORK/bad.toml"
+expect_msg "stage\[4\] (network): inputs = .*'spectra/metrics.json': not an output of an earlier stage" -- \
+  $PY pipeline/stages.py make "$WORK/bad.toml"
 echo '{"fill": ' >"$Q/metrics.json"
 expect_msg "quick/metrics.json: not valid JSON" -- build/release/tests/paper_targets/check_paper_targets \
   "$Q/metrics.json" data/paper_targets.toml

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import matplotlib
 
-from files import write_atomic
+from files import stages, write_atomic
 
 matplotlib.use("Agg")
 import h5py  # noqa: E402
@@ -21,15 +21,9 @@ MM = 1e3  # m -> mm
 REPO = Path(__file__).resolve().parents[2]
 STUDY_FILE = REPO / "data" / "study.toml"
 
-# stage -> the files of it that the figures read
-STAGE_FILES = {
-    "fill": ["metrics.json"],
-    "pulloff": ["run.h5", "metrics.json"],
-    "spectrum": ["spectrum.h5", "metrics.json"],
-    "cg": ["cg.h5", "metrics.json"],
-    "network": ["network.h5", "metrics.json"],
-    "friction": ["friction.h5", "metrics.json"],
-}
+# stage -> the files of it that the figures read: every stage's outputs
+# (pipeline/stages.toml), and the pull-off's run file, which they draw
+STAGE_FILES = {s.name: (["run.h5"] if s.name == "pulloff" else []) + s.outputs for s in stages()}
 
 # the three mobility zones of v* = |V|/V (SPEC, paper Fig. 8)
 ZONE_COLOURS = ["#3b6fd8", "#3fae49", "#d8403b"]

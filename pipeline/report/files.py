@@ -37,3 +37,29 @@ def write_atomic(path: Path, text: str) -> None:
     tmp = Path(str(path) + ".tmp")
     tmp.write_text(text)
     os.replace(tmp, path)
+
+
+def stages() -> list:
+    """The analysis stages of the registry, pipeline/stages.toml (pipeline/stages.py)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    from stages import RegistryError, load
+
+    try:
+        return load()
+    except RegistryError as e:
+        fail(str(e))
+
+
+def utf8(value):
+    """GoogleTest's JSON writer escapes each byte of a UTF-8 string as its own code point."""
+    if not isinstance(value, str):
+        return value
+    try:
+        return value.encode("latin-1").decode("utf-8")
+    except (UnicodeEncodeError, UnicodeDecodeError):
+        return value
+
+
+def check_rows(check: dict) -> list:
+    """The tests of a check.json (check_paper_targets' GoogleTest JSON), one dict per target, text decoded."""
+    return [{k: utf8(v) for k, v in t.items()} for suite in check.get("testsuites", []) for t in suite.get("testsuite", [])]

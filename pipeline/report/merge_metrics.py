@@ -7,8 +7,9 @@ FILL_RUN: the bed's run file when it is not RESULTS_DIR/fill/run.h5 (make
 accuracy starts its sweep points from beds made elsewhere).
 
 Reads RESULTS_DIR/<stage>/metrics.json (each {"<stage>": {...}}) for every
-stage, the engine's own timing of the two simulations (run.h5 attributes:
-wall time, steps, threads) and the Makefile's timing of the analysis stages
+stage of the registry (pipeline/stages.toml), the engine's own timing of
+the two simulations (run.h5 attributes: wall time, steps, threads) for the
+stages named like them, and the Makefile's timing of the other stages
 (RESULTS_DIR/<stage>/timing.json), and writes RESULTS_DIR/metrics.json:
 
     {"preset": ..., "fill": {...}, "pulloff": {...}, "spectrum": {...}, "cg": {...},
@@ -22,9 +23,8 @@ import json
 import sys
 from pathlib import Path
 
-from files import fail, read_json, write_atomic
+from files import fail, read_json, stages, write_atomic
 
-STAGES = ["fill", "pulloff", "spectrum", "cg", "network", "friction"]
 SIMULATIONS = ["fill", "pulloff"]
 
 
@@ -56,19 +56,21 @@ def main() -> None:
         runs["fill"] = Path(sys.argv[3])
     merged = {"preset": preset, "code_version": ""}  # the pull-off's, filled in below
     cost = {}
-    for stage in STAGES:
+    registry = stages()
+    for s in registry:
+        stage = s.name
         metrics = read_json(results / stage / "metrics.json", f"make {stage} PRESET={preset}")
         if stage not in metrics:
             fail(f"{results / stage / 'metrics.json'}: no \"{stage}\" object: rerun `make {stage} PRESET={preset}`")
         merged[stage] = metrics[stage]
-        if stage in SIMULATIONS:
+        if s.is_simulation_report:
             cost[stage], merged["code_version"] = simulation_cost(runs[stage], preset, stage)
         else:
             cost[stage] = read_json(results / stage / "timing.json", f"make {stage} PRESET={preset}")
     cost["total_wall_seconds"] = sum(c["wall_seconds"] for c in cost.values())
     merged["cost"] = cost
     write_atomic(results / "metrics.json", json.dumps(merged, indent=2) + "\n")
-    print(f"merge_metrics: {len(STAGES)} stages -> {results / 'metrics.json'}", file=sys.stderr)
+    print(f"merge_metrics: {len(registry)} stages -> {results / 'metrics.json'}", file=sys.stderr)
 
 
 if __name__ == "__main__":

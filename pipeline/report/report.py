@@ -13,23 +13,13 @@ import re
 import sys
 from pathlib import Path
 
-from files import fail, read_json, read_toml, write_atomic
+from files import check_rows, fail, read_json, read_toml, stages, write_atomic
 
 HERE = Path(__file__).resolve().parent
 
 
-def utf8(value):
-    """GoogleTest's JSON writer escapes each byte of a UTF-8 string as its own code point."""
-    if not isinstance(value, str):
-        return value
-    try:
-        return value.encode("latin-1").decode("utf-8")
-    except (UnicodeEncodeError, UnicodeDecodeError):
-        return value
-
-
 def targets_table(check: dict) -> tuple[list[str], list[dict]]:
-    rows = [{k: utf8(v) for k, v in t.items()} for suite in check.get("testsuites", []) for t in suite.get("testsuite", [])]
+    rows = check_rows(check)
     if not rows:
         fail("check.json lists no targets: rerun `make reproduce`")
     lines = ["| result | metric | what | paper | tolerance | ours | verdict |", "|---|---|---|---|---|---|---|"]
@@ -115,7 +105,7 @@ def figures(index: list[dict]) -> list[str]:
 def sensitivity(metrics: dict) -> list[str]:
     """Each stage's tables of how its numbers move with its thresholds."""
     lines = []
-    for stage in ["spectrum", "cg", "network", "friction"]:
+    for stage in (s.name for s in stages()):
         for name, rows in metrics.get(stage, {}).get("sensitivity", {}).items():
             if not isinstance(rows, list) or not rows or not isinstance(rows[0], dict):
                 continue

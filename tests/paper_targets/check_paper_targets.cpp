@@ -3,12 +3,16 @@
 // metric; a missing metric fails. Each test records its metric, our value,
 // the paper's and the verdict as properties, so --gtest_output=json:FILE
 // gives the report its table.
-//   check_paper_targets METRICS.json TARGETS.toml [--gtest_* options]
+//   check_paper_targets METRICS.json TARGETS.toml [--ensemble STATS.json] [--gtest_* options]
+// With --ensemble, METRICS.json holds an ensemble's member means and
+// STATS.json their intervals (pipeline/ensemble/aggregate.py; the rule:
+// paper_targets.hpp, evaluate).
 // Exit codes: 0 all pass; 1 a target fails; 2 unreadable input.
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include "common/stage_output.hpp"
 #include "paper_targets.hpp"
@@ -19,9 +23,10 @@ using dem2d::check::Target;
 
 class TargetTest : public testing::Test {
  public:
-  TargetTest(Target t, const nlohmann::json* metrics) : t_(std::move(t)), metrics_(metrics) {}
+  TargetTest(Target t, const nlohmann::json* metrics, const nlohmann::json* ensemble)
+      : t_(std::move(t)), metrics_(metrics), ensemble_(ensemble) {}
   void TestBody() override {
-    const dem2d::check::Verdict v = dem2d::check::evaluate(t_, *metrics_);
+    const dem2d::check::Verdict v = dem2d::check::evaluate(t_, *metrics_, ensemble_);
     RecordProperty("result", t_.result);
     RecordProperty("metric", t_.metric);
     RecordProperty("what", t_.what);
@@ -37,6 +42,7 @@ class TargetTest : public testing::Test {
  private:
   Target t_;
   const nlohmann::json* metrics_;
+  const nlohmann::json* ensemble_;  // null: one run
 };
 
 // "fill.solid_fraction" -> "fill_solid_fraction": GoogleTest names are identifiers.
@@ -50,15 +56,17 @@ std::string test_name(std::string s, int index) {
 
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
-  if (argc != 3) {
-    std::fprintf(stderr, "usage: %s METRICS.json TARGETS.toml [--gtest_* options]\n", argv[0]);
+  const bool with_ensemble = argc == 5 && std::string(argv[3]) == "--ensemble";
+  if (argc != 3 && !with_ensemble) {
+    std::fprintf(stderr, "usage: %s METRICS.json TARGETS.toml [--ensemble STATS.json] [--gtest_* options]\n", argv[0]);
     return 2;
   }
-  static nlohmann::json metrics;
+  static nlohmann::json metrics, ensemble;
   std::vector<Target> targets;
   try {
     metrics = dem2d::check::load_metrics(argv[1]);
     targets = dem2d::check::load_targets(argv[2]);
+    if (with_ensemble) ensemble = dem2d::check::load_metrics(argv[4]);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "check_paper_targets: %s\n", e.what());
     return 2;
@@ -67,7 +75,9 @@ int main(int argc, char** argv) {
   for (const Target& t : targets) {
     ++index;
     testing::RegisterTest(t.result.c_str(), test_name(t.metric, index).c_str(), nullptr, nullptr, __FILE__, __LINE__,
-                          [t]() -> testing::Test* { return new TargetTest(t, &metrics); });
+                          [t, with_ensemble]() -> testing::Test* {
+                            return new TargetTest(t, &metrics, with_ensemble ? &ensemble : nullptr);
+                          });
   }
   return RUN_ALL_TESTS() == 0 ? 0 : 1;
 }

@@ -102,16 +102,33 @@ std::optional<double> lookup(const nlohmann::json& metrics, const std::string& d
   return std::isfinite(v) ? std::optional<double>(v) : std::nullopt;
 }
 
-Verdict evaluate(const Target& t, const nlohmann::json& metrics) {
+std::optional<std::pair<double, double>> ensemble_interval(const nlohmann::json& stats, const std::string& metric) {
+  const auto m = stats.find("metrics");
+  if (m == stats.end() || !m->is_object() || !m->contains(metric)) return std::nullopt;
+  const nlohmann::json& ci = (*m)[metric]["ci95"];
+  if (!ci.is_array() || ci.size() != 2 || !ci[0].is_number() || !ci[1].is_number()) return std::nullopt;
+  return std::pair<double, double>{ci[0].get<double>(), ci[1].get<double>()};
+}
+
+Verdict evaluate(const Target& t, const nlohmann::json& metrics, const nlohmann::json* ensemble) {
   Verdict v;
   v.ours = lookup(metrics, t.metric);
   std::optional<double> other;
+  std::optional<std::pair<double, double>> ci;
   switch (t.kind) {
     case Target::Kind::Within:
       v.paper = format_number(t.value);
       v.tolerance = "± " + format_number(t.tolerance);
       v.expected = v.paper + " " + v.tolerance;
-      v.pass = v.ours && std::abs(*v.ours - t.value) <= t.tolerance;
+      if (!ensemble) {
+        v.pass = v.ours && std::abs(*v.ours - t.value) <= t.tolerance;
+        break;
+      }
+      ci = ensemble_interval(*ensemble, t.metric);
+      if (!ci) v.ours.reset();  // no member gave it
+      if (ci) v.tolerance += " around the members' 95 % interval [" + format_number(ci->first) + ", " +
+                              format_number(ci->second) + "]";
+      v.pass = ci && t.value >= ci->first - t.tolerance && t.value <= ci->second + t.tolerance;
       break;
     case Target::Kind::Below:
       v.expected = v.paper = "< " + format_number(t.value);

@@ -40,6 +40,15 @@ struct Verdict {
   std::string paper, tolerance; // expected in two parts: ("0.82", "± 0.02"), ("< 0.2", "a bound"), ("> spectrum.x (= 3.1)", "a shape")
   std::string message;          // one line for the failure report
 };
-Verdict evaluate(const Target& t, const nlohmann::json& metrics);
+// `metrics`: one run's, or an ensemble's member means (pipeline/ensemble/aggregate.py).
+// With `ensemble` (that ensemble's stats.json) a paper value with a tolerance
+// passes when it lies within the 95 % interval of the members' mean widened
+// by the tolerance on both sides, [lo - tol, hi + tol]; bounds and shapes are
+// judged on the mean (docs/ensemble.md).
+Verdict evaluate(const Target& t, const nlohmann::json& metrics, const nlohmann::json* ensemble = nullptr);
+
+// The 95 % interval [lo, hi] of the members' mean of a metric in an
+// ensemble's stats.json, if the members gave it.
+std::optional<std::pair<double, double>> ensemble_interval(const nlohmann::json& stats, const std::string& metric);
 
 }  // namespace dem2d::check

@@ -69,6 +69,30 @@ TEST(PaperTargets, WithinToleranceIsInclusiveAndMissingFails) {
   EXPECT_NE(missing.message.find("missing"), std::string::npos) << missing.message;
 }
 
+// An ensemble: the paper's value must lie within the members' 95 % interval
+// of the mean widened by the tolerance; bounds are judged on the mean.
+TEST(PaperTargets, EnsembleJudgesThePaperAgainstTheIntervalWidenedByTheTolerance) {
+  const auto means = nlohmann::json::parse(R"({"a": {"x": 1.0, "b": 0.9, "gone": null}})");
+  const auto stats = nlohmann::json::parse(
+      R"({"metrics": {"a.x": {"mean": 1.0, "ci95": [0.75, 1.25]}, "a.b": {"mean": 0.9, "ci95": [0.5, 1.5]},
+                      "a.gone": {"mean": null, "ci95": null}}})");
+  // interval [0.75, 1.25], tolerance 0.25: paper values in [0.5, 1.5] pass (edges exact in binary)
+  EXPECT_TRUE(evaluate(within("a.x", 0.5, 0.25), means, &stats).pass);
+  EXPECT_TRUE(evaluate(within("a.x", 1.5, 0.25), means, &stats).pass);
+  EXPECT_FALSE(evaluate(within("a.x", 0.4375, 0.25), means, &stats).pass);
+  EXPECT_FALSE(evaluate(within("a.x", 1.5625, 0.25), means, &stats).pass);
+  // the single-run rule on the mean would fail 0.5 (|1.0 - 0.5| > 0.25): the interval is what passes it
+  EXPECT_FALSE(evaluate(within("a.x", 0.5, 0.25), means).pass);
+  const Verdict v = evaluate(within("a.x", 0.5, 0.25), means, &stats);
+  EXPECT_NE(v.tolerance.find("[0.75, 1.25]"), std::string::npos) << v.tolerance;
+  EXPECT_FALSE(evaluate(within("a.gone", 1.0, 1.0), means, &stats).pass);
+  // a bound on the mean (0.9), not on the interval's end (1.5)
+  Target below = within("a.b", 0.0, 0.0);
+  below.kind = Target::Kind::Below;
+  below.value = 1.0;
+  EXPECT_TRUE(evaluate(below, means, &stats).pass);
+}
+
 TEST(PaperTargets, BoundsAreStrictAndAMetricCanBeTheBound) {
   const auto m = nlohmann::json::parse(R"({"s": {"lower": 0.4, "upper": 0.34, "slip": 0.2}})");
   Target t = within("s.slip", 0, 0);
