@@ -4,7 +4,7 @@
 #   make deps       install the Debian packages the project needs (apt-get)
 #   make build      optimised build: build/release/sim/dem2d
 #   make test       unit + physics tests (optimised build), the quick tests again
-#                   under AddressSanitizer + UBSan, then make test-pipeline
+#                   under AddressSanitizer + UBSan, then make test-pipeline and make test-cluster
 #   make bench      ns per particle-step on the standard settled bed
 #   make bench-scaling  ns per particle-step for N = 1.6e3 ... 1e6 disks (copies of that bed side by side)
 #   make bench-compare  dem2d against LAMMPS (installs lammps) on the same settled bed, 1 and 2 cores
@@ -13,6 +13,8 @@
 #                   metrics.json, the tolerance tests (check.json), figures/, report.md
 #   make check      the tolerance tests: results/<preset>/metrics.json against data/paper_targets.toml
 #   make test-pipeline  the whole pipeline on the small test scene (PRESET=quick), its outputs checked
+#   make test-cluster   a 4-member quick ensemble through a real one-node Slurm cluster (started and
+#                   stopped here; root) against the local executor: bitwise the same
 #   make fill       stage: hopper filling, bed metrics   (results/<preset>/fill/)
 #   make pulloff    stage: intruder pull-off, drag      (results/<preset>/pulloff/)
 #   make pulloff-slice  the first 5 mm of the pull-off only: the preset's cost (results/<preset>/pulloff_5mm/;
@@ -76,7 +78,7 @@ DEBIAN_PACKAGES := g++ cmake make pkg-config git \
   python3-h5py python3-numpy python3-matplotlib
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: deps build test test-release test-sanitize test-pipeline bench bench-scaling bench-compare reproduce check validate \
+.PHONY: deps build test test-release test-sanitize test-pipeline test-cluster bench bench-scaling bench-compare reproduce check validate \
   pulloff-slice cyclic metrics figures report accuracy ensemble clean FORCE
 
 deps:
@@ -96,7 +98,7 @@ build: deps $(BUILD)/CMakeCache.txt
 $(SANITIZE_BUILD)/CMakeCache.txt: | deps
 	cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDEM2D_SANITIZE=ON
 
-test: test-release test-sanitize test-pipeline
+test: test-release test-sanitize test-pipeline test-cluster
 
 test-release: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
@@ -110,6 +112,11 @@ test-sanitize: deps $(SANITIZE_BUILD)/CMakeCache.txt
 test-pipeline: build
 	$(MAKE) --no-print-directory reproduce PRESET=quick THREADS=$(THREADS)
 	tests/pipeline_test.sh results/quick
+
+# The Slurm executor on a real one-node Slurm cluster started and stopped
+# here (installs munge and slurm-wlm as root; skipped, loudly, otherwise).
+test-cluster: build
+	tests/slurm_test.sh; rc=$$?; [ $$rc -eq 0 ] || [ $$rc -eq 77 ]
 
 bench: build
 	$(DEM2D) bench
@@ -274,12 +281,20 @@ $(ENSEMBLE)/check.json: $(ENSEMBLE)/stats.json data/paper_targets.toml $(CHECK)
 $(ENSEMBLE)/table.md: $(ENSEMBLE)/check.json pipeline/ensemble/table.py
 	$(PYTHON) pipeline/ensemble/table.py $(@D)
 
-ensemble:
+# EXECUTOR=slurm: an array job of the same member targets, then the aggregate
+# (pipeline/slurm/submit_ensemble.sh; SLURM_WAIT=1 waits for it)
+SLURM_WAIT ?=
 ifeq ($(EXECUTOR),local)
+ensemble:
 	+@$(MAKE) --no-print-directory -j$(JOBS) $(ENSEMBLE)/table.md
 	@echo "make ensemble: $(MEMBERS) members of $(PRESET) in $(ENSEMBLE); the table is $(ENSEMBLE)/table.md"
+else ifeq ($(EXECUTOR),slurm)
+ensemble: $(DEM2D) $(STAGE_PROGRAMS) $(CHECK)
+	pipeline/slurm/submit_ensemble.sh $(ENSEMBLE) $(MEMBERS) "$(SLURM_WAIT)" PRESET=$(PRESET) MEMBERS=$(MEMBERS) \
+	  RESULTS=$(RESULTS) $(if $(INTRUDER),INTRUDER=$(INTRUDER)) PYTHON=$(PYTHON)
 else
-	$(error EXECUTOR=$(EXECUTOR): use local (slurm: not yet))
+ensemble:
+	$(error EXECUTOR=$(EXECUTOR): use local or slurm)
 endif
 
 reproduce: $(RESULTS)/report.md

@@ -12,7 +12,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "pipeline" / "report"))
-import merge_metrics  # noqa: E402
+import files  # noqa: E402
 import report  # noqa: E402
 
 METRICS = {"fill": {"solid_fraction": 0.8414430434, "bed_height_mm": 141.1},
@@ -44,7 +44,7 @@ class FillIn(unittest.TestCase):
     def test_deviations_toml_quotes_run_numbers_only_through_placeholders(self):
         with open(ROOT / "pipeline" / "report" / "deviations.toml", "rb") as f:
             d = tomllib.load(f)
-        stages = set(merge_metrics.STAGES) | {"cost"}  # metrics.json's top-level groups
+        stages = {s.name for s in files.stages()} | {"cost"}  # metrics.json's top-level groups
         found = [m.group(1) for entry in d["deviation"] + d["miss"]
                  for m in report.PLACEHOLDER.finditer(entry["reason"])]
         self.assertGreater(len(found), 10)

@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# make test-cluster: the Slurm executor against a real Slurm. Installs
+# Debian's munge and slurm-wlm if missing (as root), starts a one-node
+# cluster in a temporary folder (pipeline/slurm/local_cluster.sh), runs a
+# 4-member ensemble of the quick scene through it (make ensemble
+# EXECUTOR=slurm) and the same ensemble with the local executor, checks that
+# every member's run files and the aggregate are the same, and stops the
+# daemons it started. Exit 0: passed; 1: failed; 77: skipped (said loudly).
+set -uo pipefail
+cd "$(dirname "$0")/.."
+PY=${PYTHON:-/usr/bin/python3}
+MEMBERS=4
+WORK=$(mktemp -d /tmp/dem2d_slurm_test.XXXXXX)
+cleanup() { pipeline/slurm/local_cluster.sh stop "$WORK/cluster" >/dev/null 2>&1; rm -rf "$WORK"; }
+trap cleanup EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+skip() {
+  echo "************************************************************************"
+  echo "SKIPPED: the Slurm executor was NOT tested: $*"
+  echo "************************************************************************"
+  exit 77
+}
+
+if ! command -v slurmctld >/dev/null || ! command -v slurmd >/dev/null || ! command -v munged >/dev/null; then
+  [ "$(id -u)" -eq 0 ] || skip "munge and slurm-wlm are not installed and this is not root (apt-get install munge slurm-wlm)"
+  echo "slurm_test: installing munge and slurm-wlm"
+  { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends munge slurm-wlm; } \
+    >"$WORK/apt.log" 2>&1 || skip "installing munge and slurm-wlm failed: $(tail -3 "$WORK/apt.log")"
+fi
+[ "$(id -u)" -eq 0 ] || skip "the one-node cluster needs root (slurmd)"
+
+t0=$(date +%s.%N)
+make --no-print-directory ensemble PRESET=quick MEMBERS=$MEMBERS RESULTS="$WORK/local" >"$WORK/local.log" 2>&1 ||
+  fail "local ensemble: $(tail -20 "$WORK/local.log")"
+t1=$(date +%s.%N)
+pipeline/slurm/local_cluster.sh start "$WORK/cluster" >"$WORK/cluster.log" 2>&1 ||
+  { cat "$WORK/cluster.log"; fail "the one-node cluster did not start"; exit 1; }
+export SLURM_CONF=$WORK/cluster/slurm.conf
+t2=$(date +%s.%N)
+make --no-print-directory ensemble PRESET=quick MEMBERS=$MEMBERS RESULTS="$WORK/slurm" EXECUTOR=slurm SLURM_WAIT=1 \
+  >"$WORK/slurm.log" 2>&1 || fail "Slurm ensemble: $(tail -20 "$WORK/slurm.log"; tail -5 "$WORK"/slurm/ensemble/slurm/*.log)"
+t3=$(date +%s.%N)
+grep -q "array job" "$WORK/slurm.log" || fail "no array job was submitted: $(cat "$WORK/slurm.log")"
+n_tasks=$(ls "$WORK"/slurm/ensemble/slurm/member_*.log 2>/dev/null | wc -l)
+[ "$n_tasks" -eq $MEMBERS ] || fail "$n_tasks array task logs, expected $MEMBERS"
+
+for k in $(seq -f %03g 0 $((MEMBERS - 1))); do
+  for s in fill pulloff; do
+    $PY tests/tools/same_run.py "$WORK/local/ensemble/member_$k/$s/run.h5" "$WORK/slurm/ensemble/member_$k/$s/run.h5" \
+      --ignore-attr scene_text >"$WORK/same.log" 2>&1 || fail "member $k $s: Slurm and local differ: $(tail -3 "$WORK/same.log")"
+  done
+done
+$PY - "$WORK/local/ensemble/stats.json" "$WORK/slurm/ensemble/stats.json" <<'PYEOF' || fail "the aggregates differ"
+import json, sys
+timing = ("seconds", "ns_per_", "per_second", "cost.")  # wall-clock measurements differ run to run
+a, b = ({k: v for k, v in json.load(open(p))["metrics"].items() if not any(t in k for t in timing)}
+        for p in sys.argv[1:])
+assert a == b, [k for k in a if a[k] != b.get(k)][:5]
+print(f"slurm_test: aggregates equal ({len(a)} metrics)")
+PYEOF
+cmp -s "$WORK/local/ensemble/table.md" "$WORK/slurm/ensemble/table.md" || fail "table.md differs"
+awk -v a="$t0" -v b="$t1" -v c="$t2" -v d="$t3" -v k=$MEMBERS 'BEGIN {
+  printf "slurm_test: %d members: local executor %.1f s, Slurm %.1f s (cluster start %.1f s)\n", k, b - a, d - c, c - b }'
+pipeline/slurm/local_cluster.sh stop "$WORK/cluster" || fail "the daemons did not stop"
+for pidf in "$WORK"/cluster/*.pid; do [ -e "$pidf" ] && fail "left running: $pidf"; done
+[ "$failures" -eq 0 ] && echo "slurm_test: all checks passed" || echo "slurm_test: $failures failed"
+[ "$failures" -eq 0 ]
