@@ -3,6 +3,7 @@
 #
 #   make deps       install the Debian packages the project needs (apt-get)
 #   make build      optimised build: build/release/sim/dem2d
+#   make install    PREFIX=DIR (default /usr/local): bin/dem2d, libexec/dem2d/<stage>, share/dem2d/data
 #   make test       unit + physics tests (optimised build), the quick tests again
 #                   under AddressSanitizer + UBSan, then make test-pipeline and make test-cluster
 #   make bench      ns per particle-step on the standard settled bed
@@ -78,7 +79,7 @@ DEBIAN_PACKAGES := g++ cmake make pkg-config git \
   python3-h5py python3-numpy python3-matplotlib
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: deps build test test-release test-sanitize test-pipeline test-cluster bench bench-scaling bench-compare reproduce check validate \
+.PHONY: deps build install test test-release test-sanitize test-pipeline test-cluster bench bench-scaling bench-compare reproduce check validate \
   pulloff-slice cyclic metrics figures report accuracy ensemble clean FORCE
 
 deps:
@@ -117,6 +118,12 @@ test-pipeline: build
 # here (installs munge and slurm-wlm as root; skipped, loudly, otherwise).
 test-cluster: build
 	tests/slurm_test.sh; rc=$$?; [ $$rc -eq 0 ] || [ $$rc -eq 77 ]
+
+# make install PREFIX=DIR: dem2d in DIR/bin, the stages' programs in DIR/libexec/dem2d,
+# data/ and code_version.txt in DIR/share/dem2d (found relative to the programs)
+PREFIX ?= /usr/local
+install: build
+	cmake --install $(BUILD) --prefix $(PREFIX)
 
 bench: build
 	$(DEM2D) bench

@@ -8,6 +8,7 @@
 #include <exception>
 #include <string>
 
+#include "core/share_dir.hpp"
 #include "bed/bed_metrics.hpp"
 #include "common/output.hpp"
 
@@ -18,7 +19,7 @@ constexpr int kExitFailed = 1, kExitBadInput = 2;
 int main(int argc, char** argv) {
   CLI::App app{"bed_metrics: free-surface height, bulk solid fraction, coordination number, largest overlap "
                "and kinetic energy of the last snapshot of a dem2d run file"};
-  std::string run_path, out_path, config_path = DEM2D_DATA_DIR "/bed_metrics.toml";
+  std::string run_path, out_path, config_path = dem2d::data_file("bed_metrics.toml");
   app.add_option("run", run_path, "Run file (HDF5) written by dem2d")->required();
   app.add_option("--out", out_path, "Metrics file to write (JSON)")->required();
   app.add_option("--config", config_path, "Settings (TOML)")->capture_default_str();

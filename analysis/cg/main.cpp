@@ -10,6 +10,7 @@
 #include <exception>
 #include <string>
 
+#include "core/share_dir.hpp"
 #include "cg/cg_stage.hpp"
 
 namespace {
@@ -27,8 +28,8 @@ int main(int argc, char** argv) {
   CLI::App app{"cg: coarse-grained fields of a pull-off run; mobility zones, cone angle, wall-mobility length, "
                "dilatancy"};
   dem2d::analysis::CgInput in;
-  std::string out_dir, study_path = DEM2D_DATA_DIR "/study.toml";
-  in.config_path = DEM2D_DATA_DIR "/cg.toml";
+  std::string out_dir, study_path = dem2d::data_file("study.toml");
+  in.config_path = dem2d::data_file("cg.toml");
   app.add_option("run", in.run_path, "Pull-off run file (HDF5) written by dem2d")->required();
   app.add_option("--out", out_dir, "Output directory: metrics.json and cg.h5")->required();
   app.add_option("--config", in.config_path, "Settings (TOML)")->capture_default_str();

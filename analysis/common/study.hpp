@@ -5,6 +5,8 @@
 
 #include <string>
 
+#include "core/share_dir.hpp"
+
 namespace dem2d::analysis {
 
 struct Study {
@@ -15,8 +17,8 @@ struct Study {
   double mean_diameter = 0.003;    // m, d
 };
 
-// Reads the file (default: DEM2D_DATA_DIR/study.toml). Unknown keys and bad
+// Reads the file (default: data/study.toml under share/dem2d, core/share_dir.hpp). Unknown keys and bad
 // values are errors naming the file, key and value (std::runtime_error).
-Study load_study(const std::string& path = std::string(DEM2D_DATA_DIR) + "/study.toml");
+Study load_study(const std::string& path = dem2d::data_file("study.toml"));
 
 }  // namespace dem2d::analysis

@@ -9,6 +9,7 @@
 #include <exception>
 #include <string>
 
+#include "core/share_dir.hpp"
 #include "common/output.hpp"
 #include "friction/friction.hpp"
 
@@ -20,8 +21,8 @@ int main(int argc, char** argv) {
   using namespace dem2d::analysis;
   CLI::App app{"friction: friction mobilisation mu* = |F_t|/(mu F_n) of a dem2d pull-off run: slip fraction, "
                "mean mu* of bulk and wall contacts against the intruder's height"};
-  std::string run_path, out_dir, config_path = DEM2D_DATA_DIR "/friction.toml",
-                                 study_path = DEM2D_DATA_DIR "/study.toml";
+  std::string run_path, out_dir, config_path = dem2d::data_file("friction.toml"),
+                                 study_path = dem2d::data_file("study.toml");
   app.add_option("run", run_path, "Pull-off run file (HDF5) written by dem2d")->required();
   app.add_option("--out", out_dir, "Output directory (metrics.json, friction.h5)")->required();
   app.add_option("--config", config_path, "Settings (TOML)")->capture_default_str();

@@ -10,6 +10,7 @@
 #include <exception>
 #include <string>
 
+#include "core/share_dir.hpp"
 #include "common/output.hpp"
 #include "network/network_stage.hpp"
 
@@ -22,8 +23,8 @@ int main(int argc, char** argv) {
   CLI::App app{"network: force-network percolation from the intruder to the walls, anisotropy and keystones "
                "of a dem2d pull-off run"};
   NetworkInputs in;
-  std::string out_dir, study_path = DEM2D_DATA_DIR "/study.toml";
-  in.config = DEM2D_DATA_DIR "/network.toml";
+  std::string out_dir, study_path = dem2d::data_file("study.toml");
+  in.config = dem2d::data_file("network.toml");
   app.add_option("run", in.run, "Pull-off run file (HDF5) written by dem2d")->required();
   app.add_option("--out", out_dir, "Output directory (metrics.json, network.h5)")->required();
   app.add_option("--config", in.config, "Settings (TOML)")->capture_default_str();

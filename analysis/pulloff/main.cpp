@@ -8,6 +8,7 @@
 #include <exception>
 #include <string>
 
+#include "core/share_dir.hpp"
 #include "common/output.hpp"
 #include "pulloff/drag_cycles.hpp"
 #include "pulloff/drag_profile.hpp"
@@ -18,7 +19,7 @@ constexpr int kExitFailed = 1, kExitBadInput = 2;
 
 int main(int argc, char** argv) {
   CLI::App app{"pulloff_metrics: drag force against intruder height, and the pull-off's summary"};
-  std::string run_path, out_path, csv_path, bed_path, cycles_path, study_path = DEM2D_DATA_DIR "/study.toml";
+  std::string run_path, out_path, csv_path, bed_path, cycles_path, study_path = dem2d::data_file("study.toml");
   app.add_option("run", run_path, "Pull-off run file (HDF5) written by dem2d")->required();
   app.add_option("--out", out_path, "Metrics file to write (JSON)")->required();
   app.add_option("--csv", csv_path, "Also write the drag profile: time_s,height_mm,drag_N_per_m,drag_N");

@@ -9,6 +9,7 @@
 #include <exception>
 #include <string>
 
+#include "core/share_dir.hpp"
 #include "spectrum/spectrum_stage.hpp"
 
 namespace {
@@ -19,7 +20,7 @@ int main(int argc, char** argv) {
   using namespace dem2d::analysis;
   CLI::App app{"spectrum: trend and fluctuations of the drag on the intruder, their spectrum (Welch, FFTW), "
                "loading/rupture events, bottom zone and top layer of a pull-off run"};
-  SpectrumInputs in{"", DEM2D_DATA_DIR "/spectrum.toml", DEM2D_DATA_DIR "/study.toml", ""};
+  SpectrumInputs in{"", dem2d::data_file("spectrum.toml"), dem2d::data_file("study.toml"), ""};
   std::string out_dir;
   app.add_option("run", in.run, "Pull-off run file (HDF5) written by dem2d")->required();
   app.add_option("--out", out_dir, "Output directory (metrics.json, spectrum.h5)")->required();

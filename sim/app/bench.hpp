@@ -7,10 +7,12 @@
 #include <string>
 #include <vector>
 
+#include "core/share_dir.hpp"
+
 namespace dem2d {
 
 struct BenchOptions {
-  std::string scene = std::string(DEM2D_DATA_DIR) + "/bench/settled_bed.toml";
+  std::string scene = dem2d::data_file("bench/settled_bed.toml");
   int steps = 4000;   // timed steps per measurement
   int repeat = 5;     // measurements per case; the fastest is reported
   std::vector<int> threads{1, 2};

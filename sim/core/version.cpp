@@ -1,5 +1,7 @@
 #include "core/version.hpp"
 
+#include "core/share_dir.hpp"
+
 #include <fstream>
 #include <sstream>
 
@@ -7,7 +9,7 @@ namespace dem2d {
 
 const std::string& code_version() {
   static const std::string version = [] {
-    std::ifstream in(DEM2D_VERSION_FILE);
+    std::ifstream in(share_dir() + "/code_version.txt");  // written at every build, installed beside data/
     std::ostringstream git;
     if (in) git << in.rdbuf();
     const std::string g = git.str();

@@ -6,9 +6,10 @@
 
 namespace dem2d {
 
-// The git part is read at run time from the build tree's code_version.txt
-// (refreshed at every build, see cmake/write_version.cmake), so committing
-// does not change the binaries; "+unknown" when that file is not there.
+// The git part is read at run time from share/dem2d/code_version.txt of the
+// build tree or the installation (core/share_dir.hpp; refreshed at every
+// build, see cmake/write_version.cmake), so committing does not change the
+// binaries; "+unknown" when that file is not there.
 const std::string& code_version();
 
 }  // namespace dem2d

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# make install into a temporary prefix, then the installed programs used from
+# there: they find their data and code version beside themselves
+# (share/dem2d), not in the source or build tree, and no source-tree path is
+# compiled into them.   tests/install_test.sh BUILD_DIR
+set -uo pipefail
+BUILD=$(realpath "$1")
+SRC=$(cd "$(dirname "$0")/.." && pwd)
+P=$(mktemp -d /tmp/dem2d_install.XXXXXX)
+trap 'rm -rf "$P"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+cmake --install "$BUILD" --prefix "$P/prefix" >"$P/install.log" 2>&1 || { cat "$P/install.log"; exit 1; }
+# moved after installing: a relocated installation must work too
+mv "$P/prefix" "$P/moved"
+I=$P/moved
+for f in bin/dem2d libexec/dem2d/bed_metrics libexec/dem2d/pulloff_metrics libexec/dem2d/spectrum libexec/dem2d/cg \
+  libexec/dem2d/network libexec/dem2d/friction share/dem2d/data/study.toml share/dem2d/data/bench/settled_bed.toml \
+  share/dem2d/code_version.txt; do
+  [ -e "$I/$f" ] || fail "not installed: $f"
+done
+"$I/bin/dem2d" bench --help | grep -q -- "--scene TEXT=$I/share/dem2d/data/bench/settled_bed.toml" ||
+  fail "dem2d bench's default scene is not the installed one: $("$I/bin/dem2d" bench --help | grep -- --scene)"
+"$I/libexec/dem2d/cg" --help | grep -q -- "--config TEXT=$I/share/dem2d/data/cg.toml" ||
+  fail "cg's default settings are not the installed ones: $("$I/libexec/dem2d/cg" --help | grep -- --config)"
+for f in "$I"/bin/dem2d "$I"/libexec/dem2d/*; do
+  grep -q -a -F "$SRC/" "$f" && fail "$f holds the source path $SRC/"
+  grep -q -a -F "$BUILD/" "$f" && fail "$f holds the build path $BUILD/"
+done
+cd "$P" && "$I/bin/dem2d" run "$SRC/tests/scenes/valid_minimal.toml" --out "$P/run" >"$P/run.log" 2>&1 ||
+  fail "the installed dem2d did not run a scene: $(tail -3 "$P/run.log")"
+version=$(${PYTHON:-/usr/bin/python3} -c 'import h5py, sys; print(h5py.File(sys.argv[1], "r").attrs["code_version"])' \
+  "$P/run/run.h5" 2>&1) || fail "cannot read the installed run's code version: $version"
+case $version in *+unknown | "") fail "the installed dem2d has no code version: '$version'" ;; esac
+[ "$failures" -eq 0 ] && echo "install_test: all checks passed ($I)" || echo "install_test: $failures failed"
+[ "$failures" -eq 0 ]
