@@ -27,6 +27,10 @@ expect 2 "bad.toml:[0-9]*:[0-9]*: contact.kn = -5: must be > 0" -- "$DEM2D" chec
 expect 2 "bad.toml:[0-9]*:[0-9]*: contact.kn = -5" -- "$DEM2D" run "$WORK/bad.toml" --out "$WORK/bad"
 [ -e "$WORK/bad/run.h5" ] && fail "a rejected scene left a run file"
 expect 2 "nowhere.toml: cannot read the scene file" -- "$DEM2D" check "$WORK/nowhere.toml"
+expect 2 "threads: 65536: must be an integer from 0 (all processors) to" -- \
+  "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/many" --threads 65536
+[ -e "$WORK/many" ] && fail "a rejected --threads left an output folder"
+expect 2 "threads: -1: must be an integer" -- "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/many" --threads -1
 
 # a complete run: run file and XDMF, valid layout, no work directory left
 expect 0 "run.h5" -- "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/minimal"

@@ -2,7 +2,9 @@
 # make install into a temporary prefix, then the installed programs used from
 # there: they find their data and code version beside themselves
 # (share/dem2d), not in the source or build tree, and no source-tree path is
-# compiled into them.   tests/install_test.sh BUILD_DIR
+# compiled into them.   tests/install_test.sh BUILD_DIR [paths|no-paths]
+# (no-paths: a debug or sanitizer build, whose debug information names the
+# sources by design: the path check is left out, and said so)
 set -uo pipefail
 BUILD=$(realpath "$1")
 SRC=$(cd "$(dirname "$0")/.." && pwd)
@@ -23,10 +25,14 @@ done
   fail "dem2d bench's default scene is not the installed one: $("$I/bin/dem2d" bench --help | grep -- --scene)"
 "$I/libexec/dem2d/cg" --help | grep -q -- "--config TEXT=$I/share/dem2d/data/cg.toml" ||
   fail "cg's default settings are not the installed ones: $("$I/libexec/dem2d/cg" --help | grep -- --config)"
-for f in "$I"/bin/dem2d "$I"/libexec/dem2d/*; do
-  grep -q -a -F "$SRC/" "$f" && fail "$f holds the source path $SRC/"
-  grep -q -a -F "$BUILD/" "$f" && fail "$f holds the build path $BUILD/"
-done
+if [ "${2:-paths}" = paths ]; then
+  for f in "$I"/bin/dem2d "$I"/libexec/dem2d/*; do
+    grep -q -a -F "$SRC/" "$f" && fail "$f holds the source path $SRC/"
+    grep -q -a -F "$BUILD/" "$f" && fail "$f holds the build path $BUILD/"
+  done
+else
+  echo "install_test: NOT checked that the binaries hold no source path (a debug/sanitizer build names its sources)"
+fi
 cd "$P" && "$I/bin/dem2d" run "$SRC/tests/scenes/valid_minimal.toml" --out "$P/run" >"$P/run.log" 2>&1 ||
   fail "the installed dem2d did not run a scene: $(tail -3 "$P/run.log")"
 version=$(${PYTHON:-/usr/bin/python3} -c 'import h5py, sys; print(h5py.File(sys.argv[1], "r").attrs["code_version"])' \

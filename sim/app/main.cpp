@@ -7,6 +7,9 @@
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+#include <omp.h>
+
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <exception>
@@ -94,6 +97,21 @@ int main(int argc, char** argv) {
   dem2d::SceneSources extra;
   dem2d::RunOptions run_opt;
   int threads = 0;
+  // More threads than 4 per processor only wait on each other (and at 65536
+  // libgomp fails without a message): bounded, with the reason in the error.
+  const int max_threads = 4 * std::max(omp_get_num_procs(), 1);
+  const CLI::Validator thread_count(
+      [max_threads](const std::string& v) -> std::string {
+        long n = -1;
+        try {
+          n = std::stol(v);
+        } catch (const std::exception&) {
+        }
+        if (n >= 0 && n <= max_threads) return "";
+        return v + ": must be an integer from 0 (all processors) to " + std::to_string(max_threads) +
+               " (4 x the " + std::to_string(max_threads / 4) + " processors here)";
+      },
+      "0.." + std::to_string(max_threads));
   auto scene_options = [&](CLI::App* cmd) {
     cmd->add_option("scene", scene_path, "Scene file (TOML)")->required();
     cmd->add_option("--overlay", extra.overlays, "TOML file merged over the scene, e.g. a preset (repeatable)");
@@ -102,7 +120,7 @@ int main(int argc, char** argv) {
   auto* run = app.add_subcommand("run", "Run a scene; writes DIR/run.h5 and DIR/run.xdmf");
   scene_options(run);
   run->add_option("--out", run_opt.out_dir, "Output directory")->required();
-  run->add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  run->add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(thread_count);
   run->add_flag("--fresh", run_opt.fresh, "Discard a checkpoint in DIR instead of resuming from it");
   run->add_option("--interrupt-at-step", run_opt.interrupt_at_step,
                   "Testing: checkpoint and stop as if interrupted at this step");
@@ -117,7 +135,7 @@ int main(int argc, char** argv) {
   bench->add_option("--scene", bench_opt.scene, "Bed to settle and measure")->capture_default_str();
   bench->add_option("--steps", bench_opt.steps, "Timed steps per measurement")->capture_default_str();
   bench->add_option("--repeat", bench_opt.repeat, "Measurements per case (best is kept)")->capture_default_str();
-  bench->add_option("--threads", bench_opt.threads, "Thread counts")->capture_default_str();
+  bench->add_option("--threads", bench_opt.threads, "Thread counts")->capture_default_str()->check(thread_count);
   bench->add_option("--json", bench_opt.json, "Also write the results as JSON to this file");
   bench->add_option("--tiles", bench_opt.tiles,
                     "Scaling instead: time K copies of the settled bed side by side in one wider cell, for each K")
@@ -127,7 +145,11 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // --help, --version: 0; a bad command line: 2, as bad input
+  }
   try {
     if (*run) return cmd_run(scene_path, extra, run_opt, threads);
     if (*check) return cmd_check(scene_path, extra, check_json);
