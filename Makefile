@@ -41,8 +41,18 @@ SHELL := /bin/bash
 JOBS ?= $(shell nproc)
 BUILD := build/release
 SANITIZE_BUILD := build/sanitize
+# INSTALLED=DIR: the study's targets run the programs of `make install PREFIX=DIR`
+# (DIR/bin/dem2d, DIR/libexec/dem2d/<stage>) instead of building them here
+INSTALLED ?=
+ifeq ($(INSTALLED),)
 DEM2D := $(BUILD)/sim/dem2d
+STAGE_BIN := $(BUILD)/analysis
 CHECK := $(BUILD)/tests/paper_targets/check_paper_targets
+else
+DEM2D := $(INSTALLED)/bin/dem2d
+STAGE_BIN := $(INSTALLED)/libexec/dem2d
+CHECK := $(STAGE_BIN)/check_paper_targets
+endif
 # any Python with h5py, numpy and matplotlib (Debian's python3-* by default): make PYTHON=...
 PYTHON ?= /usr/bin/python3
 REPORT_SCRIPTS := pipeline/report
@@ -153,9 +163,14 @@ $(STAGES_MK): $(STAGE_REGISTRY) pipeline/stages.py | deps
 # at a time in the tree, as make -j may ask for several at once); a stage
 # reruns only when its inputs or its program actually changed. An interrupted
 # simulation stage resumes from its checkpoint when rerun.
+ifeq ($(INSTALLED),)
 $(DEM2D) $(STAGE_PROGRAMS) $(CHECK): FORCE | $(BUILD)/CMakeCache.txt
 	@MAKEFLAGS= flock $(BUILD)/.build.lock cmake --build $(BUILD) -j $(JOBS) --target $(notdir $@) > $(BUILD)/$(notdir $@).build.log || \
 	  (cat $(BUILD)/$(notdir $@).build.log; exit 1)
+else
+$(DEM2D) $(STAGE_PROGRAMS) $(CHECK):
+	@echo "make: INSTALLED=$(INSTALLED) has no $@: run make install PREFIX=$(INSTALLED) first" >&2; exit 1
+endif
 
 ifneq ($(PRESET),quick)
 ifeq ($(wildcard $(PRESET_FILE)),)
@@ -298,7 +313,7 @@ ensemble:
 else ifeq ($(EXECUTOR),slurm)
 ensemble: $(DEM2D) $(STAGE_PROGRAMS) $(CHECK)
 	pipeline/slurm/submit_ensemble.sh $(ENSEMBLE) $(MEMBERS) "$(SLURM_WAIT)" PRESET=$(PRESET) MEMBERS=$(MEMBERS) \
-	  RESULTS=$(RESULTS) $(if $(INTRUDER),INTRUDER=$(INTRUDER)) PYTHON=$(PYTHON)
+	  RESULTS=$(RESULTS) $(if $(INTRUDER),INTRUDER=$(INTRUDER)) $(if $(INSTALLED),INSTALLED=$(INSTALLED)) PYTHON=$(PYTHON)
 else
 ensemble:
 	$(error EXECUTOR=$(EXECUTOR): use local or slurm)

@@ -109,7 +109,7 @@ def load(path: Path = REGISTRY) -> list:
 
 
 def make_rules(stages: list, registry: str) -> str:
-    """Make rules of the stages; they use the Makefile's BUILD, RESULTS, FILL_RUN,
+    """Make rules of the stages; they use the Makefile's STAGE_BIN, RESULTS, FILL_RUN,
     THREADS and its `timed` function."""
     run_file = {"fill": "$(FILL_RUN)", "pulloff": "$(RESULTS)/pulloff/run.h5"}
     out = [f"# Generated from {registry} by pipeline/stages.py: do not edit.",
@@ -117,7 +117,7 @@ def make_rules(stages: list, registry: str) -> str:
     programs = []
     for s in stages:
         var = s.program.upper()
-        out.append(f"{var} := $(BUILD)/analysis/{s.program}")
+        out.append(f"{var} := $(STAGE_BIN)/{s.program}")
         programs.append(f"$({var})")
     out.append(f"STAGE_PROGRAMS := {' '.join(dict.fromkeys(programs))}")
     out.append("STAGE_METRICS := $(foreach s,$(STAGES),$(RESULTS)/$(s)/metrics.json)")

@@ -243,11 +243,11 @@ json cg_metrics(const StageRecord& r) {
                                 su.heights[h0] * kMm};
     if (r.have_events && r.events.size() > 0) {
       // the first snapshot after the end of the first rupture's drop
-      const Events& events = r.events;
-      const auto first = std::min_element(events.peak.begin(), events.peak.end()) - events.peak.begin();
+      const RuptureEvent& first = *std::min_element(
+          r.events.begin(), r.events.end(), [](const RuptureEvent& a, const RuptureEvent& b) { return a.peak_time < b.peak_time; });
       std::int64_t k_drop = -1;
       for (std::size_t k = 0; k < S && k_drop < 0; ++k)
-        if (times[k] >= events.drop_end[static_cast<std::size_t>(first)]) k_drop = static_cast<std::int64_t>(k);
+        if (times[k] >= first.drop_end_time) k_drop = static_cast<std::int64_t>(k);
       m["dilatancy_delta_phi_after_first_rupture"] = nullable(dphi(k_drop, h0, true));
     }
   }
@@ -504,7 +504,9 @@ std::vector<Dataset> cg_datasets(const StageRecord& r) {
             {F, NY, NX}, "lab-frame velocity V = p/rho, NaN where phi < mask_phi");
   }
   if (r.have_events) {
-    f64("events/peak_time", "s", r.events.peak);
+    std::vector<double> peak;
+    for (const RuptureEvent& e : r.events) peak.push_back(e.peak_time);
+    f64("events/peak_time", "s", std::move(peak));
     i64("events/pre_rupture_snapshot", r.pre, "the snapshot just before the rupture, -1 if none");
   }
   return D;

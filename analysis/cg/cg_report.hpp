@@ -25,7 +25,7 @@ struct StageRecord {
   bool has_piv = false;                 // the run has displacements
   std::size_t primary = kInst;          // velocity set of the metrics
   bool have_events = false;
-  Events events;
+  std::vector<RuptureEvent> events;
   std::vector<std::int64_t> pre;        // [E] pre-rupture snapshot of each event, -1 if none
   std::int64_t after = -1;              // dilatancy: the snapshot "just after the onset"
   std::vector<std::size_t> fields_at;   // snapshots with full fields

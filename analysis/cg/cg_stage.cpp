@@ -106,9 +106,9 @@ Setup make_setup(const RunReader& run, const Snapshot& s0, const CgInput& in) {
   }
   su.start = intruder_of(intruder_body(s0, path));
   {
-    const std::vector<double> bv = h5::read<double>(run.file(), "bodies/velocity");
     const std::size_t b = run.body_with_role("intruder");
-    su.frame_vx = bv.at(2 * b), su.frame_vy = bv.at(2 * b + 1);
+    const Vec2 v = run.body_velocities()[b];
+    su.frame_vx = v.x, su.frame_vy = v.y;
     su.v_ref = std::hypot(su.frame_vx, su.frame_vy);
     if (!(su.v_ref > 0.0)) throw CgError(path + ": the intruder '" + run.body_names()[b] + "' does not move (/bodies/velocity = 0): no v* = |V|/V_intruder");
   }
@@ -226,43 +226,13 @@ Measured measure_all(const RunReader& run, const Setup& su, const CgInput& in, b
 
 }  // namespace
 
-Events read_events(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw CgError(path + ": no such file (the events file of the spectrum stage)");
-  Events e;
-  try {
-    const h5::File f = h5::File::open_read(path);
-    const std::pair<const char*, std::vector<double>*> cols[] = {{"events/load_start_time", &e.load_start},
-                                                                 {"events/peak_time", &e.peak},
-                                                                 {"events/peak_height", &e.peak_height},
-                                                                 {"events/drop_end_time", &e.drop_end}};
-    for (const auto& [name, col] : cols) {
-      if (!h5::exists(f, name)) throw CgError(path + ": dataset /" + name + " is missing (spectrum events file)");
-      *col = h5::read<double>(f, name);
-    }
-    for (const auto& [name, col] : cols)
-      if (col->size() != e.peak.size())
-        throw CgError(path + ": /" + name + " has " + std::to_string(col->size()) + " rows, /events/peak_time has " +
-                      std::to_string(e.peak.size()));
-    for (std::size_t k = 0; k < e.size(); ++k)
-      if (!std::isfinite(e.load_start[k]) || !std::isfinite(e.peak[k]) || e.load_start[k] > e.peak[k])
-        throw CgError(path + ": event " + std::to_string(k) + ": load_start_time " + std::to_string(e.load_start[k]) +
-                      " s and peak_time " + std::to_string(e.peak[k]) + " s are not finite with load_start <= peak");
-  } catch (const CgError&) {
-    throw;
-  } catch (const std::exception& x) {
-    const std::string what = x.what();
-    throw CgError(what.rfind(path, 0) == 0 ? what : path + ": " + what);
-  }
-  return e;
-}
-
-std::vector<std::int64_t> pre_rupture_snapshots(const std::vector<double>& times, const Events& events,
+std::vector<std::int64_t> pre_rupture_snapshots(const std::vector<double>& times, const std::vector<RuptureEvent>& events,
                                                 double window) {
   std::vector<std::int64_t> out;
   for (std::size_t e = 0; e < events.size(); ++e) {
     std::int64_t best = -1;
     for (std::size_t k = 0; k < times.size(); ++k)
-      if (times[k] - window >= events.load_start[e] && times[k] <= events.peak[e]) best = static_cast<std::int64_t>(k);
+      if (times[k] - window >= events[e].load_start_time && times[k] <= events[e].peak_time) best = static_cast<std::int64_t>(k);
     out.push_back(best);
   }
   return out;
@@ -290,7 +260,7 @@ CgResult compute_cg(const CgInput& in) {
     for (std::size_t k = 0; k < S; ++k) heights[k] = track[k].centre().y - su.cell.floor;
   }
   const bool have_events = !in.events_path.empty();
-  Events events;
+  std::vector<RuptureEvent> events;
   std::vector<std::int64_t> pre;
   if (have_events) {
     events = read_events(in.events_path);

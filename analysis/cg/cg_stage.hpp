@@ -13,22 +13,16 @@
 
 #include "cg/cg_config.hpp"
 #include "cg/cg_field.hpp"
+#include "common/events.hpp"
 #include "common/study.hpp"
 
 namespace dem2d::analysis {
 
-// The spectrum stage's loading/rupture events (/events/... of SPECTRUM.h5), times in s, heights in m.
-struct Events {
-  std::vector<double> load_start, peak, peak_height, drop_end;
-  std::size_t size() const { return peak.size(); }
-};
-// CgError naming the file if it is missing, lacks a dataset, or the columns disagree.
-Events read_events(const std::string& path);
 
 // For each event, the snapshot "just before the rupture": the last snapshot k
 // with load_start <= t_k - window and t_k <= peak (the PIV window before t_k
 // lies in the loading phase); -1 if there is none.
-std::vector<std::int64_t> pre_rupture_snapshots(const std::vector<double>& times, const Events& events,
+std::vector<std::int64_t> pre_rupture_snapshots(const std::vector<double>& times, const std::vector<RuptureEvent>& events,
                                                 double window);
 
 struct CgInput {

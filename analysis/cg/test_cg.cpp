@@ -385,11 +385,9 @@ TEST(CgWall, ProfileMobileLengthAndStepFit) {
 
 TEST(CgEvents, PreRuptureSnapshotsAndFileErrors) {
   const std::vector<double> t = {0.0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75};
-  Events e;
-  e.load_start = {0.1, 0.4, 0.7};
-  e.peak = {0.3, 0.6, 0.72};
-  e.peak_height = {0, 0, 0};
-  e.drop_end = {0.35, 0.65, 0.8};
+  std::vector<RuptureEvent> e(3);
+  const double load[] = {0.1, 0.4, 0.7}, peak[] = {0.3, 0.6, 0.72}, drop[] = {0.35, 0.65, 0.8};
+  for (std::size_t k = 0; k < 3; ++k) e[k].load_start_time = load[k], e[k].peak_time = peak[k], e[k].drop_end_time = drop[k];
   EXPECT_EQ(pre_rupture_snapshots(t, e, 0.0), (std::vector<std::int64_t>{2, 4, -1}));
   EXPECT_EQ(pre_rupture_snapshots(t, e, 0.05), (std::vector<std::int64_t>{2, 4, -1}));
   EXPECT_EQ(pre_rupture_snapshots(t, e, 0.15), (std::vector<std::int64_t>{2, -1, -1}));  // window inside loading
@@ -405,10 +403,10 @@ TEST(CgEvents, PreRuptureSnapshotsAndFileErrors) {
   try {
     read_events(path);
     FAIL() << "no error";
-  } catch (const CgError& x) {
-    EXPECT_EQ(std::string(x.what()), path + ": dataset /events/drop_end_time is missing (spectrum events file)");
+  } catch (const StageError& x) {
+    EXPECT_EQ(std::string(x.what()), path + ": dataset /events/drop_end_time is missing (the spectrum stage's events file)");
   }
-  EXPECT_THROW(read_events((dir.path() / "none.h5").string()), CgError);
+  EXPECT_THROW(read_events((dir.path() / "none.h5").string()), StageError);
 }
 
 TEST(CgConfigFile, DefaultsAndErrors) {

@@ -11,14 +11,10 @@
 #include <vector>
 
 #include "common/study.hpp"
+#include "common/stage_error.hpp"
 #include "io/run_reader.hpp"
 
 namespace dem2d::analysis {
-
-// Bad input for a stage (run file contents, events, config): the command exits 2.
-struct StageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 // What a contact's partner is. Grain-grain contacts are `grain`; a contact
 // with a body of another role (none in the study's pull-off) is `other`.

@@ -261,36 +261,6 @@ double flagged_fraction(const std::vector<double>& heights, const std::vector<st
   return mean_in_band(heights, as_double, lo, hi, used);
 }
 
-std::vector<RuptureEvent> read_events(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw StageError(path + ": no such file");
-  std::vector<RuptureEvent> out;
-  try {
-    const h5::File f = h5::File::open_read(path);
-    const char* names[] = {"events/peak_time", "events/drop_end_time", "events/peak_height", "events/load_start_time"};
-    std::vector<std::vector<double>> cols;
-    for (const char* n : names) {
-      if (!h5::exists(f, n)) throw StageError(path + ": dataset /" + std::string(n) + " is missing (events file of the spectrum stage)");
-      cols.push_back(h5::read<double>(f, n));
-      if (cols.back().size() != cols.front().size())
-        throw StageError(path + ": /" + std::string(n) + " has " + std::to_string(cols.back().size()) +
-                         " rows, /events/peak_time has " + std::to_string(cols.front().size()));
-    }
-    for (std::size_t e = 0; e < cols[0].size(); ++e) {
-      const RuptureEvent ev{cols[0][e], cols[1][e], cols[2][e], cols[3][e]};
-      if (!std::isfinite(ev.peak_time) || !std::isfinite(ev.drop_end_time) || ev.drop_end_time < ev.peak_time)
-        throw StageError(path + ": event " + std::to_string(e) + ": drop_end_time " + std::to_string(ev.drop_end_time) +
-                         " s is not a finite time at or after peak_time " + std::to_string(ev.peak_time) + " s");
-      out.push_back(ev);
-    }
-  } catch (const StageError&) {
-    throw;
-  } catch (const std::exception& e) {
-    const std::string what = e.what();
-    throw StageError(what.rfind(path, 0) == 0 ? what : path + ": " + what);
-  }
-  return out;
-}
-
 EventWindow event_window(const std::vector<double>& times, const RuptureEvent& e, double max_gap) {
   EventWindow w;
   const auto after = std::lower_bound(times.begin(), times.end(), e.drop_end_time);

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "common/events.hpp"  // RuptureEvent, read_events
 #include "common/pulloff_frame.hpp"
 
 namespace dem2d::analysis {
@@ -115,13 +116,6 @@ std::optional<double> loss_height(const PercolationProfile& p, double level);
 double flagged_fraction(const std::vector<double>& heights, const std::vector<std::uint8_t>& flags, double lo,
                         double hi, std::int64_t* used = nullptr);
 
-// A loading/rupture event of the spectrum stage (times in s, height in m).
-struct RuptureEvent {
-  double peak_time = 0.0, drop_end_time = 0.0, peak_height = 0.0, load_start_time = 0.0;
-};
-// /events/{peak_time, drop_end_time, peak_height, load_start_time} of an
-// HDF5 file; StageError naming the file on any problem.
-std::vector<RuptureEvent> read_events(const std::string& path);
 
 // The snapshots bracketing a drop: `before` the last at or before peak_time,
 // `after` the first at or after drop_end_time; resolved when both exist and

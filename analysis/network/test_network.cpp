@@ -250,17 +250,20 @@ TEST(NetworkProfile, LossHeightIsWherePercolationStaysBelowTheLevel) {
   EXPECT_DOUBLE_EQ(flagged_fraction(h, f, 0.0, 0.009), 5.0 / 6.0);
 }
 
+// an event from its peak to the end of its drop (s)
+RuptureEvent drop(double peak, double end) { return {.peak_time = peak, .drop_end_time = end}; }
+
 TEST(NetworkEvents, WindowsAndDisplacements) {
   const std::vector<double> t = {0.0, 0.25, 0.5, 0.75, 1.0};
-  const EventWindow w = event_window(t, {0.3, 0.55, 0.0, 0.0}, 0.3);
+  const EventWindow w = event_window(t, drop(0.3, 0.55), 0.3);
   EXPECT_EQ(w.before, 1);
   EXPECT_EQ(w.after, 3);
   EXPECT_TRUE(w.resolved);
-  EXPECT_EQ(event_window(t, {0.25, 0.5, 0, 0}, 0.3).before, 1);  // at the peak counts
-  EXPECT_EQ(event_window(t, {0.25, 0.5, 0, 0}, 0.3).after, 2);
-  EXPECT_FALSE(event_window(t, {0.3, 0.55, 0, 0}, 0.1).resolved);  // snapshots too far
-  EXPECT_FALSE(event_window(t, {0.9, 1.1, 0, 0}, 0.3).resolved);   // no snapshot after
-  EXPECT_FALSE(event_window(t, {-0.1, 0.1, 0, 0}, 0.3).resolved);  // none before
+  EXPECT_EQ(event_window(t, drop(0.25, 0.5), 0.3).before, 1);  // at the peak counts
+  EXPECT_EQ(event_window(t, drop(0.25, 0.5), 0.3).after, 2);
+  EXPECT_FALSE(event_window(t, drop(0.3, 0.55), 0.1).resolved);  // snapshots too far
+  EXPECT_FALSE(event_window(t, drop(0.9, 1.1), 0.3).resolved);   // no snapshot after
+  EXPECT_FALSE(event_window(t, drop(-0.1, 0.1), 0.3).resolved);  // none before
 
   const std::vector<Vec2> a = {{0, 0}, {0.01, 0.01}}, b = {{0.001, 0}, {0.01, 0.006}};
   const Displacement d = largest_displacement({0, 1}, a, b, {0.002, 0.003});
@@ -296,6 +299,31 @@ TEST(NetworkEvents, ReadsTheSpectrumContractAndNamesTheFile) {
   write_events(bad, {1.0}, {0.5});
   EXPECT_THROW(read_events(bad), StageError);
   EXPECT_THROW(read_events((dir.path() / "none.h5").string()), StageError);
+}
+
+// The events file's one schema (common/events.hpp): what the spectrum stage
+// writes is what cg and network read, every field; an event out of order is refused.
+TEST(NetworkEvents, SchemaWrittenIsSchemaRead) {
+  const test::TempDir dir;
+  const std::vector<RuptureEvent> rows = {{0.10, 0.020, 0.30, 0.021, 5.0, 0.35, 0.0212, 2.0},
+                                          {0.40, 0.022, 0.60, 0.024, 7.5, 0.62, 0.0241, 3.5}};
+  const std::string path = (dir.path() / "spectrum.h5").string();
+  write_events(h5::File::create(path), rows);
+  const std::vector<RuptureEvent> back = read_events(path);
+  ASSERT_EQ(back.size(), rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    for (const EventColumn& c : event_columns()) EXPECT_EQ(back[k].*c.field, rows[k].*c.field) << c.name;
+  EXPECT_EQ(h5::read_attr_string(h5::File::open_read(path), "events/peak_drag", "unit"), "N/m");
+  std::vector<RuptureEvent> bad = rows;
+  bad[1].drop_end_time = 0.5;  // before its peak
+  const std::string out_of_order = (dir.path() / "bad.h5").string();
+  write_events(h5::File::create(out_of_order), bad);
+  try {
+    read_events(out_of_order);
+    FAIL() << "no error";
+  } catch (const StageError& x) {
+    EXPECT_NE(std::string(x.what()).find(out_of_order + ": event 1: load_start_time"), std::string::npos) << x.what();
+  }
 }
 
 TEST(NetworkConfig, DataFileHoldsTheDefaultsAndBadKeysAreNamed) {

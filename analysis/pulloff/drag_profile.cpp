@@ -7,28 +7,31 @@
 namespace dem2d::analysis {
 
 DragProfile read_drag_profile(const RunReader& run) {
-  const h5::File& f = run.file();
   const std::size_t b = run.body_with_role("intruder");
   const std::size_t nb = run.bodies();
   DragProfile p;
-  p.time = h5::read<double>(f, "series/time");
+  p.time = run.series_times();
   if (p.time.empty()) throw std::runtime_error(run.path() + ": the run has no time series (output.series_interval = 0?)");
-  const auto force = h5::read<double>(f, "series/body_force_mean");  // [T, B, 2]
+  const auto force = run.series("body_force_mean", {nb, 2});  // [T, B, 2]
   const std::vector<Body> intruder = run.body_rows("series", b), floor = run.body_rows("series", run.body_with_role("floor"));
   for (std::size_t k = 0; k < p.time.size(); ++k) {
     p.height.push_back(intruder[k].centre().y - floor[k].ymax());
     p.drag.push_back(-force[(k * nb + b) * 2 + 1]);
   }
+  const auto [low, high] = std::minmax_element(p.height.begin(), p.height.end());
+  if (!(*high > *low))
+    throw std::runtime_error(run.path() + ": the intruder '" + run.body_names()[b] + "' stays at " +
+                             std::to_string(1e3 * *low) + " mm in all " + std::to_string(p.time.size()) +
+                             " series rows: not a run that moves it (a fill?); give the pull-off's or the cyclic run's run.h5");
   return p;
 }
 
 double static_load(const RunReader& bed) {
-  const h5::File& f = bed.file();
   const std::size_t b = bed.body_with_role("intruder");
   const std::size_t nb = bed.bodies();
-  const auto force = h5::read<double>(f, "series/body_force_mean");  // [T, B, 2]
-  if (force.size() < nb * 2 || nb == 0)
+  if (bed.series_rows() == 0 || nb == 0)
     throw std::runtime_error(bed.path() + ": the run has no time series to take the intruder's load at rest from");
+  const auto force = bed.series("body_force_mean", {nb, 2});  // [T, B, 2]
   return -force[force.size() - 2 * nb + 2 * b + 1];
 }
 
@@ -37,8 +40,9 @@ nlohmann::ordered_json pulloff_metrics(const RunReader& run, const DragProfile& 
   const h5::File& f = run.file();
   const auto max_it = std::max_element(p.drag.begin(), p.drag.end());
   const auto k_max = static_cast<std::size_t>(max_it - p.drag.begin());
-  const auto overlap = h5::read<double>(f, "series/max_overlap");
-  const auto diameter = h5::read<double>(f, "particles/diameter");
+  const auto overlap = run.series("max_overlap");
+  const auto& diameter = run.diameters();
+  if (diameter.empty()) throw std::runtime_error(run.path() + ": the run has no grains");
   double d_mean = 0.0;
   for (const double d : diameter) d_mean += d / static_cast<double>(diameter.size());
   // (run files written before wall_seconds existed report no cost)

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "common/output.hpp"
+#include "common/events.hpp"
 #include "io/h5.hpp"
 #include "io/run_reader.hpp"
 #include "pulloff/drag_profile.hpp"
@@ -114,29 +115,12 @@ void write_h5(const std::string& path, const SpectrumStage& st) {
   write_peak(f, "ringing", r.ringing.psd, r.ringing.peak);
   h5::write_attr(f, "ringing", "line_rms_N_per_m", r.ringing.line_rms);
   h5::write_attr(f, "ringing", "geometric_cutoff_hz", r.geometric_cutoff);
-  // /events: a contract with the stages cg and network (names, units).
-  std::vector<double> load_start_time, peak_time, peak_height, peak_drag, drop_end_time, drop, duration,
-      load_start_height, drop_end_height;
-  for (const Event& e : r.events) {
-    load_start_time.push_back(p.time[e.load_start]);
-    peak_time.push_back(p.time[e.peak]);
-    peak_height.push_back(p.height[e.peak]);
-    peak_drag.push_back(p.drag[e.peak]);
-    drop_end_time.push_back(p.time[e.drop_end]);
-    drop.push_back(p.drag[e.peak] - p.drag[e.drop_end]);
-    duration.push_back(p.time[e.peak] - p.time[e.load_start]);
-    load_start_height.push_back(p.height[e.load_start]);
-    drop_end_height.push_back(p.height[e.drop_end]);
-  }
-  put(f, "events/load_start_time", load_start_time, "s");
-  put(f, "events/peak_time", peak_time, "s");
-  put(f, "events/peak_height", peak_height, "m");
-  put(f, "events/peak_drag", peak_drag, "N/m");
-  put(f, "events/drop_end_time", drop_end_time, "s");
-  put(f, "events/drop", drop, "N/m");
-  put(f, "events/duration", duration, "s");
-  put(f, "events/load_start_height", load_start_height, "m");
-  put(f, "events/drop_end_height", drop_end_height, "m");
+  // /events: the events file's one schema (common/events.hpp), read by cg and network
+  std::vector<RuptureEvent> events;
+  for (const Event& e : r.events)
+    events.push_back({p.time[e.load_start], p.height[e.load_start], p.time[e.peak], p.height[e.peak], p.drag[e.peak],
+                      p.time[e.drop_end], p.height[e.drop_end], p.drag[e.peak] - p.drag[e.drop_end]});
+  write_events(f, events);
   h5::write_attr(f, "events", "drop_delta_N_per_m", r.drop_delta);
   // /top_layer: drag against depth and its linear fit
   std::vector<double> depth, height, drag, fit;
@@ -161,10 +145,9 @@ void write_h5(const std::string& path, const SpectrumStage& st) {
 SpectrumStage compute_spectrum_stage(const SpectrumInputs& in, const SpectrumConfig& config, const Study& study) {
   const RunReader run(in.run);
   const DragProfile profile = read_drag_profile(run);
-  const auto diameter = h5::read<double>(run.file(), "particles/diameter");
+  const auto& diameter = run.diameters();
   if (diameter.empty()) fail(in.run, "the run has no particles");
-  const auto velocity = h5::read<double>(run.file(), "bodies/velocity");  // [B, 2]
-  const double body_speed = velocity.at(2 * run.body_with_role("intruder") + 1);
+  const double body_speed = run.body_velocities()[run.body_with_role("intruder")].y;
 
   SpectrumStage st;
   st.intruder_depth = study.intruder_depth;

@@ -16,6 +16,7 @@
 
 #include "engine/system.hpp"
 #include "io/h5.hpp"
+#include "io/run_format.hpp"
 
 namespace dem2d {
 
@@ -29,9 +30,6 @@ struct RunInfo {
   double displacement_window = 0.0;  // (s) of /snapshots/displacement, 0 if not recorded
 };
 
-inline constexpr const char* kRunFileFormat = "dem2d-run-2";
-// The format before bodies had shapes (sphero-lines as /.../body_ends [rows, B, 4]): still read.
-inline constexpr const char* kRunFileFormatSegments = "dem2d-run-1";
 
 // The grains that left the domain, as /lost/{id, step, x, y} in f (also used
 // by checkpoints).

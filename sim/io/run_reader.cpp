@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <filesystem>
 #include <limits>
+#include <cmath>
 #include <stdexcept>
+#include <tuple>
+#include <type_traits>
 
 #include "core/body_roles.hpp"
-#include "io/run_file.hpp"
+#include "io/run_format.hpp"
 
 namespace dem2d {
 
@@ -121,7 +124,52 @@ std::string show(const std::vector<hsize_t>& dims) {
   return s + "]";
 }
 
+// The element kind a dataset must have: floats (f4, f8) are read as double,
+// integers only as the exact type written (an integer dataset standing in
+// for coordinates is not a run file's).
+bool dtype_ok(const std::string& got, const std::string& want) {
+  return got == want || (want == "f8" && got == "f4");
+}
+
+template <class T>
+const char* native_dtype() {
+  if constexpr (std::is_same_v<T, double>) return "f8";
+  else if constexpr (std::is_same_v<T, std::int32_t>) return "i4";
+  else if constexpr (std::is_same_v<T, std::int64_t>) return "i8";
+  else return "u1";
+}
+
 }  // namespace
+
+void RunReader::check_dataset(const std::string& name, const std::vector<hsize_t>& dims,
+                              const std::string& dtype) const {
+  if (!h5::exists(file_, name)) fail("dataset /" + name + " is missing (truncated or not a run file?)");
+  const std::vector<hsize_t> got = h5::shape(file_, name);
+  if (got != dims) fail("dataset /" + name + " has shape " + show(got) + ", expected " + show(dims));
+  const std::string type = h5::dtype(file_, name);
+  if (!dtype_ok(type, dtype)) fail("dataset /" + name + " holds " + type + ", expected " + dtype);
+}
+
+void RunReader::check_finite(const std::string& name, const std::vector<double>& v, std::size_t per_row,
+                             const char* row_word, std::size_t row0) const {
+  for (std::size_t k = 0; k < v.size(); ++k)
+    if (!std::isfinite(v[k]))
+      fail("dataset /" + name + ": " + row_word + " " + std::to_string(row0 + k / per_row) + " holds " +
+           (std::isnan(v[k]) ? "NaN" : "an infinite value") + " (element " + std::to_string(k % per_row) +
+           "): a run file holds finite numbers only");
+}
+
+template <class T>
+std::vector<T> RunReader::checked(const std::string& name, const std::vector<hsize_t>& dims) const {
+  check_dataset(name, dims, native_dtype<T>());
+  std::vector<T> v = h5::read<T>(file_, name);
+  if constexpr (std::is_floating_point_v<T>) {
+    std::size_t per_row = 1;
+    for (std::size_t k = 1; k < dims.size(); ++k) per_row *= dims[k];
+    check_finite(name, v, per_row, "row", 0);
+  }
+  return v;
+}
 
 void RunReader::fail(const std::string& what) const { throw std::runtime_error(path() + ": " + what); }
 
@@ -135,57 +183,89 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
   const auto need = [&](const std::string& name) {
     if (!h5::exists(file_, name)) fail("dataset /" + name + " is missing (truncated or not a run file?)");
   };
-  for (const char* name : {"particles/diameter", "particles/mass", "bodies/name", "bodies/thickness",
-                           "snapshots/time", "snapshots/step", "snapshots/contact_start"})
+  // the length of a 1-D dataset that sets a count (N, S, T)
+  const auto length = [&](const std::string& name) {
     need(name);
-  diameter_ = h5::read<double>(file_, "particles/diameter");
-  mass_ = h5::read<double>(file_, "particles/mass");
+    const std::vector<hsize_t> dims = h5::shape(file_, name);
+    if (dims.size() != 1) fail("dataset /" + name + " has shape " + show(dims) + ", expected one dimension");
+    return dims[0];
+  };
+  need("bodies/name");
+  const hsize_t N = length("particles/diameter");
+  diameter_ = checked<double>("particles/diameter", {N});
+  mass_ = checked<double>("particles/mass", {N});
+  for (std::size_t i = 0; i < N; ++i)
+    if (!(diameter_[i] > 0.0) || !(mass_[i] > 0.0))
+      fail("grain " + std::to_string(i) + " has diameter " + std::to_string(diameter_[i]) + " m and mass " +
+           std::to_string(mass_[i]) + " kg/m in /particles: both must be > 0");
   body_names_ = h5::read_strings(file_, "bodies/name");
-  thickness_ = h5::read<double>(file_, "bodies/thickness");
+  const hsize_t B = body_names_.size();
+  thickness_ = checked<double>("bodies/thickness", {B});
+  for (std::size_t b = 0; b < B; ++b)
+    if (thickness_[b] < 0.0) fail("dataset /bodies/thickness: body " + std::to_string(b) + " has a negative thickness");
   if (h5::exists(file_, "bodies/role")) {
     body_roles_ = h5::read_strings(file_, "bodies/role");
-    if (body_roles_.size() != body_names_.size())
-      fail("/bodies/role must have one entry per body (" + std::to_string(body_names_.size()) + ")");
+    if (body_roles_.size() != B) fail("/bodies/role must have one entry per body (" + std::to_string(B) + ")");
   } else {
     for (const std::string& name : body_names_) body_roles_.push_back(legacy_body_role(name));
   }
   if (legacy_bodies_) {
-    body_shapes_.assign(body_names_.size(), "segment");
-    vertex_count_.assign(body_names_.size(), 2);
+    body_shapes_.assign(B, "segment");
+    vertex_count_.assign(B, 2);
   } else {
     need("bodies/shape");
-    need("bodies/vertex_count");
     body_shapes_ = h5::read_strings(file_, "bodies/shape");
-    vertex_count_ = h5::read<std::int32_t>(file_, "bodies/vertex_count");
+    if (body_shapes_.size() != B) fail("/bodies/shape must have one entry per body (" + std::to_string(B) + ")");
+    vertex_count_ = checked<std::int32_t>("bodies/vertex_count", {B});
     max_vertices_ = 1;
-    for (const std::int32_t n : vertex_count_) max_vertices_ = std::max<hsize_t>(max_vertices_, static_cast<hsize_t>(std::max(n, 0)));
-    if (body_shapes_.size() != body_names_.size() || vertex_count_.size() != body_names_.size())
-      fail("/bodies/shape and /bodies/vertex_count must have one entry per body (" +
-           std::to_string(body_names_.size()) + ")");
-    for (const std::int32_t n : vertex_count_)
+    for (const std::int32_t n : vertex_count_) {
       if (n < 1 || n > Shape::kMaxVertices)
         fail("/bodies/vertex_count has " + std::to_string(n) + ", expected 1.." + std::to_string(Shape::kMaxVertices));
+      max_vertices_ = std::max<hsize_t>(max_vertices_, static_cast<hsize_t>(n));
+    }
   }
-  times_ = h5::read<double>(file_, "snapshots/time");
-  steps_ = h5::read<std::int64_t>(file_, "snapshots/step");
-  contact_start_ = h5::read<std::int64_t>(file_, "snapshots/contact_start");
-
-  const hsize_t N = diameter_.size(), B = body_names_.size(), S = times_.size();
-  const hsize_t C = contact_start_.empty() ? 0 : static_cast<hsize_t>(std::max<std::int64_t>(contact_start_.back(), 0));
-  const std::vector<std::pair<std::string, std::vector<hsize_t>>> shapes = {
-      {"particles/mass", {N}},          {"bodies/thickness", {B}},        {"snapshots/step", {S}},
-      {"snapshots/contact_start", {S + 1}}, {"snapshots/position", {S, N, 2}}, {"snapshots/velocity", {S, N, 2}},
-      {"snapshots/omega", {S, N}},      {"snapshots/active", {S, N}},     {vertices_dataset("snapshots"), vertices_dims(S)},
-      {"contacts/i", {C}},  {"contacts/j", {C}},  {"contacts/fn", {C}}, {"contacts/ft", {C}},
-      {"contacts/overlap", {C}}, {"contacts/nx", {C}}, {"contacts/ny", {C}}, {"contacts/mr", {C}},
-      {"contacts/sliding", {C}}};
-  for (const auto& [name, dims] : shapes) {
-    need(name);
-    const std::vector<hsize_t> got = h5::shape(file_, name);
-    if (got != dims) fail("dataset /" + name + " has shape " + show(got) + ", expected " + show(dims));
-  }
+  const hsize_t S = length("snapshots/time");
+  times_ = checked<double>("snapshots/time", {S});
+  steps_ = checked<std::int64_t>("snapshots/step", {S});
+  contact_start_ = checked<std::int64_t>("snapshots/contact_start", {S + 1});
+  check_increasing("snapshots/time", times_);
+  for (std::size_t k = 1; k < S; ++k)
+    if (steps_[k] <= steps_[k - 1]) fail("dataset /snapshots/step is not strictly increasing (row " + std::to_string(k) + ")");
   if (contact_start_.front() != 0 || !std::is_sorted(contact_start_.begin(), contact_start_.end()))
     fail("/snapshots/contact_start is not a non-decreasing index starting at 0");
+  const auto C = static_cast<hsize_t>(contact_start_.back());
+  for (const auto& [name, dims, type] : std::vector<std::tuple<std::string, std::vector<hsize_t>, std::string>>{
+           {"snapshots/position", {S, N, 2}, "f8"}, {"snapshots/velocity", {S, N, 2}, "f8"},
+           {"snapshots/omega", {S, N}, "f8"}, {"snapshots/active", {S, N}, "u1"},
+           {vertices_dataset("snapshots"), vertices_dims(S), "f8"},
+           {"contacts/i", {C}, "i4"}, {"contacts/j", {C}, "i4"}, {"contacts/fn", {C}, "f8"}, {"contacts/ft", {C}, "f8"},
+           {"contacts/overlap", {C}, "f8"}, {"contacts/nx", {C}, "f8"}, {"contacts/ny", {C}, "f8"},
+           {"contacts/mr", {C}, "f8"}, {"contacts/sliding", {C}, "u1"}})
+    check_dataset(name, dims, type);
+  if (h5::exists(file_, "series/time")) {
+    series_times_ = checked<double>("series/time", {length("series/time")});
+    check_increasing("series/time", series_times_);
+  }
+}
+
+void RunReader::check_increasing(const std::string& name, const std::vector<double>& t) const {
+  for (std::size_t k = 1; k < t.size(); ++k)
+    if (!(t[k] > t[k - 1]))
+      fail("dataset /" + name + " is not strictly increasing: row " + std::to_string(k) + " is " +
+           std::to_string(t[k]) + " s after " + std::to_string(t[k - 1]) + " s");
+}
+
+std::vector<double> RunReader::series(const std::string& name, const std::vector<hsize_t>& row_shape) const {
+  std::vector<hsize_t> dims = {series_rows()};
+  dims.insert(dims.end(), row_shape.begin(), row_shape.end());
+  return checked<double>("series/" + name, dims);
+}
+
+std::vector<Vec2> RunReader::body_velocities() const {
+  const std::vector<double> v = checked<double>("bodies/velocity", {bodies(), 2});
+  std::vector<Vec2> out(bodies());
+  for (std::size_t b = 0; b < bodies(); ++b) out[b] = {v[2 * b], v[2 * b + 1]};
+  return out;
 }
 
 std::string RunReader::vertices_dataset(const std::string& group) const {
@@ -220,8 +300,7 @@ std::vector<Body> RunReader::body_rows(const std::string& group, std::size_t b) 
   const std::vector<hsize_t> dims = h5::shape(file_, name);
   const hsize_t rows = dims.empty() ? 0 : dims[0];
   const std::vector<hsize_t> want = vertices_dims(rows);
-  if (dims != want) fail("dataset /" + name + " has shape " + show(dims) + ", expected " + show(want));
-  const std::vector<double> flat = h5::read<double>(file_, name);
+  const std::vector<double> flat = checked<double>(name, want);
   std::vector<Body> out;
   out.reserve(rows);
   for (hsize_t r = 0; r < rows; ++r) out.push_back(body_of(flat, r, b));
@@ -238,8 +317,15 @@ Snapshot RunReader::snapshot(std::size_t k) const {
   s.step = steps_[k];
   s.diameter = diameter_;
   s.mass = mass_;
+  const auto rows = [&](const std::string& name, hsize_t first, hsize_t count, std::size_t per_row,
+                        const char* row_word) {
+    std::vector<double> v = read_rows<double>(file_, name, first, count);
+    check_finite(name, v, per_row, row_word, static_cast<std::size_t>(first));
+    return v;
+  };
   const auto vec2 = [&](const std::string& name) {
-    const std::vector<double> flat = read_rows<double>(file_, name, k, 1);
+    std::vector<double> flat = read_rows<double>(file_, name, k, 1);
+    check_finite(name + " at snapshot " + std::to_string(k), flat, 2, "grain", 0);
     std::vector<Vec2> out(n);
     for (std::size_t i = 0; i < n; ++i) out[i] = {flat[2 * i], flat[2 * i + 1]};
     return out;
@@ -247,8 +333,11 @@ Snapshot RunReader::snapshot(std::size_t k) const {
   s.position = vec2("snapshots/position");
   s.velocity = vec2("snapshots/velocity");
   s.omega = read_rows<double>(file_, "snapshots/omega", k, 1);
+  check_finite("snapshots/omega at snapshot " + std::to_string(k), s.omega, 1, "grain", 0);
   s.active = read_rows<std::uint8_t>(file_, "snapshots/active", k, 1);
   const std::vector<double> outlines = read_rows<double>(file_, vertices_dataset("snapshots"), k, 1);
+  check_finite(vertices_dataset("snapshots") + " at snapshot " + std::to_string(k), outlines,
+               2 * max_vertices_, "body", 0);
   for (std::size_t b = 0; b < bodies(); ++b) s.bodies.push_back(body_of(outlines, 0, b));
 
   const auto first = static_cast<hsize_t>(contact_start_[k]);
@@ -256,18 +345,22 @@ Snapshot RunReader::snapshot(std::size_t k) const {
   Contacts& c = s.contacts;
   c.i = read_rows<std::int32_t>(file_, "contacts/i", first, count);
   c.j = read_rows<std::int32_t>(file_, "contacts/j", first, count);
-  c.fn = read_rows<double>(file_, "contacts/fn", first, count);
-  c.ft = read_rows<double>(file_, "contacts/ft", first, count);
-  c.overlap = read_rows<double>(file_, "contacts/overlap", first, count);
-  c.nx = read_rows<double>(file_, "contacts/nx", first, count);
-  c.ny = read_rows<double>(file_, "contacts/ny", first, count);
-  c.mr = read_rows<double>(file_, "contacts/mr", first, count);
+  c.fn = rows("contacts/fn", first, count, 1, "row");
+  c.ft = rows("contacts/ft", first, count, 1, "row");
+  c.overlap = rows("contacts/overlap", first, count, 1, "row");
+  c.nx = rows("contacts/nx", first, count, 1, "row");
+  c.ny = rows("contacts/ny", first, count, 1, "row");
+  c.mr = rows("contacts/mr", first, count, 1, "row");
   c.sliding = read_rows<std::uint8_t>(file_, "contacts/sliding", first, count);
   const auto in = [](std::int64_t v, std::size_t size) { return v >= 0 && static_cast<std::size_t>(v) < size; };
   for (std::size_t r = 0; r < c.size(); ++r)
-    if (!in(c.i[r], n) || (c.j[r] >= 0 ? !in(c.j[r], n) : !in(-1 - static_cast<std::int64_t>(c.j[r]), bodies())))
+    if (!in(c.i[r], n) || (c.j[r] >= 0 ? !in(c.j[r], n) || c.j[r] <= c.i[r]
+                                       : !in(-1 - static_cast<std::int64_t>(c.j[r]), bodies())) ||
+        c.sliding[r] > 1)
       fail("snapshot " + std::to_string(k) + ": contact row " + std::to_string(first + r) + " (i = " +
-           std::to_string(c.i[r]) + ", j = " + std::to_string(c.j[r]) + ") refers to no grain or body");
+           std::to_string(c.i[r]) + ", j = " + std::to_string(c.j[r]) + ", sliding = " + std::to_string(c.sliding[r]) +
+           ") is not a contact: /contacts/i must name a grain, /contacts/j a grain j > i or a body (-1 - b), "
+           "/contacts/sliding 0 or 1");
   return s;
 }
 
@@ -284,8 +377,7 @@ std::vector<Vec2> RunReader::displacement(std::size_t k) const {
   std::vector<Vec2> out(n, Vec2{nan, nan});
   const std::string name = "snapshots/displacement";
   if (!h5::exists(file_, name)) return out;
-  const std::vector<hsize_t> dims = h5::shape(file_, name), want = {snapshots(), n, 2};
-  if (dims != want) fail("dataset /" + name + " has shape " + show(dims) + ", expected " + show(want));
+  check_dataset(name, {snapshots(), n, 2}, "f8");  // (NaN is allowed: not recorded)
   const std::vector<double> flat = read_rows<double>(file_, name, k, 1);
   for (std::size_t i = 0; i < n; ++i) out[i] = {flat[2 * i], flat[2 * i + 1]};
   return out;

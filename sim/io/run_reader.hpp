@@ -3,8 +3,12 @@
 // read as hyperslabs, so that a run with thousands of snapshots costs only
 // what is read.
 //
-// Every error is a std::runtime_error whose message starts with the file's
-// path and says what is wrong.
+// Every dataset handed out is checked first, once, for every consumer: its
+// shape against the others', its element type, and finite values (NaN only
+// where the format allows it: /snapshots/displacement); times strictly
+// increase, contacts name existing grains and bodies, diameters and masses
+// are > 0. Every error is a std::runtime_error whose message starts with the
+// file's path, names the dataset and says what is wrong.
 #pragma once
 
 #include <cstddef>
@@ -94,7 +98,9 @@ std::string no_body_with_role(std::string_view role, const std::vector<std::stri
 
 class RunReader {
  public:
-  // Opens the run file and checks its format and the shapes of the datasets it reads.
+  // Opens the run file and checks its format, the constants (/particles,
+  // /bodies), the times, and the shapes and types of the snapshot and contact
+  // datasets; a snapshot's values are checked when it is read.
   explicit RunReader(const std::string& path);
 
   const std::string& path() const { return file_.path(); }
@@ -105,6 +111,18 @@ class RunReader {
   std::size_t snapshots() const { return times_.size(); }
   const std::vector<double>& snapshot_times() const { return times_; }      // (s) [S]
   const std::vector<std::int64_t>& snapshot_steps() const { return steps_; }  // [S]
+  const std::vector<double>& diameters() const { return diameter_; }  // (m) [N], > 0
+  const std::vector<double>& masses() const { return mass_; }         // (kg/m) [N], > 0
+
+  // /series: one row per series interval (docs/run_file.md). Its times (s)
+  // [T], strictly increasing; empty if the run wrote no series.
+  std::size_t series_rows() const { return series_times_.size(); }
+  const std::vector<double>& series_times() const { return series_times_; }
+  // Dataset /series/<name>, checked to be [T, row_shape...] float64 with finite
+  // values, flattened row-major; e.g. series("body_force_mean", {bodies(), 2}).
+  std::vector<double> series(const std::string& name, const std::vector<hsize_t>& row_shape = {}) const;
+  // /bodies/velocity: each body's prescribed velocity at the end of the run (m/s) [B].
+  std::vector<Vec2> body_velocities() const;
 
   // Snapshot k (0 <= k < snapshots()), reading only that record.
   Snapshot snapshot(std::size_t k) const;
@@ -131,6 +149,15 @@ class RunReader {
 
  private:
   [[noreturn]] void fail(const std::string& what) const;
+  // dataset `name` exists with this shape and element type ("f8", "i4", ...)
+  void check_dataset(const std::string& name, const std::vector<hsize_t>& dims, const std::string& dtype) const;
+  // every value finite; the error names the row (`row_word` row0 + k / per_row)
+  void check_finite(const std::string& name, const std::vector<double>& v, std::size_t per_row,
+                    const char* row_word, std::size_t row0) const;
+  void check_increasing(const std::string& name, const std::vector<double>& t) const;
+  // the whole dataset, checked (shape, type, finite values for floats)
+  template <class T>
+  std::vector<T> checked(const std::string& name, const std::vector<hsize_t>& dims) const;
 
   h5::File file_;
   // group's body outline dataset, [rows, B, K, 2] (format 1: body_ends [rows, B, 4], K = 2)
@@ -144,7 +171,7 @@ class RunReader {
   std::vector<std::int32_t> vertex_count_;
   hsize_t max_vertices_ = 2;
   bool legacy_bodies_ = false;  // format dem2d-run-1: sphero-lines as /.../body_ends
-  std::vector<double> times_;
+  std::vector<double> times_, series_times_;
   std::vector<std::int64_t> steps_, contact_start_;
 };
 

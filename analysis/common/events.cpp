@@ -1,0 +1,89 @@
+#include "common/events.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+
+namespace dem2d::analysis {
+
+const std::vector<EventColumn>& event_columns() {
+  static const std::vector<EventColumn> columns = {
+      {"load_start_time", "s", &RuptureEvent::load_start_time, true},
+      {"load_start_height", "m", &RuptureEvent::load_start_height, false},
+      {"peak_time", "s", &RuptureEvent::peak_time, true},
+      {"peak_height", "m", &RuptureEvent::peak_height, true},
+      {"peak_drag", "N/m", &RuptureEvent::peak_drag, false},
+      {"drop_end_time", "s", &RuptureEvent::drop_end_time, true},
+      {"drop_end_height", "m", &RuptureEvent::drop_end_height, false},
+      {"drop", "N/m", &RuptureEvent::drop, false},
+  };
+  return columns;
+}
+
+namespace {
+void put(const h5::File& f, const std::string& name, const std::vector<double>& v, const char* unit) {
+  h5::write(f, name, v);
+  h5::write_attr(f, name, "unit", std::string(unit));
+}
+}  // namespace
+
+void write_events(const h5::File& f, const std::vector<RuptureEvent>& events) {
+  for (const EventColumn& c : event_columns()) {
+    std::vector<double> v;
+    for (const RuptureEvent& e : events) v.push_back(e.*c.field);
+    put(f, std::string("events/") + c.name, v, c.unit);
+  }
+  std::vector<double> duration;
+  for (const RuptureEvent& e : events) duration.push_back(e.peak_time - e.load_start_time);
+  put(f, "events/duration", duration, "s");
+}
+
+std::vector<RuptureEvent> read_events(const std::string& path) {
+  const auto fail = [&](const std::string& what) { throw StageError(path + ": " + what); };
+  if (!std::filesystem::exists(path)) fail("no such file (the events file of the spectrum stage)");
+  std::vector<RuptureEvent> out;
+  try {
+    const h5::File f = h5::File::open_read(path);
+    std::size_t rows = 0;
+    bool first = true;
+    for (const EventColumn& c : event_columns()) {
+      const std::string name = std::string("events/") + c.name;
+      if (!h5::exists(f, name)) {
+        if (c.required) fail("dataset /" + name + " is missing (the spectrum stage's events file)");
+        continue;
+      }
+      const std::vector<hsize_t> dims = h5::shape(f, name);
+      if (dims.size() != 1 || h5::dtype(f, name) != "f8")
+        fail("dataset /" + name + " is not a 1-D float64 column (the spectrum stage's events file)");
+      if (first) rows = dims[0], out.resize(rows);
+      if (dims[0] != rows)
+        fail("dataset /" + name + " has " + std::to_string(dims[0]) + " rows, /events/" +
+             event_columns().front().name + " has " + std::to_string(rows));
+      first = false;
+      const std::vector<double> v = h5::read<double>(f, name);
+      for (std::size_t k = 0; k < rows; ++k) {
+        if (!std::isfinite(v[k])) fail("dataset /" + name + ": event " + std::to_string(k) + " is not finite");
+        out[k].*c.field = v[k];
+      }
+    }
+    for (const EventColumn& c : event_columns())
+      if (!c.required && !h5::exists(f, std::string("events/") + c.name))
+        for (RuptureEvent& e : out) e.*c.field = std::numeric_limits<double>::quiet_NaN();
+    for (std::size_t k = 0; k < out.size(); ++k) {
+      const RuptureEvent& e = out[k];
+      if (!(e.load_start_time <= e.peak_time && e.peak_time <= e.drop_end_time))
+        fail("event " + std::to_string(k) + ": load_start_time " + std::to_string(e.load_start_time) +
+             " s, peak_time " + std::to_string(e.peak_time) + " s and drop_end_time " + std::to_string(e.drop_end_time) +
+             " s are not in this order");
+    }
+  } catch (const StageError&) {
+    throw;
+  } catch (const std::exception& x) {
+    const std::string what = x.what();
+    throw StageError(what.rfind(path, 0) == 0 ? what : path + ": " + what);
+  }
+  return out;
+}
+
+}  // namespace dem2d::analysis

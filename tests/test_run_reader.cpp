@@ -1,0 +1,187 @@
+// The run-file reader checks every dataset it hands out, once, for every
+// consumer: a run file with one value or one dataset wrong (NaN, a wrong
+// shape, a wrong type, times out of order, a contact that is none) is an
+// error naming the file and the dataset, never a crash or a number computed
+// from garbage. Each case corrupts one dataset of a valid run file.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/version.hpp"
+#include "io/h5.hpp"
+#include "io/run_file.hpp"
+#include "io/run_reader.hpp"
+#include "pulloff/drag_profile.hpp"
+#include "scene_builder.hpp"
+#include "temp_dir.hpp"
+
+namespace dem2d::test {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// 30 grains settling in a box around an intruder at rest, 4 snapshots and
+// series rows 0.05 s apart: a valid run file with contacts.
+std::string valid_run(const TempDir& dir) {
+  Scene scene = boxed_bed(effect::gravity | effect::normal_damping | effect::friction, 30, 0.03);
+  add_wall(scene, "intruder", 0.01, 0.02, 0.02, 0.02, 2e-3);
+  System sys(scene);
+  RunRecorder rec(sys, dir.file(""));
+  for (int k = 0; k < 4; ++k) {
+    if (k > 0) run_for(sys, 0.05);
+    rec.record_series(sys);
+    rec.record_snapshot(sys);
+  }
+  RunInfo info;
+  info.code_version = code_version();
+  const std::string path = dir.file("valid.h5");
+  rec.finish(sys, info, path, "test");
+  return path;
+}
+
+// A copy of `src` named `tag`.h5 whose dataset `name` holds `data` with shape `dims`.
+template <class T>
+std::string with_dataset(const TempDir& dir, const std::string& src, const std::string& tag, const std::string& name,
+                         const std::vector<T>& data, std::vector<hsize_t> dims) {
+  const std::string path = dir.file(tag + ".h5");
+  fs::copy_file(src, path, fs::copy_options::overwrite_existing);
+  const h5::File f = h5::File::open_write(path);
+  H5Ldelete(f.id(), name.c_str(), H5P_DEFAULT);
+  h5::write(f, name, data, std::move(dims));
+  return path;
+}
+
+// A copy of `src` with element `index` of dataset `name` set to `value`.
+template <class T>
+std::string with_value(const TempDir& dir, const std::string& src, const std::string& tag, const std::string& name,
+                       std::size_t index, T value) {
+  std::vector<hsize_t> dims;
+  std::vector<T> data = h5::read<T>(h5::File::open_read(src), name, &dims);
+  data.at(index) = value;
+  return with_dataset(dir, src, tag, name, data, dims);
+}
+
+// The message of what `f` throws ("no error" if nothing).
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+#define EXPECT_ERROR(call, path, text)                                       \
+  do {                                                                       \
+    const std::string msg_ = error_of([&] { call; });                            \
+    EXPECT_EQ(msg_.rfind(path + ": ", 0), 0u) << msg_;                            \
+    EXPECT_NE(msg_.find(text), std::string::npos) << "expected '" << text << "' in: " << msg_; \
+  } while (0)
+
+class RunReaderChecks : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir();
+    valid_ = valid_run(*dir_);
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  static TempDir* dir_;
+  static std::string valid_;
+};
+TempDir* RunReaderChecks::dir_ = nullptr;
+std::string RunReaderChecks::valid_;
+
+TEST_F(RunReaderChecks, ValidRunIsReadWhole) {
+  const RunReader run(valid_);
+  ASSERT_EQ(run.snapshots(), 4u);
+  ASSERT_EQ(run.series_rows(), 4u);
+  EXPECT_EQ(run.series("body_force_mean", {run.bodies(), 2}).size(), 4u * run.bodies() * 2);
+  EXPECT_EQ(run.body_velocities().size(), run.bodies());
+  std::size_t contacts = 0;
+  for (std::size_t k = 0; k < run.snapshots(); ++k) contacts += run.snapshot(k).contacts.size();
+  EXPECT_GT(contacts, 10u);
+}
+
+TEST_F(RunReaderChecks, NonFiniteValuesAreRefusedWhereTheyAreRead) {
+  const std::string pos = with_value(*dir_, valid_, "nan_position", "snapshots/position", 2 * (30 + 3) + 1, kNaN);
+  const RunReader run(pos);  // snapshot values are checked when read
+  EXPECT_NO_THROW(run.snapshot(0));
+  EXPECT_ERROR(run.snapshot(1), pos, "/snapshots/position at snapshot 1: grain 3 holds NaN");
+  const std::string d = with_value(*dir_, valid_, "nan_diameter", "particles/diameter", 7, kNaN);
+  EXPECT_ERROR(RunReader{d}, d, "dataset /particles/diameter: row 7 holds NaN");
+  const std::string t = with_value(*dir_, valid_, "inf_thickness", "bodies/thickness", 1, HUGE_VAL);
+  EXPECT_ERROR(RunReader{t}, t, "dataset /bodies/thickness: row 1 holds an infinite value");
+  const std::string ends = with_value(*dir_, valid_, "nan_body", "series/body_vertices", 3, kNaN);
+  EXPECT_ERROR(RunReader{ends}.body_rows("series", 0), ends, "/series/body_vertices: row 0 holds NaN");
+  const std::string v = with_value(*dir_, valid_, "nan_velocity", "bodies/velocity", 1, kNaN);
+  EXPECT_ERROR(RunReader{v}.body_velocities(), v, "/bodies/velocity: row 0 holds NaN");
+  const std::string force = with_value(*dir_, valid_, "nan_force", "series/body_force_mean", 5, kNaN);
+  EXPECT_ERROR(RunReader{force}.series("body_force_mean", {4, 2}), force, "/series/body_force_mean: row 0 holds NaN");
+}
+
+TEST_F(RunReaderChecks, GrainsWithoutSizeOrMassAreRefused) {
+  const std::string neg = with_value(*dir_, valid_, "negative_diameter", "particles/diameter", 2, -3e-3);
+  EXPECT_ERROR(RunReader{neg}, neg, "grain 2 has diameter -0.003");
+  const std::string m = with_value(*dir_, valid_, "zero_mass", "particles/mass", 0, 0.0);
+  EXPECT_ERROR(RunReader{m}, m, "both must be > 0");
+}
+
+TEST_F(RunReaderChecks, ShapesAreCheckedAgainstEachOther) {
+  const RunReader run(valid_);
+  const auto B = run.bodies();
+  const std::string short_force = with_dataset(*dir_, valid_, "short_force", "series/body_force_mean",
+                                               std::vector<double>(3 * B * 2, 1.0), {3, B, 2});
+  EXPECT_ERROR(RunReader{short_force}.series("body_force_mean", {B, 2}), short_force,
+               "dataset /series/body_force_mean has shape [3, " + std::to_string(B) + ", 2], expected [4, " +
+                   std::to_string(B) + ", 2]");
+  const std::string empty = with_dataset(*dir_, valid_, "empty_overlap", "series/max_overlap", std::vector<double>{}, {0});
+  EXPECT_ERROR(RunReader{empty}.series("max_overlap"), empty, "dataset /series/max_overlap has shape [0], expected [4]");
+  const std::string mass = with_dataset(*dir_, valid_, "short_mass", "particles/mass", std::vector<double>(29, 1.0), {29});
+  EXPECT_ERROR(RunReader{mass}, mass, "dataset /particles/mass has shape [29], expected [30]");
+  EXPECT_ERROR(run.series("no_such_column"), valid_, "dataset /series/no_such_column is missing");
+}
+
+TEST_F(RunReaderChecks, IntegersStandingInForCoordinatesAreRefused) {
+  const std::string ints = with_dataset(*dir_, valid_, "int_position", "snapshots/position",
+                                        std::vector<std::int64_t>(4 * 30 * 2, 0), {4, 30, 2});
+  EXPECT_ERROR(RunReader{ints}, ints, "dataset /snapshots/position holds i8, expected f8");
+}
+
+TEST_F(RunReaderChecks, TimesMustStrictlyIncrease) {
+  const RunReader run(valid_);
+  const std::string snap = with_value(*dir_, valid_, "repeated_time", "snapshots/time", 2, run.snapshot_times()[1]);
+  EXPECT_ERROR(RunReader{snap}, snap, "dataset /snapshots/time is not strictly increasing: row 2");
+  const std::string series = with_value(*dir_, valid_, "reversed_series", "series/time", 0, 1.0);
+  EXPECT_ERROR(RunReader{series}, series, "dataset /series/time is not strictly increasing: row 1");
+}
+
+TEST_F(RunReaderChecks, ContactsMustNameTwoDifferentExistingPartners) {
+  const RunReader run(valid_);
+  const Snapshot s = run.snapshot(3);
+  const auto row = static_cast<std::size_t>(run.snapshot(0).contacts.size() + run.snapshot(1).contacts.size() +
+                                            run.snapshot(2).contacts.size());
+  ASSERT_GT(s.contacts.size(), 0u);
+  const std::string self = with_value(*dir_, valid_, "self_contact", "contacts/j", row, s.contacts.i[0]);
+  EXPECT_ERROR(RunReader{self}.snapshot(3), self, "contact row " + std::to_string(row));
+  EXPECT_ERROR(RunReader{self}.snapshot(3), self, "is not a contact");
+  const std::string body = with_value(*dir_, valid_, "no_body", "contacts/j", row, std::int32_t{-100});
+  EXPECT_ERROR(RunReader{body}.snapshot(3), body, "is not a contact");
+  const std::string fn = with_value(*dir_, valid_, "nan_fn", "contacts/fn", row, kNaN);
+  EXPECT_ERROR(RunReader{fn}.snapshot(3), fn, "dataset /contacts/fn: row " + std::to_string(row) + " holds NaN");
+}
+
+// The stage that needs a moving intruder refuses a run where it stays put
+// (pulloff_metrics given the fill's run file reported "travel 0.0 mm").
+TEST_F(RunReaderChecks, DragProfileNeedsAMovingIntruder) {
+  EXPECT_ERROR(analysis::read_drag_profile(RunReader{valid_}), valid_,
+               "the intruder 'intruder' stays at");
+}
+
+}  // namespace
+}  // namespace dem2d::test
