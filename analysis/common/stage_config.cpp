@@ -1,123 +1,116 @@
 #include "common/stage_config.hpp"
 
-#include <cmath>
-#include <filesystem>
-#include <sstream>
-
-#include "common/stage_output.hpp"
-
 namespace dem2d::analysis {
 
 namespace {
 
-std::string show(const toml::node& n) {
-  std::ostringstream s;
-  n.visit([&s](const auto& v) { s << v; });
-  return s.str();
-}
-
-std::string where(const std::string& path, const toml::source_region& r) {
-  return path + ":" + std::to_string(r.begin.line) + ":" + std::to_string(r.begin.column);
+Num range(std::string_view meaning, double min, double max, StageConfig::Ends ends, std::string& storage) {
+  storage = std::string(meaning);
+  using E = StageConfig::Ends;
+  return {storage.c_str(), "", Rule::interval, min, max, ends == E::open_low || ends == E::open,
+          ends == E::open_high || ends == E::open};
 }
 
 }  // namespace
 
-StageConfig::StageConfig(std::string path) : path_(std::move(path)) {
-  if (!std::filesystem::exists(path_)) throw StageError(path_ + ": no such file");
-  try {
-    root_ = toml::parse_file(path_);
-  } catch (const toml::parse_error& e) {
-    throw StageError(where(path_, e.source()) + ": cannot read the config: " + std::string(e.description()));
-  }
-}
-
-void StageConfig::fail(const toml::node& n, std::string_view key, const std::string& what) const {
-  throw StageError(where(path_, n.source()) + ": " + std::string(key) + " = " + show(n) + ": " + what);
+StageConfig::StageConfig(const std::string& path) {
+  auto file = std::make_shared<const StageFile>(path);
+  auto root = std::make_shared<const toml::table>(file->parse_file());
+  table_ = root.get();
+  file_ = std::move(file);
+  root_ = std::move(root);
 }
 
 const toml::node* StageConfig::take(std::string_view key) {
   known_.emplace_back(key);
-  return root_.get(key);
+  return table_ ? table_->get(key) : nullptr;
 }
 
-void StageConfig::number(std::string_view key, double& out, double min, double max, std::string_view meaning) {
+TableReader StageConfig::reader() const {
+  std::vector<std::string_view> all;
+  if (table_)
+    for (auto&& [key, value] : *table_) all.push_back(key.str());
+  static const toml::table empty;
+  return TableReader(*file_, table_ ? table_ : &empty, name_, all);
+}
+
+void StageConfig::number(std::string_view key, double& out, double min, double max, std::string_view meaning,
+                         Ends ends) {
   std::optional<double> v;
-  number(key, v, min, max, meaning);
+  number(key, v, min, max, meaning, ends);
   if (v) out = *v;
 }
 
 void StageConfig::number(std::string_view key, std::optional<double>& out, double min, double max,
-                         std::string_view meaning) {
-  const toml::node* n = take(key);
-  if (!n) return;
-  const std::optional<double> v = n->value<double>();
-  if (!n->is_number() || !v || !std::isfinite(*v)) fail(*n, key, "wrong type, expected a number (" + std::string(meaning) + ")");
-  if (*v < min || *v > max)
-    fail(*n, key, "must be in [" + format_number(min) + ", " + format_number(max) + "] (" + std::string(meaning) + ")");
-  out = *v;
+                         std::string_view meaning, Ends ends) {
+  if (!take(key)) return;
+  std::string text;
+  out = *reader().number(key, range(meaning, min, max, ends, text));
 }
 
 void StageConfig::integer(std::string_view key, std::int64_t& out, std::int64_t min, std::int64_t max,
                           std::string_view meaning) {
-  const toml::node* n = take(key);
-  if (!n) return;
-  if (!n->is_integer()) fail(*n, key, "wrong type, expected an integer (" + std::string(meaning) + ")");
-  const std::int64_t v = n->as_integer()->get();
-  if (v < min || v > max)
-    fail(*n, key, "must be in [" + std::to_string(min) + ", " + std::to_string(max) + "] (" + std::string(meaning) + ")");
-  out = v;
+  if (!take(key)) return;
+  const std::string what(meaning);
+  out = reader().integer(key, min, what.c_str(), max);
+}
+
+void StageConfig::integer(std::string_view key, int& out, int min, int max, std::string_view meaning) {
+  std::int64_t v = out;
+  integer(key, v, min, max, meaning);
+  out = static_cast<int>(v);
 }
 
 void StageConfig::numbers(std::string_view key, std::vector<double>& out, double min, double max,
-                          std::string_view meaning) {
-  const toml::node* n = take(key);
-  if (!n) return;
-  const toml::array* a = n->as_array();
-  if (!a || a->empty()) fail(*n, key, "wrong type, expected a non-empty array of numbers (" + std::string(meaning) + ")");
-  std::vector<double> v;
-  for (const toml::node& e : *a) {
-    const std::optional<double> x = e.value<double>();
-    if (!e.is_number() || !x || !std::isfinite(*x) || *x < min || *x > max)
-      fail(*n, key, "every element must be a number in [" + format_number(min) + ", " + format_number(max) + "] (" + std::string(meaning) + ")");
-    v.push_back(*x);
-  }
-  out = std::move(v);
+                          std::string_view meaning, Ends ends) {
+  if (!take(key)) return;
+  std::string text;
+  out = *reader().numbers(key, range(meaning, min, max, ends, text));
 }
 
 void StageConfig::text(std::string_view key, std::string& out, std::string_view meaning) {
-  const toml::node* n = take(key);
-  if (!n) return;
-  const auto* s = n->as_string();
-  if (!s || s->get().empty()) fail(*n, key, "wrong type, expected a non-empty string (" + std::string(meaning) + ")");
-  out = s->get();
+  if (!take(key)) return;
+  const TableReader r = reader();
+  if (!r.node(key)->is_string()) r.fail(key, "wrong type, expected a string (" + std::string(meaning) + ")");
+  out = *r.string(key);
 }
 
 void StageConfig::choice(std::string_view key, std::string& out, const std::vector<std::string>& allowed,
                          std::string_view meaning) {
+  if (!take(key)) return;
+  const std::vector<std::string_view> names(allowed.begin(), allowed.end());
+  const std::string what(meaning);
+  out = *reader().choice(key, names, what.c_str());
+}
+
+StageConfig StageConfig::table(std::string_view key) {
   const toml::node* n = take(key);
-  if (!n) return;
-  std::string list;
-  for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + ("\"" + a + "\"");
-  const auto* s = n->as_string();
-  if (!s) fail(*n, key, "wrong type, expected one of " + list + " (" + std::string(meaning) + ")");
-  for (const std::string& a : allowed)
-    if (s->get() == a) {
-      out = a;
-      return;
-    }
-  fail(*n, key, "must be one of " + list + " (" + std::string(meaning) + ")");
+  if (n && !n->is_table()) reader().fail(key, "wrong type, expected a table [" + std::string(key) + "]");
+  return StageConfig(file_, root_, n ? n->as_table() : nullptr, name_.empty() ? std::string(key) : name_ + "." + std::string(key));
+}
+
+std::vector<StageConfig> StageConfig::entries(std::string_view key) {
+  std::vector<StageConfig> out;
+  const toml::node* n = take(key);
+  if (!n) return out;
+  const toml::array* a = n->as_array();
+  if (!a || !a->is_array_of_tables())
+    reader().fail(key, "wrong type, expected an array of tables [[" + std::string(key) + "]]");
+  for (std::size_t k = 0; k < a->size(); ++k)
+    out.push_back(StageConfig(file_, root_, a->get(k)->as_table(),
+                              (name_.empty() ? "" : name_ + ".") + std::string(key) + "[" + std::to_string(k) + "]"));
+  return out;
 }
 
 void StageConfig::reject_unknown() const {
-  std::string list;
-  for (const std::string& k : known_) list += (list.empty() ? "" : ", ") + k;
-  for (const auto& [key, node] : root_) {
-    bool ok = false;
-    for (const std::string& k : known_) ok = ok || key.str() == k;
-    if (!ok)
-      throw StageError(where(path_, key.source()) + ": unknown key '" + std::string(key.str()) + "' = " + show(node) +
-                       " (allowed: " + list + ")");
-  }
+  if (!table_) return;
+  const std::vector<std::string_view> allowed(known_.begin(), known_.end());
+  TableReader(*file_, table_, name_, allowed);  // throws on the first key not in `allowed`
+}
+
+std::string StageConfig::where(std::string_view key) const {
+  const toml::node* n = table_ ? table_->get(key) : nullptr;
+  return file_->at(n ? &n->source() : nullptr);
 }
 
 }  // namespace dem2d::analysis

@@ -342,8 +342,11 @@ TEST(NetworkConfig, DataFileHoldsTheDefaultsAndBadKeysAreNamed) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(error("\n\nstrong_treshold = 1.0\n").find("e.toml:3:1: unknown key 'strong_treshold' = 1.0"), std::string::npos);
-  EXPECT_NE(error("loss_level = 2.0\n").find("e.toml:1:14: loss_level = 2.0: must be in [0, 1]"), std::string::npos);
+  EXPECT_NE(error("\n\nstrong_treshold = 1.0\n").find("; did you mean 'strong_threshold'?"), std::string::npos);
+  EXPECT_NE(error("\n\nstrong_treshold = 1.0\n").find("e.toml:3:1: unknown key 'strong_treshold' at the top level"), std::string::npos);
+  EXPECT_NE(error("loss_level = 2.0\n").find("e.toml:1:14: loss_level = 2: must be in [0, 1]"), std::string::npos);
+  EXPECT_NE(error("bin_width_d = nan\n").find("bin_width_d = nan: must be finite and in [0.001, 100]"), std::string::npos)
+      << error("bin_width_d = nan\n");
   EXPECT_NE(error("walls = \"left\"\n").find("must be one of \"both\", \"either\""), std::string::npos);
   EXPECT_NE(error("figure_every = 2.5\n").find("expected an integer"), std::string::npos);
   EXPECT_NE(error("walls = \n").find("e.toml:1:"), std::string::npos);

@@ -11,23 +11,36 @@
 
 namespace dem2d {
 
-enum class Rule { finite, positive, non_negative, unit_open_closed };
+enum class Rule { finite, positive, non_negative, unit_open_closed, interval };
 
 struct Num {
   const char* what;  // "normal stiffness"
   const char* unit;  // "N/m", "" if dimensionless
   Rule rule;
+  // Rule::interval: lo .. hi, each end open or closed
+  double lo = 0.0, hi = 0.0;
+  bool lo_open = false, hi_open = false;
 };
 
-inline const char* rule_text(Rule r) {
+// "> 0", "in [0, 1)"
+inline std::string rule_text(const Num& n) {
   constexpr const char* kText[] = {"finite", "> 0", ">= 0", "in (0, 1]"};
-  return kText[static_cast<int>(r)];
+  if (n.rule != Rule::interval) return kText[static_cast<int>(n.rule)];
+  std::ostringstream os;
+  os << "in " << (n.lo_open ? "(" : "[") << n.lo << ", " << n.hi << (n.hi_open ? ")" : "]");
+  return os.str();
 }
 
-inline bool obeys(Rule r, double v) {
-  return std::isfinite(v) && (r == Rule::finite || (r == Rule::positive && v > 0.0) ||
-                              (r == Rule::non_negative && v >= 0.0) ||
-                              (r == Rule::unit_open_closed && v > 0.0 && v <= 1.0));
+inline bool obeys(const Num& n, double v) {
+  switch (n.rule) {
+    case Rule::finite: return std::isfinite(v);
+    case Rule::positive: return std::isfinite(v) && v > 0.0;
+    case Rule::non_negative: return std::isfinite(v) && v >= 0.0;
+    case Rule::unit_open_closed: return v > 0.0 && v <= 1.0;
+    case Rule::interval:
+      return std::isfinite(v) && (n.lo_open ? v > n.lo : v >= n.lo) && (n.hi_open ? v < n.hi : v <= n.hi);
+  }
+  return false;
 }
 
 // "normal stiffness in N/m"
@@ -35,7 +48,7 @@ inline std::string describe(const Num& n) {
   return std::string(n.what) + (*n.unit ? std::string(" in ") + n.unit : "");
 }
 // "normal stiffness in N/m, > 0"
-inline std::string range_text(const Num& n) { return describe(n) + ", " + rule_text(n.rule); }
+inline std::string range_text(const Num& n) { return describe(n) + ", " + rule_text(n); }
 
 // A derived quantity in a message: 3 significant digits.
 inline std::string sig3(double v) {

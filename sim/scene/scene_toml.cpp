@@ -19,6 +19,7 @@
 
 #include "core/body_roles.hpp"
 #include "core/key_spec.hpp"
+#include "io/toml_reader.hpp"
 #include "scene/generators.hpp"
 #include "shape/shape_kinds.hpp"
 #include "scene/initial_state.hpp"
@@ -29,228 +30,12 @@ namespace {
 using Vec2 = std::array<double, 2>;
 constexpr double kOverlapTolerance = 1e-12;  // m: exact touching is not an overlap
 
-// ---------------------------------------------------------------- formatting
+// The scene's errors: SceneError (scene_toml.hpp), raised by the shared reader.
+struct File : TomlFile {
+  using TomlFile::TomlFile;
 
-std::string shortest(double v) {  // shortest text that reads back as v
-  char buf[32];
-  return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
-}
-
-// A value as the user wrote it (near enough), shortened if long.
-std::string show(const toml::node& n) {
-  std::string s;
-  if (const auto* i = n.as_integer())
-    s = std::to_string(i->get());
-  else if (const auto* x = n.as_floating_point())
-    s = shortest(x->get());
-  else if (const auto* b = n.as_boolean())
-    s = b->get() ? "true" : "false";
-  else if (const auto* str = n.as_string())
-    s = '"' + str->get() + '"';
-  else if (const auto* a = n.as_array()) {
-    s = "[";
-    for (std::size_t k = 0; k < a->size() && s.size() < 80; ++k)
-      s += (k ? ", " : "") + show(*a->get(k));
-    s += "]";
-  } else if (const auto* t = n.as_table()) {
-    s = "{ ";
-    for (auto&& [key, v] : *t) {
-      if (s.size() > 80) break;
-      s += std::string(key.str()) + " = " + show(v) + ", ";
-    }
-    s = (s.size() > 2 ? s.substr(0, s.size() - 2) : "{") + " }";
-  } else {
-    std::ostringstream os;  // dates and times
-    n.visit([&](auto&& v) { os << v; });
-    s = os.str();
-  }
-  return s.size() > 80 ? s.substr(0, 77) + "..." : s;
-}
-
-// Integers are accepted where a float is expected.
-std::optional<double> number_of(const toml::node& n) {
-  if (const auto* i = n.as_integer()) return static_cast<double>(i->get());
-  if (const auto* x = n.as_floating_point()) return x->get();
-  return std::nullopt;
-}
-
-std::string join(const std::vector<std::string_view>& keys) {
-  std::string s;
-  for (const auto k : keys) s += (s.empty() ? "" : ", ") + std::string(k);
-  return s;
-}
-
-// ---------------------------------------------------------------- errors
-
-struct File {
-  std::string path;
-
-  // "file:line:column"; the file is the node's own (an overlay's key names the overlay).
-  std::string at(const toml::source_region* where) const {
-    if (!where || where->begin.line == 0) return path;
-    const std::string& file = where->path && !where->path->empty() ? *where->path : path;
-    return file + ":" + std::to_string(where->begin.line) + ":" + std::to_string(where->begin.column);
-  }
-  [[noreturn]] void fail(const toml::source_region* where, const std::string& msg) const {
-    throw SceneError(at(where) + ": " + msg);
-  }
-  [[noreturn]] void fail(const toml::node& n, const std::string& msg) const {
-    fail(&n.source(), msg);
-  }
-};
-
-// ---------------------------------------------------------------- typed keys
-
-// Rule, Num, obeys, describe, range_text: core/key_spec.hpp
-
-// One table of the file: rejects unknown keys on construction, then reads
-// typed keys with range checks. Key paths in messages are dotted from the root
-// (`contact.wall.kn`, `body[2].thickness`). A reader of an absent table sees
-// every key as missing.
-class TableReader {
- public:
-  TableReader(const File& f, const toml::node* node, std::string name,
-              std::vector<std::string_view> allowed)
-      : f_(&f), name_(std::move(name)) {
-    if (!node) return;
-    table_ = node->as_table();
-    if (!table_) f.fail(*node, name_ + " = " + show(*node) + ": wrong type, expected a table");
-    for (auto&& [key, value] : *table_) {
-      if (std::find(allowed.begin(), allowed.end(), key.str()) != allowed.end()) continue;
-      const std::string where = name_.empty()                          ? "at the top level"
-                                : name_.find('[') != std::string::npos ? "in " + name_
-                                                                       : "in [" + name_ + "]";
-      f.fail(&key.source(), "unknown key '" + std::string(key.str()) + "' " + where +
-                                " (allowed: " + join(allowed) + ")");
-    }
-  }
-
-  const toml::node* node(std::string_view key) const { return table_ ? table_->get(key) : nullptr; }
-  bool has(std::string_view key) const { return node(key) != nullptr; }
-  std::string path(std::string_view key) const {
-    return name_.empty() ? std::string(key) : name_ + "." + std::string(key);
-  }
-  const toml::source_region* where() const { return table_ ? &table_->source() : nullptr; }
-
-  // "<key> = <value>: <msg>" at the key's value.
-  [[noreturn]] void fail(std::string_view key, const std::string& msg) const {
-    fail_after(key, ": " + msg);
-  }
-  [[noreturn]] void fail_after(std::string_view key, const std::string& msg) const {
-    f_->fail(*node(key), path(key) + " = " + show(*node(key)) + msg);
-  }
-  [[noreturn]] void missing(std::string_view key, const std::string& what) const {
-    f_->fail(where(), "missing key " + path(key) + " (" + what + ")");
-  }
-  // A key that only makes sense when `reason` does not hold.
-  void forbid(std::string_view key, const std::string& reason) const {
-    if (has(key))
-      fail(key, "given but " + reason + " (a scene names only what it uses: remove it)");
-  }
-
-  std::optional<double> number(std::string_view key, const Num& spec) const {
-    const toml::node* n = node(key);
-    return n ? std::optional(number_at(*n, path(key), spec)) : std::nullopt;
-  }
-  double number_or(std::string_view key, const Num& spec, double fallback) const {
-    return number(key, spec).value_or(fallback);
-  }
-  double required(std::string_view key, const Num& spec, const std::string& why = "") const {
-    if (!has(key)) missing(key, range_text(spec) + why);
-    return *number(key, spec);
-  }
-  std::optional<bool> boolean(std::string_view key) const {
-    const toml::node* n = node(key);
-    if (n && !n->is_boolean()) wrong_type(*n, path(key), "a boolean (true or false)");
-    return n ? std::optional(n->as_boolean()->get()) : std::nullopt;
-  }
-  std::optional<std::string> string(std::string_view key) const {
-    const toml::node* n = node(key);
-    if (n && !n->is_string()) wrong_type(*n, path(key), "a string");
-    if (n && n->as_string()->get().empty()) fail(key, "must be a non-empty string");
-    return n ? std::optional(n->as_string()->get()) : std::nullopt;
-  }
-  // An array of non-empty strings.
-  std::vector<std::string> strings(std::string_view key, const char* what) const {
-    const toml::node* n = node(key);
-    if (!n) missing(key, std::string(what) + ", an array of strings");
-    const toml::array* a = n->as_array();
-    if (!a || a->empty()) fail(key, std::string("must be a non-empty array of strings (") + what + ")");
-    std::vector<std::string> out;
-    for (std::size_t k = 0; k < a->size(); ++k) {
-      const auto* str = a->get(k)->as_string();
-      if (!str || str->get().empty())
-        wrong_type(*a->get(k), path(key) + "[" + std::to_string(k) + "]", "a non-empty string");
-      out.push_back(str->get());
-    }
-    return out;
-  }
-  std::int64_t integer(std::string_view key, std::int64_t min, const char* what) const {
-    const toml::node* n = node(key);
-    if (!n) missing(key, std::string(what) + ", an integer >= " + std::to_string(min));
-    return integer_at(*n, key, min, what);
-  }
-  std::int64_t integer_or(std::string_view key, std::int64_t min, const char* what, std::int64_t fallback) const {
-    const toml::node* n = node(key);
-    return n ? integer_at(*n, key, min, what) : fallback;
-  }
-  std::int64_t integer_at(const toml::node& n, std::string_view key, std::int64_t min, const char* what) const {
-    if (!n.is_integer()) wrong_type(n, path(key), "an integer");
-    const std::int64_t v = n.as_integer()->get();
-    if (v < min) fail(key, "must be an integer >= " + std::to_string(min) + " (" + what + ")");
-    return v;
-  }
-  std::optional<Vec2> vec2(std::string_view key, const Num& spec) const {
-    const toml::node* n = node(key);
-    return n ? std::optional(vec2_at(*n, path(key), spec)) : std::nullopt;
-  }
-  Vec2 required_vec2(std::string_view key, const Num& spec, const std::string& why = "") const {
-    if (!has(key)) missing(key, "[x, y], " + range_text(spec) + why);
-    return *vec2(key, spec);
-  }
-  // The number at n (p: its dotted path), checked against spec.
-  double number_at(const toml::node& n, const std::string& p, const Num& spec) const {
-    const auto v = number_of(n);
-    if (!v) wrong_type(n, p, "a number");
-    if (!obeys(spec.rule, *v))
-      f_->fail(n, p + " = " + show(n) + ": must be " +
-                      (std::isfinite(*v) || spec.rule == Rule::finite ? "" : "finite and ") +
-                      rule_text(spec.rule) + " (" + describe(spec) + ")");
-    return *v;
-  }
-  // [x, y] at n, both checked against spec.
-  Vec2 vec2_at(const toml::node& n, const std::string& p, const Num& spec) const {
-    const toml::array* a = n.as_array();
-    if (!a || a->size() != 2)
-      f_->fail(n, p + " = " + show(n) + ": must be an array [x, y] (" + range_text(spec) + ")");
-    return {number_at(*a->get(0), p + "[0]", spec), number_at(*a->get(1), p + "[1]", spec)};
-  }
-  TableReader table(std::string_view key, std::vector<std::string_view> allowed) const {
-    return TableReader(*f_, node(key), path(key), std::move(allowed));
-  }
-  // [[key]] entries (an absent key is an empty list).
-  std::vector<TableReader> entries(std::string_view key,
-                                   std::vector<std::string_view> allowed) const {
-    std::vector<TableReader> out;
-    const toml::node* n = node(key);
-    if (!n) return out;
-    if (!n->is_array())
-      fail(key, "wrong type, expected an array of tables ([[" + std::string(key) + "]])");
-    for (std::size_t k = 0; k < n->as_array()->size(); ++k)
-      out.emplace_back(*f_, n->as_array()->get(k), path(key) + "[" + std::to_string(k) + "]",
-                       allowed);
-    return out;
-  }
-
- private:
-  [[noreturn]] void wrong_type(const toml::node& n, const std::string& p,
-                               const std::string& expected) const {
-    f_->fail(n, p + " = " + show(n) + ": wrong type, expected " + expected);
-  }
-
-  const File* f_;
-  const toml::table* table_ = nullptr;
-  std::string name_;
+ protected:
+  void raise(const std::string& message) const override { throw SceneError(message); }
 };
 
 // ---------------------------------------------------------------- sections
@@ -827,16 +612,11 @@ class SceneParser {
 
 
 toml::table parse_toml(std::string_view text, const std::string& path) {
-  const File f{path.empty() ? "<scene>" : path};
-  try {
-    return toml::parse(text, std::string_view(path));
-  } catch (const toml::parse_error& e) {
-    f.fail(&e.source(), "TOML syntax error: " + std::string(e.description()));
-  }
+  return File(path.empty() ? "<scene>" : path).parse(text);
 }
 
 Scene parse_table(const toml::table& root, std::string text, const std::string& path) {
-  const File f{path.empty() ? "<scene>" : path};
+  const File f(path.empty() ? "<scene>" : path);
   Scene s;
   s.path = path;
   s.text = std::move(text);

@@ -57,22 +57,12 @@ Target read_target(analysis::StageConfig& c) {
 }  // namespace
 
 std::vector<Target> load_targets(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw StageError(path + ": no such file");
-  toml::table root;
-  try {
-    root = toml::parse_file(path);
-  } catch (const toml::parse_error& e) {
-    throw StageError(path + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
-  }
-  toml::array* list = root["target"].as_array();
-  if (!list || !list->is_array_of_tables() || list->empty())
-    throw StageError(path + ": expected one or more [[target]] tables");
-  if (root.size() != 1) throw StageError(path + ": only [[target]] tables are allowed at the top level");
+  analysis::StageConfig file(path);
+  std::vector<analysis::StageConfig> list = file.entries("target");
+  if (list.empty()) throw StageError(path + ": expected one or more [[target]] tables");
+  file.reject_unknown();  // only [[target]] tables at the top level
   std::vector<Target> targets;
-  for (toml::node& n : *list) {
-    analysis::StageConfig c(path, std::move(*n.as_table()));  // moved: keeps the line numbers for errors
-    targets.push_back(read_target(c));
-  }
+  for (analysis::StageConfig& c : list) targets.push_back(read_target(c));
   return targets;
 }
 

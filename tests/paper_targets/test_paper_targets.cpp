@@ -141,7 +141,7 @@ TEST(PaperTargets, BadTargetFilesGetErrorsNamingFileKeyAndValue) {
   const std::string unknown = load_error(std::string(kHead) + "below = 1.0\ntolerence = 0.1\n");
   EXPECT_NE(unknown.find("unknown key 'tolerence'"), std::string::npos) << unknown;
   const std::string type = load_error(std::string(kHead) + "below = \"small\"\n");
-  EXPECT_NE(type.find("t.toml:7:9: below = 'small': wrong type"), std::string::npos) << type;
+  EXPECT_NE(type.find("t.toml:7:9: target[0].below = \"small\": wrong type"), std::string::npos) << type;
   EXPECT_NE(load_error("x = 1\n").find("[[target]]"), std::string::npos);
   EXPECT_NE(load_error("[[target\n").find("t.toml:1"), std::string::npos);
 }
