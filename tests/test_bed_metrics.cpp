@@ -311,7 +311,11 @@ TEST(BedMetricsConfig, KeysAreReadAndBadOnesRejectedWithTheirPlace) {
   EXPECT_NE(error("margin = 2\n").find("b.toml:1:1: unknown key 'margin'"), std::string::npos) << error("margin = 2\n");
   // bodies are found by their roles in the run file, not named here
   EXPECT_NE(error("\n[bodies]\nleft = \"left\"\n").find("b.toml:2:2: unknown key 'bodies'"), std::string::npos);
-  EXPECT_NE(error("sampling_per_d = 0\n").find("sampling_per_d = 0: must be >= 1"), std::string::npos);
+  EXPECT_NE(error("sampling_per_d = 0\n").find("sampling_per_d = 0: must be in [1, 200]"), std::string::npos);
+  // NaN and huge values (1e9 sample points per d hung the stage) are refused
+  EXPECT_NE(error("sampling_per_d = 1e9\n").find("must be in [1, 200]"), std::string::npos);
+  EXPECT_NE(error("margin_d = nan\n").find("margin_d = nan: must be finite and in [0, 1000]"), std::string::npos)
+      << error("margin_d = nan\n");
   EXPECT_NE(error("column_width_d = \"wide\"\n").find("wrong type"), std::string::npos);
   EXPECT_NE(error("margin_d = = 2\n").find("b.toml:1:"), std::string::npos);
   EXPECT_THROW(load_bed_config(dir.file("missing.toml")), BedError);

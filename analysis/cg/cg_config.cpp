@@ -1,112 +1,14 @@
 #include "cg/cg_config.hpp"
 
-#include <toml++/toml.h>
-
-#include <filesystem>
 #include <functional>
+#include <optional>
 #include <sstream>
+
+#include "common/stage_config.hpp"
 
 namespace dem2d::analysis {
 
 namespace {
-
-[[noreturn]] void fail(const std::string& path, const toml::source_region& where, const std::string& what) {
-  throw CgError(path + ":" + std::to_string(where.begin.line) + ":" + std::to_string(where.begin.column) + ": " +
-                what);
-}
-
-std::string show(const toml::node& n) {
-  std::ostringstream s;
-  n.visit([&s](const auto& v) { s << v; });
-  return s.str();
-}
-
-// One key: its table, name, and how to read it.
-struct Key {
-  const char* table;
-  const char* name;
-  std::function<void(const std::string& path, const std::string& key, const toml::node&, CgConfig&)> read;
-};
-
-double number(const std::string& path, const std::string& key, const toml::node& n) {
-  const std::optional<double> v = n.value<double>();
-  if (!n.is_number() || !v) fail(path, n.source(), key + " = " + show(n) + ": wrong type, expected a number");
-  return *v;
-}
-
-Key num(const char* table, const char* name, double CgConfig::*field) {
-  return {table, name, [field](const std::string& p, const std::string& k, const toml::node& n, CgConfig& c) {
-            c.*field = number(p, k, n);
-          }};
-}
-
-Key integer(const char* table, const char* name, int CgConfig::*field) {
-  return {table, name, [field](const std::string& p, const std::string& k, const toml::node& n, CgConfig& c) {
-            const std::optional<std::int64_t> v = n.value<std::int64_t>();
-            if (!n.is_integer() || !v || *v < 1 || *v > 1000000)
-              fail(p, n.source(), k + " = " + show(n) + ": must be an integer >= 1");
-            c.*field = static_cast<int>(*v);
-          }};
-}
-
-Key list(const char* table, const char* name, std::vector<double> CgConfig::*field) {
-  return {table, name, [field](const std::string& p, const std::string& k, const toml::node& n, CgConfig& c) {
-            const toml::array* a = n.as_array();
-            if (!a || a->empty()) fail(p, n.source(), k + " = " + show(n) + ": must be a non-empty list of numbers");
-            std::vector<double> v;
-            for (const toml::node& e : *a) v.push_back(number(p, k, e));
-            c.*field = v;
-          }};
-}
-
-const std::vector<Key>& keys() {
-  static const std::vector<Key> k = {
-      num("kernel", "w_over_d", &CgConfig::w_over_d),
-      num("kernel", "cutoff_over_w", &CgConfig::cutoff_over_w),
-      num("grid", "spacing_mm", &CgConfig::spacing_mm),
-      num("grid", "height_mm", &CgConfig::height_mm),
-      num("grid", "mask_fraction", &CgConfig::mask_fraction),
-      integer("grid", "average_snapshots", &CgConfig::average_snapshots),
-      {"velocity", "use",
-       [](const std::string& p, const std::string& key, const toml::node& n, CgConfig& c) {
-         if (!n.is_string() || (n.as_string()->get() != "piv" && n.as_string()->get() != "instantaneous"))
-           fail(p, n.source(), key + " = " + show(n) + ": must be \"piv\" or \"instantaneous\"");
-         c.velocity = n.as_string()->get();
-       }},
-      num("zones", "immobile_below", &CgConfig::immobile_below),
-      num("zones", "dragged_above", &CgConfig::dragged_above),
-      num("cone", "level", &CgConfig::level),
-      num("cone", "fit_start_w", &CgConfig::fit_start_w),
-      num("cone", "fit_min_span_d", &CgConfig::fit_min_span_d),
-      num("cone", "seed_depth_d", &CgConfig::seed_depth_d),
-      num("wall", "band_d", &CgConfig::wall_band_d),
-      num("wall", "min_mobile_d", &CgConfig::wall_min_mobile_d),
-      num("dilatancy", "region_width_L", &CgConfig::region_width_L),
-      num("dilatancy", "region_offset_w", &CgConfig::region_offset_w),
-      num("dilatancy", "region_height_d", &CgConfig::region_height_d),
-      num("dilatancy", "after_travel_d", &CgConfig::after_travel_d),
-      list("output", "bands_mm", &CgConfig::bands_mm),
-      num("output", "field_every_mm", &CgConfig::field_every_mm),
-      integer("output", "field_max_snapshots", &CgConfig::field_max_snapshots),
-      integer("output", "field_follow_snapshots", &CgConfig::field_follow_snapshots),
-      num("output", "tip_window_width_mm", &CgConfig::tip_window_width_mm),
-      num("output", "tip_window_height_mm", &CgConfig::tip_window_height_mm),
-      list("sensitivity", "levels", &CgConfig::levels),
-      list("sensitivity", "fit_starts_w", &CgConfig::fit_starts_w),
-      list("sensitivity", "max_edge_angles_deg", &CgConfig::max_edge_angles_deg),
-      list("sensitivity", "wall_bands_d", &CgConfig::wall_bands_d),
-      list("sensitivity", "after_travels_d", &CgConfig::after_travels_d),
-      list("sensitivity", "region_heights_d", &CgConfig::region_heights_d),
-  };
-  return k;
-}
-
-std::string allowed(const std::string& table) {
-  std::string s;
-  for (const Key& k : keys())
-    if (table == k.table) s += (s.empty() ? "" : ", ") + std::string(k.name);
-  return s;
-}
 
 // `where(key)` says where a key is: "FILE" or "FILE:LINE:COL".
 void check_ranges(const CgConfig& c, const std::function<std::string(const std::string&)>& where) {
@@ -161,35 +63,70 @@ void validate(const CgConfig& c, const std::string& where) {
 }
 
 CgConfig load_cg_config(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw CgError(path + ": no such file");
-  toml::table root;
-  try {
-    root = toml::parse_file(path);
-  } catch (const toml::parse_error& e) {
-    fail(path, e.source(), "cannot read the config: " + std::string(e.description()));
-  }
   CgConfig c;
-  for (const auto& [tkey, tnode] : root) {
-    const std::string table(tkey.str());
-    if (allowed(table).empty())
-      fail(path, tkey.source(),
-           "unknown table '" + table + "' (allowed: kernel, grid, velocity, zones, cone, wall, dilatancy, output, "
-           "sensitivity)");
-    if (!tnode.is_table()) fail(path, tnode.source(), table + " = " + show(tnode) + ": expected a table");
-    for (const auto& [key, node] : *tnode.as_table()) {
-      const std::string name(key.str());
-      const Key* k = nullptr;
-      for (const Key& candidate : keys())
-        if (table == candidate.table && name == candidate.name) k = &candidate;
-      if (!k) fail(path, key.source(), "unknown key '" + table + "." + name + "' (allowed: " + allowed(table) + ")");
-      k->read(path, table + "." + name, node, c);
-    }
+  std::optional<StageConfig> file;
+  try {
+    file.emplace(path);
+    using E = StageConfig::Ends;
+    constexpr double kBig = 1e3, kMm = 1e5;  // bounds of lengths in d, w or L, and in mm
+    StageConfig kernel = file->table("kernel");
+    kernel.number("w_over_d", c.w_over_d, 0.0, 100.0, "kernel width w in mean diameters", E::open_low);
+    kernel.number("cutoff_over_w", c.cutoff_over_w, 0.0, 100.0, "cut-off radius in w", E::open_low);
+    kernel.reject_unknown();
+    StageConfig grid = file->table("grid");
+    grid.number("spacing_mm", c.spacing_mm, 0.0, kMm, "node spacing in mm", E::open_low);
+    grid.number("height_mm", c.height_mm, 0.0, kMm, "mm; 0: automatic");
+    grid.number("mask_fraction", c.mask_fraction, 0.0, 1.0, "fraction of the bulk solid fraction", E::open_high);
+    grid.integer("average_snapshots", c.average_snapshots, 1, 1000000, "snapshots averaged per field");
+    grid.reject_unknown();
+    StageConfig velocity = file->table("velocity");
+    velocity.choice("use", c.velocity, {"piv", "instantaneous"}, "the velocity the zones use");
+    velocity.reject_unknown();
+    StageConfig zones = file->table("zones");
+    zones.number("immobile_below", c.immobile_below, 0.0, kBig, "v*", E::open_low);
+    zones.number("dragged_above", c.dragged_above, 0.0, kBig, "v*", E::open_low);
+    zones.reject_unknown();
+    StageConfig cone = file->table("cone");
+    cone.number("level", c.level, 0.0, kBig, "v*", E::open_low);
+    cone.number("fit_start_w", c.fit_start_w, 0.0, kBig, "in w");
+    cone.number("fit_min_span_d", c.fit_min_span_d, 0.0, kBig, "in d", E::open_low);
+    cone.number("seed_depth_d", c.seed_depth_d, 0.0, kBig, "in d", E::open_low);
+    cone.reject_unknown();
+    StageConfig wall = file->table("wall");
+    wall.number("band_d", c.wall_band_d, 0.0, kBig, "in d", E::open_low);
+    wall.number("min_mobile_d", c.wall_min_mobile_d, 0.0, kBig, "in d");
+    wall.reject_unknown();
+    StageConfig dilatancy = file->table("dilatancy");
+    dilatancy.number("region_width_L", c.region_width_L, 0.0, kBig, "in L", E::open_low);
+    dilatancy.number("region_offset_w", c.region_offset_w, 0.0, kBig, "in w");
+    dilatancy.number("region_height_d", c.region_height_d, 0.0, kBig, "in d", E::open_low);
+    dilatancy.number("after_travel_d", c.after_travel_d, 0.0, kBig, "in d", E::open_low);
+    dilatancy.reject_unknown();
+    StageConfig output = file->table("output");
+    output.numbers("bands_mm", c.bands_mm, 0.0, kMm, "band edges in mm");
+    output.number("field_every_mm", c.field_every_mm, 0.0, kMm, "mm; 0: none");
+    output.integer("field_max_snapshots", c.field_max_snapshots, 1, 1000000, "fields written at most");
+    output.integer("field_follow_snapshots", c.field_follow_snapshots, 1, 1000000, "snapshots after each pre-rupture one");
+    output.number("tip_window_width_mm", c.tip_window_width_mm, 0.0, kMm, "mm", E::open_low);
+    output.number("tip_window_height_mm", c.tip_window_height_mm, 0.0, kMm, "mm", E::open_low);
+    output.reject_unknown();
+    StageConfig sensitivity = file->table("sensitivity");
+    sensitivity.numbers("levels", c.levels, 0.0, kBig, "v*", E::open_low);
+    sensitivity.numbers("fit_starts_w", c.fit_starts_w, 0.0, kBig, "in w");
+    sensitivity.numbers("max_edge_angles_deg", c.max_edge_angles_deg, 0.0, 180.0,
+                        "degrees from the horizontal; 180: every edge", E::open_low);
+    sensitivity.numbers("wall_bands_d", c.wall_bands_d, 0.0, kBig, "in d", E::open_low);
+    sensitivity.numbers("after_travels_d", c.after_travels_d, 0.0, kBig, "in d", E::open_low);
+    sensitivity.numbers("region_heights_d", c.region_heights_d, 0.0, kBig, "in d", E::open_low);
+    sensitivity.reject_unknown();
+    file->reject_unknown();
+  } catch (const StageError& e) {
+    throw CgError(e.what());
   }
-  // range errors point at the key's line when the file gives it
+  // conditions across keys, at the first key's line
   check_ranges(c, [&](const std::string& key) {
-    const toml::node* n = root.at_path(key).node();
-    if (!n) return path;
-    return path + ":" + std::to_string(n->source().begin.line) + ":" + std::to_string(n->source().begin.column);
+    const auto dot = key.find('.');
+    return file->table(key.substr(0, dot)).where(key.substr(dot + 1));
   });
   return c;
 }

@@ -421,17 +421,27 @@ TEST(CgConfigFile, DefaultsAndErrors) {
     }
     return std::string("no error");
   };
-  EXPECT_EQ(error("[kernel]\nw_over_d = 0.0\n"), ":2:12: kernel.w_over_d = 0: must be > 0 (kernel width w in mean diameters)");
-  EXPECT_EQ(error("[kernel]\nwidth = 2\n"), ":2:1: unknown key 'kernel.width' (allowed: w_over_d, cutoff_over_w)");
-  EXPECT_EQ(error("[colour]\n"), ":1:2: unknown table 'colour' (allowed: kernel, grid, velocity, zones, cone, wall, "
-                                 "dilatancy, output, sensitivity)");
-  EXPECT_EQ(error("[velocity]\nuse = \"fast\"\n"), ":2:7: velocity.use = 'fast': must be \"piv\" or \"instantaneous\"");
-  EXPECT_EQ(error("[grid]\nspacing_mm = \"a\"\n"), ":2:14: grid.spacing_mm = 'a': wrong type, expected a number");
+  EXPECT_EQ(error("[kernel]\nw_over_d = 0.0\n"),
+            ":2:12: kernel.w_over_d = 0: must be in (0, 100] (kernel width w in mean diameters)");
+  EXPECT_EQ(error("[kernel]\nwidth = 2\n"), ":2:1: unknown key 'width' in [kernel] (allowed: w_over_d, cutoff_over_w)");
+  EXPECT_EQ(error("[colour]\n"), ":1:2: unknown key 'colour' at the top level (allowed: kernel, grid, velocity, zones, "
+                                 "cone, wall, dilatancy, output, sensitivity)");
+  EXPECT_EQ(error("[velocity]\nuse = \"fast\"\n"),
+            ":2:7: velocity.use = \"fast\": must be one of \"piv\", \"instantaneous\" (the velocity the zones use)");
+  EXPECT_EQ(error("[grid]\nspacing_mm = \"a\"\n"), ":2:14: grid.spacing_mm = \"a\": wrong type, expected a number");
   EXPECT_EQ(error("[output]\nbands_mm = [0, 10, 5]\n"), ":2:12: output.bands_mm = 5: must increase");
-  EXPECT_EQ(error("[grid]\naverage_snapshots = 0\n"), ":2:21: grid.average_snapshots = 0: must be an integer >= 1");
+  EXPECT_EQ(error("[grid]\naverage_snapshots = 0\n"),
+            ":2:21: grid.average_snapshots = 0: must be an integer in [1, 1000000] (snapshots averaged per field)");
   EXPECT_EQ(error("[sensitivity]\nmax_edge_angles_deg = [90, 200]\n"),
-            ":2:23: sensitivity.max_edge_angles_deg = 200: must be in (0, 180] (degrees from the horizontal; 180: "
+            ":2:28: sensitivity.max_edge_angles_deg[1] = 200: must be in (0, 180] (degrees from the horizontal; 180: "
             "every edge)");
+  // NaN, inf and 1e300 window sizes (which hung the stage) are refused where they are written
+  EXPECT_EQ(error("[output]\ntip_window_width_mm = inf\n"),
+            ":2:23: output.tip_window_width_mm = inf: must be finite and in (0, 100000] (mm)");
+  EXPECT_EQ(error("[grid]\nspacing_mm = nan\n"),
+            ":2:14: grid.spacing_mm = nan: must be finite and in (0, 100000] (node spacing in mm)");
+  EXPECT_EQ(error("[output]\ntip_window_height_mm = 1e300\n"),
+            ":2:24: output.tip_window_height_mm = 1e+300: must be in (0, 100000] (mm)");
 }
 
 // The stage on the quick pull-off run (200 grains, 40 mm cell, 20 mm/s, PIV window 3 ms).

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "bed/bed_metrics.hpp"
+#include "common/stage_output.hpp"  // format_number
 
 namespace dem2d::analysis {
 
@@ -114,7 +115,12 @@ double bed_height(const Snapshot& s, const PulloffGeometry& g) {
 }
 
 std::size_t HeightBins::index(double height) const {
-  return height > 0.0 ? static_cast<std::size_t>(std::floor(height / width)) : 0;
+  const double k = height > 0.0 ? std::floor(height / width) : 0.0;
+  if (!(k < static_cast<double>(kMaxBins)))  // (NaN too)
+    throw StageError("height " + format_number(height) + " m falls in bin " + format_number(k) + " of width " +
+                     format_number(width) + " m: more than " + std::to_string(kMaxBins) +
+                     " height bins (a bin width too small for this run?)");
+  return static_cast<std::size_t>(k);
 }
 
 BinnedMean binned_mean(const HeightBins& bins, const std::vector<double>& heights, const std::vector<double>& values) {

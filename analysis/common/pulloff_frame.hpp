@@ -59,8 +59,9 @@ double mean_diameter(const Snapshot& s);
 double bed_height(const Snapshot& s, const PulloffGeometry& g);
 
 // Bins of intruder height [k w, (k+1) w), k >= 0, w > 0 (m); heights below 0
-// go to bin 0.
+// go to bin 0. A height beyond kMaxBins bins (or NaN) is a StageError.
 struct HeightBins {
+  static constexpr std::size_t kMaxBins = 1000000;
   double width = 0.0;
   std::size_t index(double height) const;
   double lower(std::size_t k) const { return static_cast<double>(k) * width; }

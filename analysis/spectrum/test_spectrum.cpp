@@ -335,7 +335,8 @@ TEST(SpectrumConfigFile, UnknownKeysAndBadValuesNameFileKeyAndValue) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(error("[events]\ndrop_treshold = 4\n").find("c.toml:2:1: unknown key 'events.drop_treshold' = 4"),
+  EXPECT_NE(error("[events]\ndrop_treshold = 4\n").find("c.toml:2:1: unknown key 'drop_treshold' in [events] (allowed: drop_threshold, drop_window_d); did you "
+                                                          "mean 'drop_threshold'?"),
             std::string::npos);
   EXPECT_NE(error("[psd]\noverlap = 1.5\n").find("c.toml:2:11: psd.overlap = 1.5: must be in [0, 1)"),
             std::string::npos);
@@ -344,14 +345,14 @@ TEST(SpectrumConfigFile, UnknownKeysAndBadValuesNameFileKeyAndValue) {
     for (const char* part : parts) EXPECT_NE(msg.find(part), std::string::npos) << msg;
   };
   expect_parts("[psd]\nwindow = \"kaiser\"\n", {"c.toml:2:10: psd.window = ", "kaiser"});
-  EXPECT_NE(error("[colour]\nx = 1\n").find("unknown section [colour]"), std::string::npos);
+  EXPECT_NE(error("[colour]\nx = 1\n").find("unknown key 'colour' at the top level"), std::string::npos);
   EXPECT_NE(error("[bands]\nmiddle_top = 0.8\n").find("bottom_top < middle_top < upper_top"), std::string::npos);
-  EXPECT_NE(error("[sensitivity]\nfloor_factors = [1, -2]\n").find("sensitivity.floor_factors[] = -2"),
+  EXPECT_NE(error("[sensitivity]\nfloor_factors = [1, -2]\n").find("sensitivity.floor_factors[1] = -2"),
             std::string::npos);
   EXPECT_NE(error("[ringing]\ncutoff_fraction = 1.5\n")
                 .find("c.toml:2:19: ringing.cutoff_fraction = 1.5: must be in (0, 1) (fraction of the ringing frequency)"),
             std::string::npos);
-  EXPECT_NE(error("[ringing]\nmin_frequency_hz = 0\n").find("ringing.min_frequency_hz = 0: must be in (0, inf) (Hz)"),
+  EXPECT_NE(error("[ringing]\nmin_frequency_hz = 0\n").find("ringing.min_frequency_hz = 0: must be in (0, 1e+09] (Hz)"),
             std::string::npos);
   expect_parts("[ringing]\nsegment_s = \"1 s\"\n", {"c.toml:2:13: ringing.segment_s = ", "wrong type, expected a number"});
   EXPECT_EQ(load_spectrum_config(dir.file("ok.toml", "[events]\ndrop_threshold = 4\n")).drop_threshold, 4.0);
