@@ -408,6 +408,23 @@ TEST(SceneTomlErrors, UnknownKeys) {
       {"unknown key 'mean' in generator[0].diameter", "allowed: min, max"}, 56);
 }
 
+// Times become step counts (core/step_count.hpp); a time of more than 2^53
+// steps overflowed them (a run spinning at step 0, a series row every step),
+// and a time step that underflows to 0 was accepted. Each is an error at its
+// key saying how to say "never" instead.
+TEST(SceneTomlErrors, TimesBeyondWhatARunCanCount) {
+  expect_error(edit(kValid, "thickness = 2e-3\nvelocity", "thickness = 2e-3\nremove_at = 1e15\nvelocity"),
+               {"body[1].remove_at = 1e+15: is ", "steps of dt = ", "more than the 9.01e+15 a run can count",
+                "to keep the body, leave remove_at out"});
+  expect_error(edit(kValid, "series_interval = 1e-3", "series_interval = 1e15"),
+               {"output.series_interval = 1e+15", "to write none, set 0 (off)"}, 39);
+  expect_error(edit(kValid, "duration = 0.05", "duration = 1e15"), {"time.duration = 1e+15", "stop it by [stop]"}, 25);
+  expect_error(edit(kValid, "min_time = 0.02", "min_time = 1e300"), {"stop.min_time = 1e+300", "more than"}, 30);
+  expect_error(edit(kBare, "dt = 1e-6", "dt = 1e-20"), {"time.duration = 1: is 1e+20 steps"}, 6);
+  expect_error(edit(kBare, "d = 2e-3", "d = 1e-300"),
+               {"time.dt = 1e-06: the smallest grain (d = 1e-300 m) has dt_c = sqrt(m_min/k_n) = 0 s"}, 7);
+}
+
 // [[body]] role: what the analyses find a body by (core/body_roles.hpp).
 TEST(SceneToml, BodyRoles) {
   const Scene s = parse_scene(edit(kValid, "name = \"intruder\"", "name = \"intruder\"\nrole = \"intruder\""), kPath);

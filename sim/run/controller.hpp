@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "core/step_count.hpp"
 #include "engine/system.hpp"
 
 namespace dem2d {
@@ -47,8 +48,7 @@ class ControllerState {
 
 // Number of steps in an interval given in seconds (0: off, for intervals <= 0).
 inline std::int64_t steps_of_interval(double seconds, double dt) {
-  if (seconds <= 0.0) return 0;
-  return std::max<std::int64_t>(1, std::llround(seconds / dt));
+  return seconds > 0.0 ? steps_every(seconds, dt) : 0;
 }
 
 class Controller {

@@ -4,19 +4,17 @@
 #include <array>
 #include <cmath>
 
-namespace dem2d {
+#include "core/step_count.hpp"
 
-namespace {
-std::int64_t steps(double seconds, double dt) { return std::max<std::int64_t>(1, std::llround(seconds / dt)); }
-}  // namespace
+namespace dem2d {
 
 JamController::JamController(const JamControl& spec, const System& sys) : spec_(spec) {
   if (!spec_.enabled) return;
   for (const std::string& name : spec_.bodies) walls_.push_back(sys.body_index(name));
-  every_ = steps(spec_.check_interval, sys.dt);
-  no_flow_ = steps(spec_.no_flow_time, sys.dt);
-  half_tap_ = steps(0.5 * spec_.tap_duration, sys.dt);
-  start_ = std::llround(spec_.start_time / sys.dt);
+  every_ = steps_every(spec_.check_interval, sys.dt);
+  no_flow_ = steps_every(spec_.no_flow_time, sys.dt);
+  half_tap_ = steps_every(0.5 * spec_.tap_duration, sys.dt);
+  start_ = steps_in(spec_.start_time, sys.dt);
   st_.next_check = (start_ + every_ - 1) / every_ * every_;
   st_.last_flow = start_;
 }

@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "core/step_count.hpp"
 #include "engine/diagnostics.hpp"
 
 namespace dem2d {
@@ -16,7 +17,7 @@ StopCriteria::StopCriteria(const Scene& scene, const System& sys)
     free_steps_ = steps_of_interval(stop_.free_time, scene.dt);
   }
   // first test at the first multiple of the interval at or after min_time
-  const std::int64_t first = std::llround(std::ceil(stop_.min_time / scene.dt));
+  const std::int64_t first = steps_up(stop_.min_time, scene.dt);
   next_check_ = std::max<std::int64_t>(every_, (first + every_ - 1) / every_ * every_);
 }
 

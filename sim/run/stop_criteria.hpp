@@ -5,6 +5,7 @@
 
 #include <cstdint>
 
+#include "core/step_count.hpp"
 #include "run/controller.hpp"
 
 namespace dem2d {
@@ -12,7 +13,7 @@ namespace dem2d {
 // Ends the run when stop.duration is reached.
 class DurationLimit final : public Controller {
  public:
-  explicit DurationLimit(const Scene& scene) : last_(std::llround(scene.stop.duration / scene.dt)) {}
+  explicit DurationLimit(const Scene& scene) : last_(steps_in(scene.stop.duration, scene.dt)) {}
   std::string name() const override { return "duration"; }
   std::int64_t next_step() const override { return last_; }
   std::string act(System&) override { return "duration reached"; }

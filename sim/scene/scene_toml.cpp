@@ -19,6 +19,7 @@
 
 #include "core/body_roles.hpp"
 #include "core/key_spec.hpp"
+#include "core/step_count.hpp"
 #include "io/toml_reader.hpp"
 #include "scene/generators.hpp"
 #include "shape/shape_kinds.hpp"
@@ -113,6 +114,7 @@ class SceneParser {
     check_domain();
     if (!allow_overlap && s_.initial_run.empty()) check_overlaps();  // a run's grains touch: that is their state
     set_time_step(time);
+    check_step_counts(time);
   }
 
  private:
@@ -152,6 +154,7 @@ class SceneParser {
   TableReader read_time() {
     TableReader t = top_.table("time", {"duration", "dt", "dt_over_critical", "force_dt"});
     s_.stop.duration = t.required("duration", {"simulated time", "s", Rule::positive});
+    time_key(t, "duration", s_.stop.duration, "to run without end, stop it by [stop] and give a duration it does not reach");
     t.number("dt", {"time step", "s", Rule::positive});
     t.number("dt_over_critical",
              {"time step as a fraction of dt_c = sqrt(m_min/k_n)", "", Rule::positive});
@@ -187,6 +190,7 @@ class SceneParser {
       stop.body_free = *body;
       stop.free_time = st.required("free_time", {"time without contact", "s", Rule::positive},
                                    "; required because stop.body_free is given");
+      time_key(st, "free_time", stop.free_time, "to never stop this way, leave stop.body_free out");
     } else {
       st.forbid("free_time", "stop.body_free is not");
     }
@@ -194,6 +198,8 @@ class SceneParser {
       stop.check_interval = st.required("check_interval", {"interval between checks", "s", Rule::positive},
                                         "; required because a stop criterion is given");
       stop.min_time = st.number_or("min_time", {"time before the first check", "s", Rule::non_negative}, 0.0);
+      time_key(st, "check_interval", stop.check_interval, "to never check, leave the stop criteria out");
+      time_key(st, "min_time", stop.min_time, "to never check, leave the stop criteria out");
     } else {
       const std::string none = "no stop criterion (kinetic_energy_below, kinetic_energy_per_grain_below, body_free) is";
       st.forbid("check_interval", none);
@@ -224,6 +230,9 @@ class SceneParser {
                               Rule::non_negative},
                              0.0),
                  o.boolean("energy_balance").value_or(false)};
+    time_key(o, "series_interval", s_.output.series_interval, "to write none, set 0 (off)");
+    time_key(o, "snapshot_interval", s_.output.snapshot_interval, "to write none, set 0 (off)");
+    time_key(o, "displacement_window", s_.output.displacement_window, "to record none, set 0 (off)");
     if (s_.output.energy_balance && s_.output.series_interval <= 0.0)
       o.fail("energy_balance", "the balance is recorded in the time series: set output.series_interval > 0");
     if (s_.output.energy_balance && has(s_.effects, effect::cohesion))
@@ -369,6 +378,7 @@ class SceneParser {
       read_motion(b, body);
       any_moving = any_moving || !body.motion.empty();
       body.remove_at = b.number_or("remove_at", {"time the body is taken away", "s", Rule::non_negative}, -1.0);
+      time_key(b, "remove_at", body.remove_at, "to keep the body, leave remove_at out");
       s_.bodies.push_back(body);
     }
     if (has(s_.effects, effect::moving_bodies) && !any_moving && !top_.has("jam"))
@@ -484,10 +494,42 @@ class SceneParser {
     c.tap_vx = v[0];
     c.tap_vy = v[1];
     c.tap_duration = j.required("tap_duration", {"duration of a tap, there and back", "s", Rule::positive});
-    c.max_taps = static_cast<int>(j.integer_or("max_taps", 1, "taps before giving up", 20));
+    c.max_taps = static_cast<int>(j.integer_or("max_taps", 1, "taps before giving up", 20, 1000000));
+    time_key(j, "start_time", c.start_time, "to never watch for jams, leave [jam] out");
+    time_key(j, "no_flow_time", c.no_flow_time, "to never watch for jams, leave [jam] out");
+    time_key(j, "check_interval", c.check_interval, "to never watch for jams, leave [jam] out");
+    time_key(j, "tap_duration", c.tap_duration, "to never tap, leave [jam] out");
   }
 
   // ------------------------------------------------------------ whole-scene checks
+
+  // A time (s) the engine counts in steps (core/step_count.hpp): checked once
+  // dt is known. `never`: how to say "never" instead (the message's end).
+  struct TimeKey {
+    TableReader table;
+    std::string key;
+    double seconds;
+    const char* never;
+  };
+  void time_key(const TableReader& t, std::string_view key, double seconds, const char* never) {
+    if (t.has(key)) times_.push_back({t, std::string(key), seconds, never});
+  }
+
+  // dt > 0, and every time at most kMaxSteps steps of it (a larger count
+  // overflowed: a run that spun at step 0, or wrote a row every step).
+  void check_step_counts(const TableReader& time) const {
+    if (!(s_.dt > 0.0)) {
+      double d_min = s_.particles[0].d;
+      for (const auto& p : s_.particles) d_min = std::min(d_min, p.d);
+      time.fail(time.has("dt") ? "dt" : "dt_over_critical",
+                "gives dt = " + sig3(s_.dt) + " s (dt_c = sqrt(m_min/k_n) = " + sig3(s_.critical_dt()) +
+                    " s, smallest grain d = " + sig3(d_min) + " m): the time step must be > 0");
+    }
+    for (const TimeKey& t : times_)
+      if (!(t.seconds / s_.dt <= static_cast<double>(kMaxSteps)))
+        t.table.fail(t.key, "is " + sig3(t.seconds / s_.dt) + " steps of dt = " + sig3(s_.dt) + " s, more than the " +
+                                sig3(static_cast<double>(kMaxSteps)) + " a run can count; " + t.never);
+  }
 
   const Origin& origin(std::size_t i) const {
     return *(std::upper_bound(origins_.begin(), origins_.end(), i,
@@ -582,6 +624,10 @@ class SceneParser {
 
     const double dt_c = s_.critical_dt();
     const bool fraction = t.has("dt_over_critical");
+    if (!(dt_c > 0.0))
+      t.fail(fraction ? "dt_over_critical" : "dt",
+             "the smallest grain (d = " + sig3(d_min) + " m) has dt_c = sqrt(m_min/k_n) = " + sig3(dt_c) +
+                 " s: its mass underflows, no time step resolves it");
     const double given = *t.number(fraction ? "dt_over_critical" : "dt", {"", "", Rule::positive});
     s_.dt = fraction ? given * dt_c : given;
     const StabilityLimit limit = s_.stability_limit();
@@ -607,6 +653,7 @@ class SceneParser {
   TableReader effects_{f_, nullptr, "effects", {}};
   TableReader stop_{f_, nullptr, "stop", {}};
   std::vector<Origin> origins_;
+  std::vector<TimeKey> times_;
   double skin_ = -1.0;
 };
 
