@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Command-line tests of dem2d: exit codes and messages, a complete run, and
+# Command-line tests of dem2d: exit codes and messages, a complete run,
 # resuming after SIGKILL and SIGTERM with results identical to an
-# uninterrupted run.  Usage: cli_test.sh DEM2D TESTS_DIR
+# uninterrupted run, and a full disk.  Usage: cli_test.sh DEM2D TESTS_DIR
 set -uo pipefail
 DEM2D=$1
 TESTS=$2
@@ -72,6 +72,16 @@ else
   expect 0 "(resumed)" -- "$DEM2D" run "$SCENE" --out "$WORK/term"
   $CHECK "$WORK/term/run.h5" --same-as "$WORK/ref/run.h5" >/dev/null || fail "run resumed after SIGTERM differs"
 fi
+
+# a full disk (here a file-size limit): a clean error (exit 1, not a crash),
+# no run.h5; the rerun without the limit finishes, the same as uninterrupted
+( ulimit -f 100; trap '' XFSZ; exec "$DEM2D" run "$SCENE" --out "$WORK/full" --threads 2 ) >"$WORK/full.out" 2>"$WORK/full.err"
+rc=$?
+[ "$rc" -eq 1 ] || fail "full disk: exit $rc, expected 1: $(tail -3 "$WORK/full.err")"
+grep -q "is the disk full?" "$WORK/full.err" || fail "full disk: no message: $(tail -3 "$WORK/full.err")"
+[ -e "$WORK/full/run.h5" ] && fail "full disk: a run.h5 exists"
+expect 0 "run.h5" -- "$DEM2D" run "$SCENE" --out "$WORK/full" --threads 2
+$CHECK "$WORK/full/run.h5" --same-as "$WORK/ref/run.h5" >/dev/null || fail "the run after a full disk differs"
 
 # --fresh discards the checkpoint of another scene; without it, a clear refusal
 start_and_signal TERM "$WORK/other"

@@ -5,12 +5,18 @@
 #include <fstream>
 #include <iterator>
 
+#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include "io/h5.hpp"
+#include "run/checkpoint.hpp"
 #include "run/run.hpp"
 #include "scene_builder.hpp"
 #include "temp_dir.hpp"
@@ -65,6 +71,47 @@ void expect_same_datasets(const std::string& a, const std::string& b, bool ledge
     EXPECT_EQ(h5::read<std::int64_t>(fa, name), h5::read<std::int64_t>(fb, name)) << name;
   EXPECT_EQ(h5::read<std::uint8_t>(fa, "contacts/sliding"), h5::read<std::uint8_t>(fb, "contacts/sliding"));
   EXPECT_EQ(h5::read<std::uint8_t>(fa, "snapshots/active"), h5::read<std::uint8_t>(fb, "snapshots/active"));
+}
+
+std::string bytes_of(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// A full disk while a checkpoint is written (here a file-size limit,
+// RLIMIT_FSIZE, in a child process): the write is an error, the last good
+// checkpoint stays byte for byte, and no temporary file is left. HDF5 writes
+// part of a file only when it closes it; a close whose failure went unnoticed
+// renamed an unreadable checkpoint over the good one, and the run could not
+// resume.
+TEST(Checkpoint, FullDiskNeverReplacesTheLastGoodCheckpoint) {
+  TempDir dir;
+  System sys(boxed_bed(effect::gravity | effect::walls, 400, 0.1));
+  const std::string path = dir.file("checkpoint.h5");
+  write_checkpoint(path, sys, {}, 1.0, "scene");
+  const std::string good = bytes_of(path);
+  ASSERT_GT(good.size(), 20000u);  // far above the limit below
+  sys.step = 1234;                  // what the failed checkpoint would have said
+  const pid_t child = fork();
+  if (child == 0) {
+    std::signal(SIGXFSZ, SIG_IGN);  // a write past the limit fails with EFBIG instead of killing
+    const rlimit limit{8192, 8192};
+    setrlimit(RLIMIT_FSIZE, &limit);
+    int code = 1;  // no error
+    try {
+      write_checkpoint(path, sys, {}, 2.0, "scene");
+    } catch (const std::exception&) {
+      code = 0;
+    }
+    _exit(code);
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status)) << "the writer died (signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0) << ")";
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "a checkpoint written to a full disk raised no error";
+  EXPECT_TRUE(bytes_of(path) == good) << "the last good checkpoint was replaced";
+  EXPECT_FALSE(fs::exists(path + ".tmp"));
+  EXPECT_EQ(h5::read_attr_int(h5::File::open_read(path), "/", "step"), 0);
 }
 
 TEST(Checkpoint, ResumedRunIsBitwiseIdenticalToUninterrupted) {

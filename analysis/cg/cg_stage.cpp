@@ -290,9 +290,8 @@ void write_cg(const CgResult& r, const std::string& out_dir) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(out_dir, ec);
-  const std::string h5_path = (fs::path(out_dir) / "cg.h5").string(), tmp = h5_path + ".tmp";
-  {
-    const h5::File f = h5::File::create(tmp);
+  const std::string h5_path = (fs::path(out_dir) / "cg.h5").string();
+  h5::write_atomically(h5_path, [&](const h5::File& f) {
     for (const Dataset& d : r.datasets) {
       const std::string name = "/" + d.name;
       switch (d.type) {
@@ -304,9 +303,7 @@ void write_cg(const CgResult& r, const std::string& out_dir) {
       if (!d.about.empty()) h5::write_attr(f, name, "about", d.about);
     }
     for (const auto& [k, v] : r.attributes) h5::write_attr(f, "/", k, v);
-  }
-  fs::rename(tmp, h5_path, ec);
-  if (ec) throw std::runtime_error(h5_path + ": cannot rename " + tmp + " to it (" + ec.message() + ")");
+  });
   write_file_atomic((fs::path(out_dir) / "metrics.json").string(), r.metrics.dump(2) + "\n");
 }
 

@@ -11,26 +11,20 @@ namespace dem2d::analysis {
 
 void H5Output::write(const std::string& path) const {
   namespace fs = std::filesystem;
-  const std::string tmp = path + ".tmp";
   std::error_code ec;
   if (fs::path(path).has_parent_path()) fs::create_directories(fs::path(path).parent_path(), ec);
   try {
-    const h5::File f = h5::File::create(tmp);
-    for (const Dataset& d : datasets_) {
-      std::visit([&](const auto& v) { h5::write(f, d.name, v); }, d.data);
-      h5::write_attr(f, d.name, "units", d.units);
-      h5::write_attr(f, d.name, "description", d.description);
-    }
-    for (const auto& [name, value] : notes_) h5::write_attr(f, "/", name, value);
+    h5::write_atomically(path, [&](const h5::File& f) {
+      for (const Dataset& d : datasets_) {
+        std::visit([&](const auto& v) { h5::write(f, d.name, v); }, d.data);
+        h5::write_attr(f, d.name, "units", d.units);
+        h5::write_attr(f, d.name, "description", d.description);
+      }
+      for (const auto& [name, value] : notes_) h5::write_attr(f, "/", name, value);
+    });
   } catch (const std::exception& e) {
-    fs::remove(tmp, ec);
-    throw std::runtime_error(path + ": cannot write (" + e.what() + ")");
-  }
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    const std::string reason = ec.message();
-    fs::remove(tmp, ec);
-    throw std::runtime_error(path + ": cannot rename " + tmp + " to it (" + reason + ")");
+    const std::string what = e.what();
+    throw std::runtime_error(what.rfind(path, 0) == 0 ? what : path + ": cannot write (" + what + ")");
   }
 }
 

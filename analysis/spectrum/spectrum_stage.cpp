@@ -89,10 +89,9 @@ void write_psd(const h5::File& f, const std::string& group, const Band& b, const
   write_peak(f, group, b.psd, b.peak);
 }
 
-void write_h5(const std::string& path, const SpectrumStage& st) {
+void write_h5(const h5::File& f, const SpectrumStage& st) {
   const SpectrumResult& r = st.result;
   const DragProfile& p = r.profile;
-  const h5::File f = h5::File::create(path);
   h5::write_attr(f, "/", "format", std::string("dem2d-spectrum-1"));
   h5::write_attr(f, "/", "run_file", st.metrics["spectrum"]["run_file"].get<std::string>());
   h5::write_attr(f, "/", "bed_height_m", st.scales.bed_height);
@@ -179,15 +178,12 @@ void write_spectrum_outputs(const std::string& dir, const SpectrumStage& stage) 
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(dir, ec);
-  const fs::path h5_path = fs::path(dir) / "spectrum.h5", tmp = fs::path(dir) / "spectrum.h5.tmp";
+  const std::string h5_path = (fs::path(dir) / "spectrum.h5").string();
   try {
-    write_h5(tmp.string(), stage);
+    h5::write_atomically(h5_path, [&](const h5::File& f) { write_h5(f, stage); });
   } catch (const std::exception& e) {
-    fs::remove(tmp, ec);
-    throw std::runtime_error(std::string(e.what()) + " (cannot write " + h5_path.string() + ")");
+    throw std::runtime_error(std::string(e.what()) + " (cannot write " + h5_path + ")");
   }
-  fs::rename(tmp, h5_path, ec);
-  if (ec) throw std::runtime_error(h5_path.string() + ": cannot rename from .tmp: " + ec.message());
   write_file_atomic((fs::path(dir) / "metrics.json").string(), stage.metrics.dump(2) + "\n");
 }
 

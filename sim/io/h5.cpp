@@ -1,16 +1,25 @@
 #include "io/h5.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <stdexcept>
 
 namespace dem2d::h5 {
 
 namespace {
 
-struct QuietErrors {
-  QuietErrors() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+// HDF5 as this layer uses it: its own error printing off (every failure
+// becomes an exception naming the file), and no clean-up at exit: every file
+// is closed explicitly (File::close, the Handles), and after a failed close
+// (a full disk) HDF5's exit handler crashed on the broken file (SIGSEGV in
+// H5F__close_cb, after the right error message had been printed).
+struct LibrarySetup {
+  LibrarySetup() {
+    H5dont_atexit();
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
 };
-const QuietErrors quiet_errors;
+const LibrarySetup library_setup;
 
 [[noreturn]] void fail(const File& f, const std::string& what) {
   throw std::runtime_error(f.path() + ": " + what);
@@ -81,6 +90,26 @@ File File::open_write(const std::string& path) {
 }
 
 void File::flush() const { check(H5Fflush(id(), H5F_SCOPE_GLOBAL), *this, "flush failed"); }
+
+void File::close() {
+  if (h_.id() < 0) return;
+  const herr_t flushed = H5Fflush(h_.id(), H5F_SCOPE_LOCAL);
+  const herr_t closed = h_.close();
+  if (flushed < 0 || closed < 0)
+    throw std::runtime_error(path_ + ": could not be written completely (HDF5 could not flush or close it: is the "
+                                     "disk full?)");
+}
+
+void remove_quietly(const std::string& path) {
+  std::error_code ec;
+  std::filesystem::remove(path, ec);
+}
+
+void rename_checked(const std::string& from, const std::string& to) {
+  std::error_code ec;
+  std::filesystem::rename(from, to, ec);
+  if (ec) throw std::runtime_error(to + ": cannot rename " + from + " to it (" + ec.message() + ")");
+}
 
 template <>
 hid_t native_type<double>() { return H5T_NATIVE_DOUBLE; }

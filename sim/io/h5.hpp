@@ -17,7 +17,7 @@ namespace dem2d::h5 {
 class Handle {
  public:
   Handle() = default;
-  Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  Handle(hid_t id, herr_t (*closer)(hid_t)) : id_(id), close_(closer) {}
   Handle(Handle&& o) noexcept : id_(std::exchange(o.id_, H5I_INVALID_HID)), close_(o.close_) {}
   Handle& operator=(Handle&& o) noexcept {
     if (this != &o) {
@@ -33,9 +33,12 @@ class Handle {
 
   hid_t id() const { return id_; }
   operator hid_t() const { return id_; }  // NOLINT: pass straight to H5 calls
-  void reset() {
-    if (id_ >= 0 && close_) close_(id_);
+  void reset() { close(); }
+  // Closes it; HDF5's status (< 0: failed).
+  herr_t close() {
+    const herr_t status = id_ >= 0 && close_ ? close_(id_) : 0;
     id_ = H5I_INVALID_HID;
+    return status;
   }
 
  private:
@@ -51,6 +54,10 @@ class File {
   const std::string& path() const { return path_; }
   hid_t id() const { return h_.id(); }
   void flush() const;
+  // Writes out what HDF5 still holds and closes the file; a std::runtime_error
+  // naming it if that fails (a full disk). A writer closes with this before it
+  // renames, never trusting the destructor, which cannot report.
+  void close();
 
  private:
   static File adopt(const std::string& path, hid_t id, const char* failure);  // throws if id < 0
@@ -60,6 +67,13 @@ class File {
 
 template <class T>
 hid_t native_type();
+
+// Writes `path` atomically: fill(file) into path + ".tmp", closed (checked),
+// then renamed to path. On any failure the temporary file is removed and the
+// error rethrown: `path` keeps what it held (a last good checkpoint is never
+// replaced by an incomplete one).
+template <class Fill>
+void write_atomically(const std::string& path, Fill&& fill);
 
 // Whole datasets. `dims` empty means 1-D of data.size(). Intermediate groups
 // are created as needed. Large datasets are chunked and compressed.
@@ -88,6 +102,23 @@ std::string read_attr_string(const File& f, const std::string& object, const std
 double read_attr_double(const File& f, const std::string& object, const std::string& name);
 std::int64_t read_attr_int(const File& f, const std::string& object, const std::string& name);
 bool has_attr(const File& f, const std::string& object, const std::string& name);
+
+void remove_quietly(const std::string& path);               // (no error if absent)
+void rename_checked(const std::string& from, const std::string& to);  // std::runtime_error naming both
+
+template <class Fill>
+void write_atomically(const std::string& path, Fill&& fill) {
+  const std::string tmp = path + ".tmp";
+  try {
+    File f = File::create(tmp);
+    fill(static_cast<const File&>(f));
+    f.close();
+    rename_checked(tmp, path);
+  } catch (...) {
+    remove_quietly(tmp);
+    throw;
+  }
+}
 
 extern template void write<float>(const File&, const std::string&, std::span<const float>, std::vector<hsize_t>);
 extern template std::vector<float> read<float>(const File&, const std::string&, std::vector<hsize_t>*);

@@ -298,13 +298,10 @@ void RunRecorder::record_snapshot(const System& sys, const std::vector<double>* 
 
 void RunRecorder::flush_segment() {
   if (series_.time.empty() && snap_.time.empty()) return;
-  const std::string path = segment_path(segments_), tmp = path + ".tmp";
-  {
-    const h5::File f = h5::File::create(tmp);
+  h5::write_atomically(segment_path(segments_), [&](const h5::File& f) {
     for (const Column& c : columns())
       std::visit([&](auto* v) { h5::write(f, c.name, *v, stacked(c.rows, c.record)); }, c.data);
-  }
-  fs::rename(tmp, path);
+  });
   ++segments_;
   for (const Column& c : columns()) std::visit([](auto* v) { v->clear(); }, c.data);
 }
@@ -327,8 +324,8 @@ void RunRecorder::finish(const System& sys, const RunInfo& info, const std::stri
   flush_segment();
   const fs::path out(out_path), xdmf = fs::path(out_path).replace_extension(".xdmf");
   const std::string out_tmp = out.string() + ".tmp", xdmf_tmp = xdmf.string() + ".tmp";
-  {
-    const h5::File f = h5::File::create(out_tmp);
+  try {
+    h5::File f = h5::File::create(out_tmp);
     write_header(f, sys, info, stop_reason);
 
     std::vector<h5::File> segs;
@@ -362,10 +359,15 @@ void RunRecorder::finish(const System& sys, const RunInfo& info, const std::stri
         static_cast<hsize_t>(start.back()) != h5::shape(f, "contacts/i").at(0))
       throw std::runtime_error(work_dir_ + ": the segment files do not hold the recorded rows");
     write_xdmf(xdmf_tmp, out.filename().string(), times, n_);
+    f.close();
+    // the XDMF first: a run file that exists is complete, its XDMF included
+    h5::rename_checked(xdmf_tmp, xdmf.string());
+    h5::rename_checked(out_tmp, out.string());
+  } catch (...) {
+    h5::remove_quietly(out_tmp);
+    h5::remove_quietly(xdmf_tmp);
+    throw;
   }
-  // the XDMF first: a run file that exists is complete, its XDMF included
-  fs::rename(xdmf_tmp, xdmf);
-  fs::rename(out_tmp, out);
   for (int k = 0; k < segments_; ++k) fs::remove(segment_path(k));
 }
 

@@ -103,9 +103,7 @@ double ControllerState::get_double(const std::string& key) const {
 
 void write_checkpoint(const std::string& path, const System& sys, std::span<Controller* const> controllers,
                       double wall_seconds, const std::string& scene_text) {
-  const std::string tmp = path + ".tmp";
-  {
-    const h5::File f = h5::File::create(tmp);
+  h5::write_atomically(path, [&](const h5::File& f) {
     h5::write_attr(f, "/", "format", std::string(kFormat));
     h5::write_attr(f, "/", "scene_text", scene_text);
     h5::write_attr(f, "/", "code_version", code_version());
@@ -131,8 +129,7 @@ void write_checkpoint(const std::string& path, const System& sys, std::span<Cont
     for (const auto& [name, v] : accumulators(sys.energy)) h5::write(f, std::string("energy/") + name, *v);
     h5::write_attr(f, "/", "energy_removed", sys.energy.removed);
     h5::write_attr(f, "/", "energy_error_offset", sys.energy.error_offset);
-  }
-  std::filesystem::rename(tmp, path);
+  });
 }
 
 std::string checkpoint_scene_text(const std::string& path) {
