@@ -611,6 +611,9 @@ TEST(SceneTomlErrors, GeneratorRegionTooSmall) {
                {"generator[0].spacing = 0.003", "must be >= generator[0].diameter.max = 0.004"});
   expect_error(edit(kValid, "kind = \"triangular_lattice\"", "kind = \"random\""),
                {"generator[0].kind = \"random\"", "allowed: triangular_lattice"}, 53);
+  // a region of 1e300 m: an error at once (the scan over it never ended)
+  expect_error(edit(kValid, "[0.04, 0.05], [-0.04, 0.05]]", "[1e300, 1e300], [-0.04, 0.05]]"),
+               {"generator[0]: the region's bounding box spans", "more than the 1e+09 a generator scans"}, 52);
   expect_error(
       edit(kValid, "[-0.04, 0.05]]", "[-0.04]]"),
       {"generator[0].region[3] = [-0.04]", "must be an array [x, y] (polygon vertex in m, finite)"},

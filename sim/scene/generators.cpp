@@ -32,6 +32,20 @@ double effective_spacing(const LatticeSpec& s) {
   return s.spacing > 0.0 ? s.spacing : 1.05 * s.d_max;
 }
 
+// The sites the scan of for_each_site visits: rows x columns of the region's
+// bounding box. Bounded, so that a region of 1e300 m (where adding one
+// spacing no longer moves x) is an error, not a scan that never ends.
+constexpr double kMaxScannedSites = 1e9;
+double lattice_sites_in_box(const LatticeSpec& s) {
+  double xmin = s.region[0][0], xmax = xmin, ymin = s.region[0][1], ymax = ymin;
+  for (const auto& v : s.region) {
+    xmin = std::min(xmin, v[0]), xmax = std::max(xmax, v[0]);
+    ymin = std::min(ymin, v[1]), ymax = std::max(ymax, v[1]);
+  }
+  const double spacing = effective_spacing(s);
+  return ((xmax - xmin) / spacing + 2.0) * ((ymax - ymin) / (spacing * std::sqrt(3.0) / 2.0) + 2.0);
+}
+
 void validate(const LatticeSpec& s) {
   std::ostringstream msg;
   const double spacing = effective_spacing(s);
@@ -50,6 +64,9 @@ void validate(const LatticeSpec& s) {
     msg << "spacing = " << spacing << ": must be >= the largest diameter " << s.d_max << " (m)";
   else if (!std::isfinite(s.vx) || !std::isfinite(s.vy))
     msg << "velocity must be finite";
+  else if (const double sites = lattice_sites_in_box(s); !(sites <= kMaxScannedSites))
+    msg << "the region's bounding box spans " << sites << " lattice sites of spacing " << spacing
+        << " m, more than the " << kMaxScannedSites << " a generator scans (a region far larger than its grains?)";
   else
     return;
   throw std::invalid_argument(msg.str());
