@@ -7,7 +7,6 @@
 #pragma once
 
 #include <cstdint>
-#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -29,7 +28,6 @@ struct StageFile : TomlFile {
 
 class StageConfig {
  public:
-  static constexpr double kInf = std::numeric_limits<double>::infinity();
   // Ends of a range: closed unless said open.
   enum class Ends { closed, open_low, open_high, open };
 
