@@ -114,7 +114,7 @@ class SceneParser {
     check_domain();
     if (!allow_overlap && s_.initial_run.empty()) check_overlaps();  // a run's grains touch: that is their state
     set_time_step(time);
-    check_step_counts(time);
+    check_step_counts();
   }
 
  private:
@@ -515,16 +515,9 @@ class SceneParser {
     if (t.has(key)) times_.push_back({t, std::string(key), seconds, never});
   }
 
-  // dt > 0, and every time at most kMaxSteps steps of it (a larger count
-  // overflowed: a run that spun at step 0, or wrote a row every step).
-  void check_step_counts(const TableReader& time) const {
-    if (!(s_.dt > 0.0)) {
-      double d_min = s_.particles[0].d;
-      for (const auto& p : s_.particles) d_min = std::min(d_min, p.d);
-      time.fail(time.has("dt") ? "dt" : "dt_over_critical",
-                "gives dt = " + sig3(s_.dt) + " s (dt_c = sqrt(m_min/k_n) = " + sig3(s_.critical_dt()) +
-                    " s, smallest grain d = " + sig3(d_min) + " m): the time step must be > 0");
-    }
+  // Every time at most kMaxSteps steps of dt (> 0, set_time_step): a larger
+  // count overflowed (a run that spun at step 0, or wrote a row every step).
+  void check_step_counts() const {
     for (const TimeKey& t : times_)
       if (!(t.seconds / s_.dt <= static_cast<double>(kMaxSteps)))
         t.table.fail(t.key, "is " + sig3(t.seconds / s_.dt) + " steps of dt = " + sig3(s_.dt) + " s, more than the " +
@@ -630,6 +623,8 @@ class SceneParser {
                  " s: its mass underflows, no time step resolves it");
     const double given = *t.number(fraction ? "dt_over_critical" : "dt", {"", "", Rule::positive});
     s_.dt = fraction ? given * dt_c : given;
+    if (!(s_.dt > 0.0))  // a fraction of dt_c that underflows
+      t.fail("dt_over_critical", "gives dt = " + sig3(s_.dt) + " s (dt_c = " + sig3(dt_c) + " s): the time step must be > 0");
     const StabilityLimit limit = s_.stability_limit();
     if (s_.dt <= limit.dt || s_.dt_forced) return;
     const std::string bound =
