@@ -27,6 +27,8 @@ void check_ranges(const CgConfig& c, const std::function<std::string(const std::
         "must be in [0, 1) (fraction of the bulk solid fraction)");
   check(c.immobile_below > 0.0 && c.immobile_below < c.dragged_above, "zones.immobile_below", c.immobile_below,
         "must be > 0 and below zones.dragged_above");
+  check(c.reference_speed_mm_s >= 0.0, "zones.reference_speed_mm_s", c.reference_speed_mm_s,
+        "must be >= 0 (mm/s; 0: the intruder's speed)");
   check(c.level > 0.0, "cone.level", c.level, "must be > 0 (v*)");
   check(c.fit_start_w >= 0.0, "cone.fit_start_w", c.fit_start_w, "must be >= 0 (in w)");
   check(c.fit_min_span_d > 0.0, "cone.fit_min_span_d", c.fit_min_span_d, "must be > 0 (in d)");
@@ -85,6 +87,7 @@ CgConfig load_cg_config(const std::string& path) {
     StageConfig zones = file->table("zones");
     zones.number("immobile_below", c.immobile_below, 0.0, kBig, "v*", E::open_low);
     zones.number("dragged_above", c.dragged_above, 0.0, kBig, "v*", E::open_low);
+    zones.number("reference_speed_mm_s", c.reference_speed_mm_s, 0.0, kMm, "mm/s; 0: the intruder's speed");
     zones.reject_unknown();
     StageConfig cone = file->table("cone");
     cone.number("level", c.level, 0.0, kBig, "v*", E::open_low);

@@ -29,6 +29,7 @@ struct CgConfig {
   // [zones]
   double immobile_below = 0.25;  // v* below: immobile (blue)
   double dragged_above = 0.75;   // v* above: dragged (red); between: cone (green)
+  double reference_speed_mm_s = 0.0;  // V_ref of v* = |V| / V_ref; 0: the intruder's speed (none without an intruder)
   // [cone]
   double level = 0.25;           // v* of the mobilised zone's edge
   double fit_start_w = 0.0;      // first fitted row: the intruder's top face + fit_start_w * w

@@ -370,7 +370,8 @@ json cg_metrics(const StageRecord& r) {
                {"phi_ref", su.phi_ref},
                {"mask_phi", su.min_phi},
                {"frame", "fixed grid (lab frame); intruder-frame velocities are V - V_intruder on the same nodes"}};
-  m["intruder_speed_mm_s"] = su.v_ref * kMm;
+  m["intruder_speed_mm_s"] = su.intruder_speed * kMm;
+  m["reference_speed_mm_s"] = su.v_ref * kMm;
   m["displacement_window_s"] = su.window;
   m["snapshots"] = S;
   m["snapshots_with_piv"] = static_cast<std::size_t>(std::count(r.piv_ok.begin(), r.piv_ok.end(), 1));

@@ -41,29 +41,6 @@ const Body& intruder_body(const Snapshot& s, const std::string& path) {
   return s.bodies[static_cast<std::size_t>(b)];
 }
 
-// The grains with their instantaneous velocities and, if given, a second set (PIV-like).
-Grains grains_of(const Snapshot& s, const std::vector<Vec2>* piv) {
-  Grains g{s.position, s.mass, s.diameter, s.active, {s.velocity}};
-  if (piv) g.velocities.emplace_back(*piv);
-  return g;
-}
-
-// PIV-like velocities displacement / window (ok = false and zeros if an active grain has none).
-struct PivVelocities {
-  bool ok = true;
-  std::vector<Vec2> v;
-};
-PivVelocities piv_velocities(const Snapshot& s, const std::vector<Vec2>& disp, double window) {
-  PivVelocities p{true, std::vector<Vec2>(disp.size())};
-  for (std::size_t i = 0; i < disp.size() && p.ok; ++i)
-    if (s.active[i]) {
-      p.ok = std::isfinite(disp[i].x) && std::isfinite(disp[i].y);
-      p.v[i] = {disp[i].x / window, disp[i].y / window};
-    }
-  if (!p.ok) p.v.assign(disp.size(), Vec2{});
-  return p;
-}
-
 // The snapshots whose full fields are stored: snapshot 0, `extra` and one
 // every `every` of travel, always; then, for pre-rupture snapshots, that
 // snapshot and the `follow` after it (the drop and the reloading: paper
@@ -90,6 +67,71 @@ std::vector<std::size_t> field_snapshots(const std::vector<double>& heights, con
   return {chosen.begin(), chosen.end()};
 }
 
+}  // namespace
+
+Grains grains_of(const Snapshot& s, const std::vector<Vec2>* piv) {
+  Grains g{s.position, s.mass, s.diameter, s.active, {s.velocity}};
+  if (piv) g.velocities.emplace_back(*piv);
+  return g;
+}
+
+PivVelocities piv_velocities(const Snapshot& s, const std::vector<Vec2>& disp, double window) {
+  PivVelocities p{true, std::vector<Vec2>(disp.size())};
+  for (std::size_t i = 0; i < disp.size() && p.ok; ++i)
+    if (s.active[i]) {
+      p.ok = std::isfinite(disp[i].x) && std::isfinite(disp[i].y);
+      p.v[i] = {disp[i].x / window, disp[i].y / window};
+    }
+  if (!p.ok) p.v.assign(disp.size(), Vec2{});
+  return p;
+}
+
+SnapshotBatch read_batch(const RunReader& run, std::size_t k0, std::size_t k1, bool has_piv, double window) {
+  SnapshotBatch b;
+  for (std::size_t k = k0; k < k1; ++k) {
+    b.snaps.push_back(run.snapshot(k));
+    b.piv.push_back(has_piv ? piv_velocities(b.snaps.back(), run.displacement(k), window) : PivVelocities{false, {}});
+  }
+  return b;
+}
+
+void kernel_and_grid(const CgInput& in, const std::string& path, const Snapshot& s0, Setup& su) {
+  const CgConfig& c = in.config;
+  const double dx = c.spacing_mm / kMm;
+  try {
+    su.kernel = make_kernel(c.w_over_d * su.d, c.cutoff_over_w);
+    double top = su.cell.floor;
+    for (std::size_t i = 0; i < s0.size(); ++i)
+      if (s0.active[i]) top = std::max(top, s0.position[i].y + 0.5 * s0.diameter[i]);
+    const double height =
+        c.height_mm > 0.0 ? c.height_mm / kMm : std::ceil((top - su.cell.floor + su.kernel.radius()) / dx) * dx;
+    su.grid = make_grid(su.cell.left, su.cell.right, su.cell.floor, su.cell.floor + height, dx);
+  } catch (const CgError& e) {
+    throw CgError((in.config_path.empty() ? std::string("config") : in.config_path) + " with " + path + ": " + e.what());
+  }
+}
+
+double bulk_solid_fraction(const Setup& su, const Snapshot& s, const std::string& path) {
+  const Fields f = coarse_grain(su.grid, su.kernel, grains_of(s, nullptr));
+  Region bulk;
+  try {
+    bulk = bulk_region(su.cell, bed_surface(s, su.cell, su.d).height, su.kernel.radius());
+  } catch (const BedError& e) {
+    throw CgError(path + ": snapshot " + std::to_string(s.index) + ": the bed is too small for the kernel (cut-off " +
+                  mm(su.kernel.radius()) + "): " + e.what());
+  }
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (std::size_t j = 0; j < su.grid.ny; ++j)
+    for (std::size_t i = 0; i < su.grid.nx; ++i)
+      if (bulk.contains(su.grid.x(i), su.grid.y(j))) sum += f.phi[su.grid.at(i, j)], ++n;
+  if (n == 0)
+    throw CgError(path + ": no grid node in the bulk of the bed at snapshot " + std::to_string(s.index) + " (grid too coarse)");
+  return sum / static_cast<double>(n);
+}
+
+namespace {
+
 // Everything about the run that does not change along it, from snapshot 0:
 // the cell, d, the intruder and its velocity, kernel, grid, phi_ref, the
 // sensitivity values.
@@ -109,22 +151,12 @@ Setup make_setup(const RunReader& run, const Snapshot& s0, const CgInput& in) {
     const std::size_t b = run.body_with_role("intruder");
     const Vec2 v = run.body_velocities()[b];
     su.frame_vx = v.x, su.frame_vy = v.y;
-    su.v_ref = std::hypot(su.frame_vx, su.frame_vy);
-    if (!(su.v_ref > 0.0)) throw CgError(path + ": the intruder '" + run.body_names()[b] + "' does not move (/bodies/velocity = 0): no v* = |V|/V_intruder");
+    su.intruder_speed = std::hypot(su.frame_vx, su.frame_vy);
+    su.v_ref = c.reference_speed_mm_s > 0.0 ? c.reference_speed_mm_s / kMm : su.intruder_speed;
+    if (!(su.intruder_speed > 0.0)) throw CgError(path + ": the intruder '" + run.body_names()[b] + "' does not move (/bodies/velocity = 0): no v* = |V|/V_intruder");
   }
-  // the kernel and the grid: the settings applied to this run's grains and cell
   const double dx = c.spacing_mm / kMm;
-  double height = 0.0;
-  try {
-    su.kernel = make_kernel(c.w_over_d * su.d, c.cutoff_over_w);
-    double top = su.cell.floor;
-    for (std::size_t i = 0; i < s0.size(); ++i)
-      if (s0.active[i]) top = std::max(top, s0.position[i].y + 0.5 * s0.diameter[i]);
-    height = c.height_mm > 0.0 ? c.height_mm / kMm : std::ceil((top - su.cell.floor + su.kernel.radius()) / dx) * dx;
-    su.grid = make_grid(su.cell.left, su.cell.right, su.cell.floor, su.cell.floor + height, dx);
-  } catch (const CgError& e) {
-    throw CgError((in.config_path.empty() ? std::string("config") : in.config_path) + " with " + path + ": " + e.what());
-  }
+  kernel_and_grid(in, path, s0, su);
   su.window = run.displacement_window();
   su.centre_i = static_cast<std::size_t>(
       std::clamp(std::round((su.start.xc - su.grid.x0) / dx), 0.0, static_cast<double>(su.grid.nx - 1)));
@@ -138,24 +170,9 @@ Setup make_setup(const RunReader& run, const Snapshot& s0, const CgInput& in) {
   for (const double v : c.region_heights_d) su.heights.push_back(v * su.d);
   su.height0 = with(su.heights, c.region_height_d * su.d);
 
-  // reference solid fraction: the bulk of the bed at snapshot 0, cut-off radius from every boundary
-  {
-    const Fields f0 = coarse_grain(su.grid, su.kernel, grains_of(s0, nullptr));
-    Region bulk;
-    try {
-      bulk = bulk_region(su.cell, bed_surface(s0, su.cell, su.d).height, su.kernel.radius());
-    } catch (const BedError& e) {
-      throw CgError(path + ": the bed is too small for the kernel (cut-off " + mm(su.kernel.radius()) + "): " + e.what());
-    }
-    double sum = 0.0;
-    std::size_t n = 0;
-    for (std::size_t j = 0; j < su.grid.ny; ++j)
-      for (std::size_t i = 0; i < su.grid.nx; ++i)
-        if (bulk.contains(su.grid.x(i), su.grid.y(j))) sum += f0.phi[su.grid.at(i, j)], ++n;
-    if (n == 0) throw CgError(path + ": no grid node in the bulk of the bed at snapshot 0 (grid too coarse)");
-    su.phi_ref = sum / static_cast<double>(n);
-    su.min_phi = c.mask_fraction * su.phi_ref;
-  }
+  // reference solid fraction: the bulk of the bed at snapshot 0
+  su.phi_ref = bulk_solid_fraction(su, s0, path);
+  su.min_phi = c.mask_fraction * su.phi_ref;
 
   return su;
 }
@@ -178,14 +195,9 @@ Measured measure_all(const RunReader& run, const Setup& su, const CgInput& in, b
   Measured out{std::vector<SnapshotMeasure>(S), std::vector<std::uint8_t>(S, 0), 0.0};
   const std::size_t batch = static_cast<std::size_t>(std::max(1, 2 * threads));
   std::deque<Fields> history;  // raw fields of the previous snapshots (trailing average)
-    for (std::size_t k0 = 0; k0 < S; k0 += batch) {
+  for (std::size_t k0 = 0; k0 < S; k0 += batch) {
     const std::size_t k1 = std::min(S, k0 + batch);
-    std::vector<Snapshot> snaps;
-    std::vector<PivVelocities> piv;
-    for (std::size_t k = k0; k < k1; ++k) {
-      snaps.push_back(run.snapshot(k));
-      piv.push_back(has_piv ? piv_velocities(snaps.back(), run.displacement(k), su.window) : PivVelocities{false, {}});
-    }
+    const auto [snaps, piv] = read_batch(run, k0, k1, has_piv, su.window);
     std::vector<Fields> raw(k1 - k0);
     const auto t0 = std::chrono::steady_clock::now();
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
@@ -248,6 +260,8 @@ CgResult compute_cg(const CgInput& in) {
   const std::size_t S = run.snapshots();
   const std::vector<double>& times = run.snapshot_times();
 
+  const std::vector<std::string>& roles = run.body_roles();
+  if (std::find(roles.begin(), roles.end(), "intruder") == roles.end()) return compute_cg_lab(run, in);
   const Snapshot s0 = run.snapshot(0);
   Setup su = make_setup(run, s0, in);
 

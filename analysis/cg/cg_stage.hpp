@@ -1,6 +1,7 @@
 // The stage `cg` (issue 5): coarse-grained fields of a pull-off run, the
 // mobility zones, the cone angle (R5), the wall-mobility length (R6) and the
-// dilatancy at the onset (R11). Definitions: analysis/cg/README.md.
+// dilatancy at the onset (R11); on a run without an intruder (a box, a silo)
+// the lab-frame fields and zones only (cg_lab.cpp). Definitions: analysis/cg/README.md.
 //   compute_cg(...)  reads the run (and the events file), returns everything in memory
 //   write_cg(...)    writes DIR/metrics.json and DIR/cg.h5 (each as .tmp, then renamed)
 #pragma once
@@ -13,6 +14,7 @@
 
 #include "cg/cg_config.hpp"
 #include "cg/cg_field.hpp"
+#include "cg/cg_snapshot.hpp"
 #include "common/events.hpp"
 #include "common/study.hpp"
 
@@ -53,6 +55,37 @@ struct CgResult {
 
 // Everything, in memory. CgError (or std::runtime_error from the reader) on bad input.
 CgResult compute_cg(const CgInput& in);
+
+// ---- shared by the pull-off pass (cg_stage.cpp) and the lab-frame pass (cg_lab.cpp) ----
+
+// The run without an intruder: lab-frame fields, solid fraction and zones.
+CgResult compute_cg_lab(const RunReader& run, const CgInput& in);
+
+// The grains of snapshot s with their instantaneous velocities and, if given, a second set (PIV-like).
+Grains grains_of(const Snapshot& s, const std::vector<Vec2>* piv);
+
+// PIV-like velocities displacement / window (ok = false and zeros if an active grain has none).
+struct PivVelocities {
+  bool ok = true;
+  std::vector<Vec2> v;
+};
+PivVelocities piv_velocities(const Snapshot& s, const std::vector<Vec2>& disp, double window);
+
+// Snapshots k0 .. k1-1 and, if has_piv, their PIV-like velocities over `window` (s).
+struct SnapshotBatch {
+  std::vector<Snapshot> snaps;
+  std::vector<PivVelocities> piv;  // {false, {}} without
+};
+SnapshotBatch read_batch(const RunReader& run, std::size_t k0, std::size_t k1, bool has_piv, double window);
+
+// su.kernel and su.grid from the config, su.cell and su.d: the grid spans the
+// cell's width, from the floor to grid.height_mm or to the highest grain top
+// at snapshot s0 plus the cut-off radius. CgError naming the config and run.
+void kernel_and_grid(const CgInput& in, const std::string& path, const Snapshot& s0, Setup& su);
+
+// The mean solid fraction of the nodes in the bulk of the bed at snapshot s
+// (a cut-off radius from the walls, the floor and the free surface).
+double bulk_solid_fraction(const Setup& su, const Snapshot& s, const std::string& path);
 
 // DIR/cg.h5 and DIR/metrics.json; std::runtime_error naming the file if one cannot be written.
 void write_cg(const CgResult& r, const std::string& out_dir);

@@ -23,8 +23,8 @@ int main(int argc, char** argv) {
   using namespace dem2d::analysis;
   StageCommand cmd("cg",
                    "coarse-grained fields of a pull-off run; mobility zones, cone angle, wall-mobility length, "
-                   "dilatancy",
-                   "Pull-off run file (HDF5) written by dem2d", "Output directory: metrics.json and cg.h5");
+                   "dilatancy (without an intruder: lab-frame fields, solid fraction, speeds, zones)",
+                   "Run file (HDF5) written by dem2d", "Output directory: metrics.json and cg.h5");
   cmd.add_config("cg.toml");
   cmd.add_study();
   CgInput in;
@@ -45,6 +45,12 @@ int main(int argc, char** argv) {
       [&](const CgResult& result) {
         write_cg(result, cmd.out);
         const auto& m = result.metrics["cg"];
+        if (m.value("frame", std::string()) == "lab") {
+          const auto& f = m["final"];
+          return std::to_string(m["snapshots"].get<std::size_t>()) + " snapshots, no intruder (lab frame): final bed solid fraction " +
+                 show(f["bed_solid_fraction"], "") + ", mean speed " + show(f["mean_speed_mm_s"], " mm/s") +
+                 ", mobile fraction " + show(f["mobile_fraction"], "");
+        }
         return std::to_string(m["snapshots"].get<std::size_t>()) + " snapshots, " +
                m["velocity_source"].get<std::string>() + " velocities, " + m["loading_selection"].get<std::string>() +
                ": cone angle " + show(m["cone_angle_deg"], " deg") + " (" +

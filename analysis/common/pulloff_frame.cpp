@@ -61,7 +61,6 @@ PulloffGeometry pulloff_geometry(const Snapshot& s) {
   } catch (const BedError& e) {
     throw StageError(e.what());
   }
-  if (!cell.intruder) throw StageError(s.no_body_with_role("intruder"));
   PulloffGeometry g;
   g.left = s.find_role("left_wall");
   g.right = s.find_role("right_wall");
@@ -70,6 +69,7 @@ PulloffGeometry pulloff_geometry(const Snapshot& s) {
   g.x_left = cell.left;
   g.x_right = cell.right;
   g.y_floor = cell.floor;
+  if (g.intruder < 0) return g;
   const Body& in = s.bodies[static_cast<std::size_t>(g.intruder)];
   g.centre = in.centre();
   intruder_axis(in, g);

@@ -21,11 +21,12 @@ namespace dem2d::analysis {
 enum class Partner : std::uint8_t { grain = 0, left = 1, right = 2, floor = 3, intruder = 4, other = 5 };
 const char* partner_name(Partner p);
 
-// The cell's inner faces and the intruder at one snapshot.
+// The cell's inner faces and, if the run has one, the intruder at one snapshot.
 struct PulloffGeometry {
+  bool has_intruder() const { return intruder >= 0; }
   int left = -1, right = -1, floor = -1, intruder = -1;  // body indices in the snapshot
   double x_left = 0.0, x_right = 0.0, y_floor = 0.0;      // inner faces (m)
-  // The intruder, of any shape (its core outline rounded by cap_radius):
+  // The intruder, of any shape (its core outline rounded by cap_radius; zeros without one):
   Vec2 centre;                 // mean of its core's vertices (m)
   Vec2 axis{1.0, 0.0};         // unit vector along its core's longest edge, x >= 0 (a sphero-line's direction)
   double core_length = 0.0;    // extent of its core along the axis (a sphero-line's segment length) (m)
@@ -41,7 +42,9 @@ struct PulloffGeometry {
   double axial(Vec2 p) const;
 };
 
-// Throws StageError naming a missing body and listing the snapshot's bodies.
+// Throws StageError naming a missing cell body (floor, left_wall, right_wall)
+// and listing the snapshot's bodies; a run without an intruder is fine
+// (has_intruder() false): the stages then measure what needs no intruder.
 PulloffGeometry pulloff_geometry(const Snapshot& s);
 
 // One class per contact of s.contacts.

@@ -142,30 +142,49 @@ FrictionResult run_friction(const std::string& run_path, const std::string& conf
 
   const auto nbins = static_cast<std::size_t>(cfg.histogram_bins);
   std::vector<std::int64_t> hist_bulk(nbins, 0), hist_wall(nbins, 0), hist_all(nbins, 0);
+  // Per snapshot: the intruder's height, or 0 for every snapshot of a run
+  // without an intruder; `top` is where "in the bed" ends: the initial free
+  // surface, or nowhere without an intruder (every snapshot counts).
   std::vector<double> time, height;
   std::vector<SnapshotFriction> snap;
-  double bed0 = 0.0, hc = 0.0;
+  double bed0 = 0.0, hc = kNaN, top = kInf;
+  bool with_intruder = false;
+  const HeightBins depth_bins{cfg.bin_width_d * study.mean_diameter};
+  std::vector<double> depth_sum_bulk, depth_sum_wall;
+  std::vector<std::int64_t> depth_n_bulk, depth_n_wall;
   for (std::size_t k = 0; k < S; ++k) {
     const Snapshot s = run.snapshot(k);
     try {
       const PulloffGeometry geo = pulloff_geometry(s);
       if (k == 0) {
         bed0 = bed_height(s, geo);
-        hc = cfg.critical_height_mm ? *cfg.critical_height_mm / kMm
-                                    : geo.end_to_wall() * std::tan(cfg.cone_angle_deg * std::numbers::pi / 180.0);
+        with_intruder = geo.has_intruder();
+        if (with_intruder) {
+          top = bed0;
+          hc = cfg.critical_height_mm ? *cfg.critical_height_mm / kMm
+                                      : geo.end_to_wall() * std::tan(cfg.cone_angle_deg * std::numbers::pi / 180.0);
+        }
       }
       const std::vector<Partner> partners = classify_contacts(s, geo);
       const std::vector<double> ms = mu_star(s.contacts, partners, mu);
       time.push_back(s.time);
-      height.push_back(geo.height());
+      height.push_back(with_intruder ? geo.height() : 0.0);
       snap.push_back(summarise_friction(s.contacts, partners, ms, thresholds));
-      if (geo.height() < bed0) {
+      if (height.back() < top) {
         for (std::size_t c = 0; c < ms.size(); ++c) {
           if (std::isnan(ms[c])) continue;
           const std::size_t b = std::min(nbins - 1, static_cast<std::size_t>(std::max(0.0, ms[c]) * static_cast<double>(nbins)));
           ++hist_all[b];
-          if (partners[c] == Partner::grain) ++hist_bulk[b];
-          if (partners[c] == Partner::left || partners[c] == Partner::right) ++hist_wall[b];
+          const bool bulk = partners[c] == Partner::grain;
+          const bool wall = partners[c] == Partner::left || partners[c] == Partner::right;
+          if (bulk) ++hist_bulk[b];
+          if (wall) ++hist_wall[b];
+          if (!bulk && !wall) continue;
+          std::vector<double>& sum = bulk ? depth_sum_bulk : depth_sum_wall;
+          std::vector<std::int64_t>& n = bulk ? depth_n_bulk : depth_n_wall;
+          const std::size_t z = depth_bins.index(contact_point(s, c).y - geo.y_floor);
+          if (z >= sum.size()) sum.resize(z + 1, 0.0), n.resize(z + 1, 0);
+          sum[z] += ms[c], ++n[z];
         }
       }
       if (std::binary_search(figure.begin(), figure.end(), k)) {
@@ -202,15 +221,19 @@ FrictionResult run_friction(const std::string& run_path, const std::string& conf
   m["mu_wall"] = mu.wall;
   m["mu_source"] = mu_source;
   m["initial_bed_height_mm"] = bed0 * kMm;
+  m["intruder"] = with_intruder;
+  if (!with_intruder)
+    m["intruder_note"] = "the run has no body with role 'intruder': every snapshot counts as in the bed, and the "
+                         "intruder-height bands (critical height H_c) are not defined (null)";
   std::int64_t in_bed = 0;
   m["slip_threshold"] = cfg.slip_threshold;
-  m["slip_fraction"] = number_or_null(mean_in_band(height, slip, -kInf, bed0, &in_bed));
+  m["slip_fraction"] = number_or_null(mean_in_band(height, slip, -kInf, top, &in_bed));
   m["slip_fraction_snapshots"] = in_bed;
   {
     double mx = kNaN;
     std::int64_t rows = 0, zero = 0, used = 0, slipping = 0, flagged = 0;
     for (std::size_t k = 0; k < S; ++k) {
-      if (!(height[k] < bed0)) continue;
+      if (!(height[k] < top)) continue;
       if (!std::isnan(slip[k]) && (std::isnan(mx) || slip[k] > mx)) mx = slip[k];
       rows += snap[k].rows, zero += snap[k].zero_fn, used += snap[k].all.count;
       slipping += snap[k].slipping[0], flagged += snap[k].sliding_flag;
@@ -224,48 +247,57 @@ FrictionResult run_friction(const std::string& run_path, const std::string& conf
   }
 
   const double lower_top = cfg.lower_band_top * hc;
-  m["critical_height_mm"] = hc * kMm;
-  m["critical_height_source"] = cfg.critical_height_mm ? "config critical_height_mm"
-                                                       : "(x_right - x_left - L)/2 tan(" + format_number(cfg.cone_angle_deg) + " deg), cell and intruder of the run";
-  m["lower_band_mm"] = {height.front() * kMm, lower_top * kMm};
-  m["middle_band_mm"] = {lower_top * kMm, hc * kMm};
-  m["upper_band_mm"] = {hc * kMm, bed0 * kMm};
-  m["mean_mu_star_lower"] = number_or_null(mean_in_band(height, bulk, -kInf, lower_top));
-  m["mean_mu_star_middle"] = number_or_null(mean_in_band(height, bulk, lower_top, hc));
-  m["mean_mu_star_upper"] = number_or_null(mean_in_band(height, bulk, hc, bed0));
-  m["mean_mu_star_lower_wall"] = number_or_null(mean_in_band(height, wall, -kInf, lower_top));
-  m["mean_mu_star_middle_wall"] = number_or_null(mean_in_band(height, wall, lower_top, hc));
-  m["mean_mu_star_upper_wall"] = number_or_null(mean_in_band(height, wall, hc, bed0));
-  m["mean_mu_star_lower_all"] = number_or_null(mean_in_band(height, all, -kInf, lower_top));
-  m["mean_mu_star_upper_all"] = number_or_null(mean_in_band(height, all, hc, bed0));
+  const auto band = [&](const std::vector<double>& v, double lo, double hi) {
+    return with_intruder ? number_or_null(mean_in_band(height, v, lo, hi)) : json(nullptr);
+  };
+  const auto mm_pair = [&](double lo, double hi) { return with_intruder ? json{lo * kMm, hi * kMm} : json(nullptr); };
+  m["critical_height_mm"] = number_or_null(hc * kMm);
+  m["critical_height_source"] = !with_intruder ? "none: no intruder"
+                                : cfg.critical_height_mm
+                                    ? "config critical_height_mm"
+                                    : "(x_right - x_left - L)/2 tan(" + format_number(cfg.cone_angle_deg) + " deg), cell and intruder of the run";
+  m["lower_band_mm"] = mm_pair(height.front(), lower_top);
+  m["middle_band_mm"] = mm_pair(lower_top, hc);
+  m["upper_band_mm"] = mm_pair(hc, bed0);
+  m["mean_mu_star_lower"] = band(bulk, -kInf, lower_top);
+  m["mean_mu_star_middle"] = band(bulk, lower_top, hc);
+  m["mean_mu_star_upper"] = band(bulk, hc, bed0);
+  m["mean_mu_star_lower_wall"] = band(wall, -kInf, lower_top);
+  m["mean_mu_star_middle_wall"] = band(wall, lower_top, hc);
+  m["mean_mu_star_upper_wall"] = band(wall, hc, bed0);
+  m["mean_mu_star_lower_all"] = band(all, -kInf, lower_top);
+  m["mean_mu_star_upper_all"] = band(all, hc, bed0);
   {
     // The last 10 % of the upper band: where the curves end up ("falling towards 0.24").
     const double lo = hc + 0.9 * (bed0 - hc);
-    m["mean_mu_star_upper_end"] = number_or_null(mean_in_band(height, bulk, lo, bed0));
-    m["mean_mu_star_upper_end_wall"] = number_or_null(mean_in_band(height, wall, lo, bed0));
-    m["upper_end_band_mm"] = {lo * kMm, bed0 * kMm};
+    m["mean_mu_star_upper_end"] = band(bulk, lo, bed0);
+    m["mean_mu_star_upper_end_wall"] = band(wall, lo, bed0);
+    m["upper_end_band_mm"] = mm_pair(lo, bed0);
   }
-  m["mean_mu_star_floor"] = number_or_null(mean_in_band(height, series([](const SnapshotFriction& f) { return f.floor.mean(); }), -kInf, bed0));
+  m["mean_mu_star_bulk"] = number_or_null(mean_in_band(height, bulk, -kInf, top));
+  m["mean_mu_star_wall"] = number_or_null(mean_in_band(height, wall, -kInf, top));
+  m["mean_mu_star_floor"] = number_or_null(mean_in_band(height, series([](const SnapshotFriction& f) { return f.floor.mean(); }), -kInf, top));
   m["mean_mu_star_intruder"] =
-      number_or_null(mean_in_band(height, series([](const SnapshotFriction& f) { return f.intruder.mean(); }), -kInf, bed0));
+      with_intruder ? number_or_null(mean_in_band(height, series([](const SnapshotFriction& f) { return f.intruder.mean(); }), -kInf, top))
+                    : json(nullptr);
 
   json sens;
   for (std::size_t t = 0; t < thresholds.size(); ++t) {
     const std::vector<double> v = series([t](const SnapshotFriction& f) { return f.slip_fraction(t); });
     double mx = 0.0;
     for (std::size_t k = 0; k < S; ++k)
-      if (height[k] < bed0 && !std::isnan(v[k])) mx = std::max(mx, v[k]);
+      if (height[k] < top && !std::isnan(v[k])) mx = std::max(mx, v[k]);
     sens["slip_fraction"].push_back({{"threshold", thresholds[t]},
-                                     {"slip_fraction", number_or_null(mean_in_band(height, v, -kInf, bed0))},
+                                     {"slip_fraction", number_or_null(mean_in_band(height, v, -kInf, top))},
                                      {"slip_fraction_max", mx}});
   }
   std::sort(sens["slip_fraction"].begin(), sens["slip_fraction"].end(),
             [](const json& a, const json& b) { return a["threshold"].get<double>() < b["threshold"].get<double>(); });
   for (const double f : cfg.sensitivity_lower_band_top)
     sens["mean_mu_star_lower"].push_back({{"lower_band_top", f},
-                                          {"band_mm", {height.front() * kMm, f * hc * kMm}},
-                                          {"bulk", number_or_null(mean_in_band(height, bulk, -kInf, f * hc))},
-                                          {"wall", number_or_null(mean_in_band(height, wall, -kInf, f * hc))}});
+                                          {"band_mm", mm_pair(height.front(), f * hc)},
+                                          {"bulk", band(bulk, -kInf, f * hc)},
+                                          {"wall", band(wall, -kInf, f * hc)}});
   m["sensitivity"] = sens;
   m["config"] = to_json(cfg);
 
@@ -274,7 +306,7 @@ FrictionResult run_friction(const std::string& run_path, const std::string& conf
   r.h5 = H5Output("friction", run.path());
   H5Output& h = r.h5;
   h.add("snapshots/time", time, "s", "snapshot time");
-  h.add("snapshots/height", height, "m", "intruder centre above the floor's inner face");
+  if (with_intruder) h.add("snapshots/height", height, "m", "intruder centre above the floor's inner face");
   std::vector<std::int64_t> counted, zero;
   for (const SnapshotFriction& f : snap) counted.push_back(f.all.count), zero.push_back(f.zero_fn);
   h.add("snapshots/contacts", counted, "-", "contacts with fn > 0");
@@ -292,23 +324,46 @@ FrictionResult run_friction(const std::string& run_path, const std::string& conf
         "mean mu* of grain-intruder contacts");
   h.add("snapshots/mean_mu_star_all", all, "-", "mean mu* of all contacts with fn > 0");
 
-  const HeightBins bins{cfg.bin_width_d * study.mean_diameter};
-  const BinnedMean pb = binned_mean(bins, height, bulk), pw = binned_mean(bins, height, wall);
-  std::vector<double> lower, upper, wall_mean(pb.mean.size(), kNaN);
-  for (std::size_t b = 0; b < pb.mean.size(); ++b) {
-    lower.push_back(bins.lower(b)), upper.push_back(bins.lower(b + 1));
-    if (b < pw.mean.size()) wall_mean[b] = pw.mean[b];
+  // mu* against the contact point's height above the floor, pooled over the
+  // snapshots in the bed: how far friction is mobilised at each depth.
+  const auto depth_mean = [](const std::vector<double>& sum, const std::vector<std::int64_t>& n) {
+    std::vector<double> out(sum.size(), kNaN);
+    for (std::size_t z = 0; z < sum.size(); ++z)
+      if (n[z] > 0) out[z] = sum[z] / static_cast<double>(n[z]);
+    return out;
+  };
+  {
+    const std::size_t nz = std::max(depth_sum_bulk.size(), depth_sum_wall.size());
+    std::vector<double> lower, upper;
+    for (std::size_t z = 0; z < nz; ++z) lower.push_back(depth_bins.lower(z)), upper.push_back(depth_bins.lower(z + 1));
+    depth_sum_bulk.resize(nz, 0.0), depth_sum_wall.resize(nz, 0.0), depth_n_bulk.resize(nz, 0), depth_n_wall.resize(nz, 0);
+    h.add("depth/lower", lower, "m", "contact-point height bin above the floor's inner face, lower edge");
+    h.add("depth/upper", upper, "m", "the bin's upper edge");
+    h.add("depth/contacts_bulk", depth_n_bulk, "-", "grain-grain contacts with fn > 0 in the bin (snapshots in the bed)");
+    h.add("depth/contacts_wall", depth_n_wall, "-", "grain-side wall contacts with fn > 0 in the bin");
+    h.add("depth/mean_mu_star_bulk", depth_mean(depth_sum_bulk, depth_n_bulk), "-", "mean mu* of the bin's grain-grain contacts");
+    h.add("depth/mean_mu_star_wall", depth_mean(depth_sum_wall, depth_n_wall), "-", "mean mu* of the bin's side-wall contacts");
   }
-  h.add("profile/lower", lower, "m", "height bin lower edge");
-  h.add("profile/upper", upper, "m", "height bin upper edge");
-  h.add("profile/snapshots", pb.count, "-", "snapshots in the bin");
-  h.add("profile/mean_mu_star_bulk", pb.mean, "-", "mean over the bin's snapshots of the bulk mean mu*");
-  h.add("profile/mean_mu_star_wall", wall_mean, "-", "the same for the side-wall contacts");
+
+  if (with_intruder) {
+    const HeightBins bins{cfg.bin_width_d * study.mean_diameter};
+    const BinnedMean pb = binned_mean(bins, height, bulk), pw = binned_mean(bins, height, wall);
+    std::vector<double> lower, upper, wall_mean(pb.mean.size(), kNaN);
+    for (std::size_t b = 0; b < pb.mean.size(); ++b) {
+      lower.push_back(bins.lower(b)), upper.push_back(bins.lower(b + 1));
+      if (b < pw.mean.size()) wall_mean[b] = pw.mean[b];
+    }
+    h.add("profile/lower", lower, "m", "intruder height bin lower edge");
+    h.add("profile/upper", upper, "m", "intruder height bin upper edge");
+    h.add("profile/snapshots", pb.count, "-", "snapshots in the bin");
+    h.add("profile/mean_mu_star_bulk", pb.mean, "-", "mean over the bin's snapshots of the bulk mean mu*");
+    h.add("profile/mean_mu_star_wall", wall_mean, "-", "the same for the side-wall contacts");
+  }
 
   std::vector<double> edges;
   for (std::size_t b = 0; b <= nbins; ++b) edges.push_back(static_cast<double>(b) / static_cast<double>(nbins));
   h.add("histogram/edges", edges, "-", "mu* bin edges (the last bin also holds mu* >= 1)");
-  h.add("histogram/all", hist_all, "-", "contacts with fn > 0, snapshots with the intruder below the initial surface");
+  h.add("histogram/all", hist_all, "-", "contacts with fn > 0, snapshots with the intruder below the initial surface (every snapshot without an intruder)");
   h.add("histogram/bulk", hist_bulk, "-", "grain-grain contacts");
   h.add("histogram/wall", hist_wall, "-", "grain-side wall contacts");
 

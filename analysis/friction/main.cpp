@@ -12,8 +12,9 @@ int main(int argc, char** argv) {
   using namespace dem2d::analysis;
   StageCommand cmd("friction",
                    "friction mobilisation mu* = |F_t|/(mu F_n) of a dem2d pull-off run: slip fraction, mean mu* of "
-                   "bulk and wall contacts against the intruder's height",
-                   "Pull-off run file (HDF5) written by dem2d", "Output directory (metrics.json, friction.h5)");
+                   "bulk and wall contacts against the intruder's height (without an intruder: over the run and "
+                   "against depth)",
+                   "Run file (HDF5) written by dem2d", "Output directory (metrics.json, friction.h5)");
   cmd.add_config("friction.toml");
   cmd.add_study();
   return cmd.main(
@@ -24,6 +25,9 @@ int main(int argc, char** argv) {
         write_file_atomic(cmd.out + "/metrics.json", r.metrics.dump(2) + "\n");
         const auto& m = r.metrics["friction"];
         const auto show = [](const nlohmann::ordered_json& v) { return v.is_null() ? std::string("n/a") : v.dump(); };
+        if (m["intruder"] == false)
+          return "no intruder: slip fraction " + show(m["slip_fraction"]) + ", mean mu* bulk " +
+                 show(m["mean_mu_star_bulk"]) + ", walls " + show(m["mean_mu_star_wall"]);
         return "slip fraction " + show(m["slip_fraction"]) + ", mean mu* lower " + show(m["mean_mu_star_lower"]) +
                ", upper " + show(m["mean_mu_star_upper"]);
       });

@@ -14,8 +14,8 @@ int main(int argc, char** argv) {
   using namespace dem2d::analysis;
   StageCommand cmd("network",
                    "force-network percolation from the intruder to the walls, anisotropy and keystones of a dem2d "
-                   "pull-off run",
-                   "Pull-off run file (HDF5) written by dem2d", "Output directory (metrics.json, network.h5)");
+                   "pull-off run (without an intruder: wall-to-wall spanning, fabric, loads on floor and walls)",
+                   "Run file (HDF5) written by dem2d", "Output directory (metrics.json, network.h5)");
   cmd.add_config("network.toml");
   cmd.add_study();
   NetworkInputs in;
@@ -33,6 +33,10 @@ int main(int argc, char** argv) {
         write_file_atomic(cmd.out + "/metrics.json", r.metrics.dump(2) + "\n");
         const auto& m = r.metrics["network"];
         const auto show = [](const nlohmann::ordered_json& v) { return v.is_null() ? std::string("n/a") : v.dump(); };
+        if (m["intruder"] == false)
+          return "no intruder: strong network spans wall to wall in " + show(m["spanning_fraction"]) +
+                 " of the snapshots; at the end the side walls carry " + show(m["final"]["wall_load_fraction"]) +
+                 " of the load";
         return "percolation lost above " + show(m["percolation_loss_height_mm"]) +
                " mm, percolating below the top layer " + show(m["percolating_fraction_below_top_layer"]) +
                ", top-layer anisotropy " + show(m["top_layer_anisotropy"]) + ", keystone-explained fraction " +

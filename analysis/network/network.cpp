@@ -124,16 +124,15 @@ ContactGraph build_contact_graph(const Snapshot& s, const std::vector<Partner>& 
   return g;
 }
 
-Percolation percolation(const ContactGraph& g, double threshold, FloorRule rule) {
+Percolation percolation(const ContactGraph& g, double threshold, FloorRule rule, std::size_t source) {
   const std::vector<std::uint8_t> excluded = excluded_grains(g, rule);
   const boost::filtered_graph<Graph, GrainEdge> paths(g.graph, GrainEdge{&g.graph, &excluded, g.grains, threshold});
   std::vector<std::size_t> component(boost::num_vertices(g.graph));
   const auto n = static_cast<std::size_t>(boost::connected_components(paths, component.data()));
   // Which bodies each grain cluster touches through edges above the threshold.
-  constexpr std::uint8_t kIntruder = 1, kLeft = 2, kRight = 4;
+  constexpr std::uint8_t kSource = 1, kLeft = 2, kRight = 4;
   std::vector<std::uint8_t> touches(n, 0);
-  for (const std::size_t body : {g.intruder(), g.left(), g.right()}) {
-    const std::uint8_t bit = body == g.intruder() ? kIntruder : body == g.left() ? kLeft : kRight;
+  for (const auto& [body, bit] : {std::pair{source, kSource}, std::pair{g.left(), kLeft}, std::pair{g.right(), kRight}}) {
     for (const Edge e : boost::make_iterator_range(boost::out_edges(body, g.graph))) {
       const std::size_t grain = boost::target(e, g.graph);
       if (grain < g.grains && !excluded[grain] && boost::get(boost::edge_weight, g.graph, e) > threshold)
@@ -142,10 +141,43 @@ Percolation percolation(const ContactGraph& g, double threshold, FloorRule rule)
   }
   Percolation p;
   for (const std::uint8_t t : touches) {
-    p.left = p.left || (t & (kIntruder | kLeft)) == (kIntruder | kLeft);
-    p.right = p.right || (t & (kIntruder | kRight)) == (kIntruder | kRight);
+    p.left = p.left || (t & (kSource | kLeft)) == (kSource | kLeft);
+    p.right = p.right || (t & (kSource | kRight)) == (kSource | kRight);
   }
   return p;
+}
+
+void ForceSegments::add(const Snapshot& s, const std::vector<Partner>& partners, double strong_fn) {
+  snapshot.push_back(static_cast<std::int64_t>(s.index));
+  const Contacts& c = s.contacts;
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    if (!(c.fn[k] > 0.0) || partners[k] == Partner::other) continue;
+    const auto i = static_cast<std::size_t>(c.i[k]);
+    const Vec2 p = s.position[i];
+    Vec2 q;
+    if (partners[k] == Partner::grain) {
+      q = s.position[static_cast<std::size_t>(c.j[k])];
+    } else {
+      const double reach = 0.5 * s.diameter[i] - c.overlap[k];
+      q = {p.x - c.nx[k] * reach, p.y - c.ny[k] * reach};
+    }
+    x0.push_back(p.x), y0.push_back(p.y), x1.push_back(q.x), y1.push_back(q.y), fn.push_back(c.fn[k]);
+    partner.push_back(static_cast<std::uint8_t>(partners[k]));
+    strong.push_back(c.fn[k] > strong_fn);
+  }
+  start.push_back(static_cast<std::int64_t>(x0.size()));
+}
+
+void ForceSegments::write(H5Output& h) const {
+  h.add("figure/snapshot", snapshot, "-", "snapshots with force-network segments");
+  h.add("figure/start", start, "-", "segments of figure/snapshot[m]: rows start[m] .. start[m+1]-1");
+  h.add("figure/x0", x0, "m", "grain i centre");
+  h.add("figure/y0", y0, "m", "grain i centre");
+  h.add("figure/x1", x1, "m", "partner grain centre, or the body's surface");
+  h.add("figure/y1", y1, "m", "partner grain centre, or the body's surface");
+  h.add("figure/fn", fn, "N/m", "normal force");
+  h.add("figure/partner", partner, "-", "0 grain, 1 left, 2 right, 3 floor, 4 intruder");
+  h.add("figure/strong", strong, "-", "1: fn > strong_threshold x mean_fn");
 }
 
 Fabric fabric(const std::vector<Vec2>& normals, std::size_t min_contacts) {

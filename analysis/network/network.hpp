@@ -15,6 +15,7 @@
 
 #include "common/events.hpp"  // RuptureEvent, read_events
 #include "common/pulloff_frame.hpp"
+#include "common/stage_output.hpp"
 
 namespace dem2d::analysis {
 
@@ -47,7 +48,8 @@ struct ContactGraph {
 };
 ContactGraph build_contact_graph(const Snapshot& s, const std::vector<Partner>& partners);
 
-// Whether the intruder is connected to each side wall through contacts with
+// Whether `source` (a body's vertex: the intruder, or the left wall for a
+// wall-to-wall span) is connected to each side wall through contacts with
 // fn > threshold whose every intermediate vertex is a grain (bodies are path
 // ends only) and, with bottom_layer_removed, not a grain touching the floor.
 struct Percolation {
@@ -55,7 +57,7 @@ struct Percolation {
   bool both() const { return left && right; }
   bool either() const { return left || right; }
 };
-Percolation percolation(const ContactGraph& g, double threshold, FloorRule rule);
+Percolation percolation(const ContactGraph& g, double threshold, FloorRule rule, std::size_t source);
 
 // Fabric tensor F = <n n> of a set of unit normals; anisotropy
 // 2 (l1 - l2) / (l1 + l2) (0 isotropic, 2 all parallel), angle of the major
@@ -97,6 +99,18 @@ struct KeystoneAnalysis {
 };
 KeystoneAnalysis analyse_keystones(const ContactGraph& g, const Snapshot& s, const PulloffGeometry& geo,
                                    double threshold, FloorRule rule, double end_zone);
+
+// The force-network figure data of some snapshots: one segment per contact
+// with fn > 0 (not with `other` bodies), from grain i's centre to the partner
+// grain's centre or to the body's surface along the normal.
+struct ForceSegments {
+  std::vector<std::int64_t> snapshot, start = {0};
+  std::vector<double> x0, y0, x1, y1, fn;
+  std::vector<std::uint8_t> partner, strong;
+  // Appends snapshot s's contacts; strong: fn > this (N/m).
+  void add(const Snapshot& s, const std::vector<Partner>& partners, double strong_fn);
+  void write(H5Output& h) const;  // figure/...
+};
 
 // Percolating fraction of snapshots per height bin, and the percolation-loss
 // height: the upper edge of the highest bin whose fraction is >= level (above

@@ -129,29 +129,6 @@ EventSummary summarise_events(const Track& t, const std::vector<double>& diamete
   return s;
 }
 
-// A contact as a segment for the force-network figure: grain centre to the
-// partner's centre, or to the body's surface along the normal.
-void add_segments(const Snapshot& s, const std::vector<Partner>& partners, double strong, std::vector<double>& x0,
-                  std::vector<double>& y0, std::vector<double>& x1, std::vector<double>& y1, std::vector<double>& fn,
-                  std::vector<std::uint8_t>& partner, std::vector<std::uint8_t>& is_strong) {
-  const Contacts& c = s.contacts;
-  for (std::size_t k = 0; k < c.size(); ++k) {
-    if (!(c.fn[k] > 0.0) || partners[k] == Partner::other) continue;
-    const auto i = static_cast<std::size_t>(c.i[k]);
-    const Vec2 p = s.position[i];
-    Vec2 q;
-    if (partners[k] == Partner::grain) {
-      q = s.position[static_cast<std::size_t>(c.j[k])];
-    } else {
-      const double reach = 0.5 * s.diameter[i] - c.overlap[k];
-      q = {p.x - c.nx[k] * reach, p.y - c.ny[k] * reach};
-    }
-    x0.push_back(p.x), y0.push_back(p.y), x1.push_back(q.x), y1.push_back(q.y), fn.push_back(c.fn[k]);
-    partner.push_back(static_cast<std::uint8_t>(partners[k]));
-    is_strong.push_back(c.fn[k] > strong);
-  }
-}
-
 double mean_of(const std::vector<Fabric>& f, const std::vector<double>& heights, double lo, double hi,
                double Fabric::*field, std::int64_t* used = nullptr) {
   std::vector<double> v;
@@ -242,6 +219,8 @@ NetworkResult run_network(const NetworkInputs& in, const NetworkConfig& cfg, con
   const RunReader run(in.run);
   const std::size_t S = run.snapshots();
   if (S == 0) throw StageError(run.path() + ": the run file has no snapshots");
+  const std::vector<std::string>& roles = run.body_roles();
+  if (std::find(roles.begin(), roles.end(), "intruder") == roles.end()) return run_bed_network(run, in, cfg, study);
   std::vector<RuptureEvent> events;
   if (!in.events.empty()) events = read_events(in.events);
   const double spectrum_top_mm = in.spectrum_metrics.empty() ? kNaN : read_top_layer_height_mm(in.spectrum_metrics);
@@ -262,9 +241,7 @@ NetworkResult run_network(const NetworkInputs& in, const NetworkConfig& cfg, con
   for (const RuptureEvent& e : events)
     if (const EventWindow w = event_window(run.snapshot_times(), e, cfg.event_max_gap_s); w.before >= 0)
       figure.insert(static_cast<std::size_t>(w.before));
-  std::vector<std::int64_t> fig_index, fig_start = {0};
-  std::vector<double> sx0, sy0, sx1, sy1, sfn;
-  std::vector<std::uint8_t> spartner, sstrong;
+  ForceSegments segments;
 
   Track t;
   const double d_mean = study.mean_diameter;  // "d" of the settings
@@ -293,7 +270,7 @@ NetworkResult run_network(const NetworkInputs& in, const NetworkConfig& cfg, con
         n_strong += boost::get(boost::edge_weight, g.graph, e) > strong;
       t.strong_contacts.push_back(n_strong);
       for (Variant& v : variants) {
-        const Percolation p = percolation(g, v.factor * g.mean_fn, v.rule);
+        const Percolation p = percolation(g, v.factor * g.mean_fn, v.rule, g.intruder());
         v.left[k] = p.left, v.right[k] = p.right;
       }
       const double y0 = t.intruder_y.back(), y1 = y0 + cfg.anisotropy_region_height * geo.end_to_wall();
@@ -310,9 +287,7 @@ NetworkResult run_network(const NetworkInputs& in, const NetworkConfig& cfg, con
       t.keystones.push_back(analyse_keystones(g, s, geo, strong, rule, cfg.keystone_end_zone_d * d_mean));
       t.position.push_back(s.position);
       if (figure.count(k)) {
-        fig_index.push_back(static_cast<std::int64_t>(k));
-        add_segments(s, partners, strong, sx0, sy0, sx1, sy1, sfn, spartner, sstrong);
-        fig_start.push_back(static_cast<std::int64_t>(sx0.size()));
+        segments.add(s, partners, strong);
       }
     } catch (const StageError& e) {
       throw StageError(run.path() + ": snapshot " + std::to_string(k) + ": " + e.what());
@@ -549,15 +524,7 @@ NetworkResult run_network(const NetworkInputs& in, const NetworkConfig& cfg, con
   h.add("keystones/candidate_share_left", c_share_l, "-", "share of the max flow to the left wall through it");
   h.add("keystones/candidate_share_right", c_share_r, "-", "share of the max flow to the right wall through it");
 
-  h.add("figure/snapshot", fig_index, "-", "snapshots with force-network segments");
-  h.add("figure/start", fig_start, "-", "segments of figure/snapshot[m]: rows start[m] .. start[m+1]-1");
-  h.add("figure/x0", sx0, "m", "grain i centre");
-  h.add("figure/y0", sy0, "m", "grain i centre");
-  h.add("figure/x1", sx1, "m", "partner grain centre, or the body's surface");
-  h.add("figure/y1", sy1, "m", "partner grain centre, or the body's surface");
-  h.add("figure/fn", sfn, "N/m", "normal force");
-  h.add("figure/partner", spartner, "-", "0 grain, 1 left, 2 right, 3 floor, 4 intruder");
-  h.add("figure/strong", sstrong, "-", "1: fn > strong_threshold x mean_fn");
+  segments.write(h);
 
   if (!ev.checks.empty()) {
     std::vector<double> peak, drop, disp;

@@ -54,7 +54,15 @@ struct NetworkResult {
 
 // Reads everything and computes; StageError / std::runtime_error (naming the
 // file) on bad input.
+// A run without an intruder goes to run_bed_network.
 NetworkResult run_network(const NetworkInputs& in, const NetworkConfig& cfg, const Study& study);
+
+// What needs no intruder (a box, a silo, a fill), per snapshot: the
+// compressive network, whether its strong part spans the cell from wall to
+// wall, the fabric of the strong grain-grain contacts above the floor, and
+// the load on the floor and the side walls (bed_network.cpp).
+NetworkResult run_bed_network(const RunReader& run, const NetworkInputs& in, const NetworkConfig& cfg,
+                              const Study& study);
 
 // spectrum.top_layer_height_mm of a spectrum metrics file, or NaN when the key
 // is absent or null; StageError naming the file if it is missing or not JSON.

@@ -90,7 +90,7 @@ TEST(NetworkGraph, VerticesAndEdgesFollowTheContacts) {
 
 TEST(NetworkPercolation, ChainsToBothWallsPercolate) {
   const Built b = build(two_chains());
-  const Percolation p = percolation(b.g, b.g.mean_fn, FloorRule::vertex_removed);
+  const Percolation p = percolation(b.g, b.g.mean_fn, FloorRule::vertex_removed, b.g.intruder());
   EXPECT_TRUE(p.left);
   EXPECT_TRUE(p.right);
   EXPECT_TRUE(p.both());
@@ -100,7 +100,7 @@ TEST(NetworkPercolation, RemovingAGrainCutsItsChain) {
   Snapshot s = two_chains();
   s.active[1] = 0;  // grain 1 left the domain: its contacts are no edges
   const Built b = build(std::move(s));
-  const Percolation p = percolation(b.g, b.g.mean_fn, FloorRule::vertex_removed);
+  const Percolation p = percolation(b.g, b.g.mean_fn, FloorRule::vertex_removed, b.g.intruder());
   EXPECT_FALSE(p.left);
   EXPECT_TRUE(p.right);
   EXPECT_FALSE(p.both());
@@ -111,15 +111,15 @@ TEST(NetworkPercolation, AWeakLinkBreaksTheStrongNetworkOnly) {
   Snapshot s = two_chains();
   s.contacts.fn[1] = 2.0;  // grain 0 - grain 1 below the mean
   const Built b = build(std::move(s));
-  EXPECT_FALSE(percolation(b.g, b.g.mean_fn, FloorRule::vertex_removed).left);
-  EXPECT_TRUE(percolation(b.g, 0.0, FloorRule::vertex_removed).left);  // whole network
+  EXPECT_FALSE(percolation(b.g, b.g.mean_fn, FloorRule::vertex_removed, b.g.intruder()).left);
+  EXPECT_TRUE(percolation(b.g, 0.0, FloorRule::vertex_removed, b.g.intruder()).left);  // whole network
 }
 
 TEST(NetworkPercolation, EmptyNetworkPercolatesNowhere) {
   const Built b = build(cell({{0.005, 0.005}, {0.025, 0.005}}));
   EXPECT_EQ(b.g.edges(), 0u);
   EXPECT_EQ(b.g.mean_fn, 0.0);
-  const Percolation p = percolation(b.g, 0.0, FloorRule::vertex_removed);
+  const Percolation p = percolation(b.g, 0.0, FloorRule::vertex_removed, b.g.intruder());
   EXPECT_FALSE(p.either());
   const KeystoneAnalysis k = analyse_keystones(b.g, b.s, b.geo, 0.0, FloorRule::vertex_removed, 0.0015);
   EXPECT_EQ(k.flow_left, 0.0);
@@ -134,8 +134,8 @@ TEST(NetworkPercolation, APathThroughTheFloorDoesNotCount) {
   touch(s, 0, kIntruder, 10), touch(s, 0, kFloor, 10), touch(s, 1, kFloor, 10), touch(s, 1, kLeft, 10);
   touch(s, 2, 3, 1);
   const Built b = build(s);
-  EXPECT_FALSE(percolation(b.g, b.g.mean_fn, FloorRule::vertex_removed).left);
-  EXPECT_FALSE(percolation(b.g, 0.0, FloorRule::bottom_layer_removed).left);
+  EXPECT_FALSE(percolation(b.g, b.g.mean_fn, FloorRule::vertex_removed, b.g.intruder()).left);
+  EXPECT_FALSE(percolation(b.g, 0.0, FloorRule::bottom_layer_removed, b.g.intruder()).left);
   EXPECT_EQ(analyse_keystones(b.g, b.s, b.geo, 0.0, FloorRule::vertex_removed, 0.0015).flow_left, 0.0);
 
   // With a direct contact between the two bottom grains, the path runs through
@@ -143,8 +143,8 @@ TEST(NetworkPercolation, APathThroughTheFloorDoesNotCount) {
   // grains touching the floor are removed as well.
   touch(s, 0, 1, 10);
   const Built c = build(s);
-  EXPECT_TRUE(percolation(c.g, c.g.mean_fn, FloorRule::vertex_removed).left);
-  EXPECT_FALSE(percolation(c.g, c.g.mean_fn, FloorRule::bottom_layer_removed).left);
+  EXPECT_TRUE(percolation(c.g, c.g.mean_fn, FloorRule::vertex_removed, c.g.intruder()).left);
+  EXPECT_FALSE(percolation(c.g, c.g.mean_fn, FloorRule::bottom_layer_removed, c.g.intruder()).left);
 }
 
 TEST(NetworkPercolation, TheOtherWallIsNoShortcut) {
@@ -153,7 +153,7 @@ TEST(NetworkPercolation, TheOtherWallIsNoShortcut) {
   touch(s, 0, kIntruder, 10), touch(s, 0, kRight, 10), touch(s, 1, kRight, 10), touch(s, 1, kLeft, 10);
   touch(s, 2, 3, 1);
   const Built b = build(s);
-  const Percolation p = percolation(b.g, b.g.mean_fn, FloorRule::vertex_removed);
+  const Percolation p = percolation(b.g, b.g.mean_fn, FloorRule::vertex_removed, b.g.intruder());
   EXPECT_TRUE(p.right);
   EXPECT_FALSE(p.left);
 }
@@ -179,7 +179,7 @@ TEST(NetworkKeystones, ASingleEndGrainCarryingAllTheLoadIsAKeystone) {
   Snapshot without = b.s;
   without.active[0] = 0;
   const Built c = build(std::move(without));
-  EXPECT_FALSE(percolation(c.g, b.g.mean_fn, FloorRule::vertex_removed).left);
+  EXPECT_FALSE(percolation(c.g, b.g.mean_fn, FloorRule::vertex_removed, c.g.intruder()).left);
 }
 
 TEST(NetworkKeystones, MaxFlowIsTheMinimumCutAndSharesSplitParallelPaths) {

@@ -1,0 +1,211 @@
+// Stage `cg` on a run without an intruder (a box settling, a silo or hopper
+// discharging, a fill): the coarse-grained fields on a fixed grid over the
+// cell, in the lab frame, and per snapshot the bed's mean solid fraction, its
+// speeds and, with a reference speed, its mobility zones. What is defined
+// relative to the intruder (cone, wall mobility, dilatancy, intruder frame)
+// is not. Definitions: analysis/cg/README.md ("Runs without an intruder").
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "cg/cg_stage.hpp"
+#include "common/pulloff_frame.hpp"  // every_kth
+#include "common/stage_output.hpp"   // number_or_null
+#include "io/h5.hpp"
+
+namespace dem2d::analysis {
+
+namespace {
+
+using json = nlohmann::ordered_json;
+constexpr double kMm = 1e3;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// One snapshot's bed: the nodes with phi >= the mask.
+struct LabMeasure {
+  double surface = 0.0;        // free surface above the floor (m)
+  double area = 0.0;           // bed nodes x dx^2 (m^2)
+  double phi = kNaN;           // mean solid fraction of the bed nodes
+  double mean_speed = kNaN;    // mean |V| of the bed nodes (m/s)
+  double max_speed = kNaN;
+  ZoneAreas zones;             // with a reference speed (m^2)
+  std::vector<float> phi_field, vx_field, vy_field;  // only for the stored snapshots
+};
+
+LabMeasure measure(const Setup& su, const Fields& f, std::size_t set, const Snapshot& s, bool full) {
+  LabMeasure m;
+  m.surface = bed_surface(s, su.cell, su.d).height;
+  const Velocity v = velocity(f, set, su.min_phi);
+  double phi = 0.0, speed = 0.0, top = 0.0;
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < su.grid.size(); ++k) {
+    if (std::isnan(v.vx[k])) continue;
+    const double u = std::hypot(v.vx[k], v.vy[k]);
+    phi += f.phi[k], speed += u, top = std::max(top, u), ++n;
+  }
+  m.area = static_cast<double>(n) * su.grid.dx * su.grid.dx;
+  if (n > 0) {
+    m.phi = phi / static_cast<double>(n);
+    m.mean_speed = speed / static_cast<double>(n);
+    m.max_speed = top;
+  }
+  if (su.v_ref > 0.0) m.zones = zone_areas(su.grid, speed_ratio(v, 0.0, 0.0, su.v_ref), su.levels[0], su.levels[1]);
+  if (full) {
+    m.phi_field.assign(f.phi.begin(), f.phi.end());
+    m.vx_field.assign(v.vx.begin(), v.vx.end());
+    m.vy_field.assign(v.vy.begin(), v.vy.end());
+  }
+  return m;
+}
+
+}  // namespace
+
+CgResult compute_cg_lab(const RunReader& run, const CgInput& in) {
+  const CgConfig& c = in.config;
+  const std::string& path = run.path();
+  const auto t_start = std::chrono::steady_clock::now();
+  const std::size_t S = run.snapshots();
+  const Snapshot s0 = run.snapshot(0);
+  Setup su;
+  try {
+    su.cell = find_cell(s0);
+    su.d = mean_active_diameter(s0);
+  } catch (const BedError& e) {
+    throw CgError(path + ": " + e.what());
+  }
+  kernel_and_grid(in, path, s0, su);
+  // The bed's reference solid fraction where it is packed: at the last snapshot.
+  su.phi_ref = bulk_solid_fraction(su, run.snapshot(S - 1), path);
+  su.min_phi = c.mask_fraction * su.phi_ref;
+  su.v_ref = c.reference_speed_mm_s / kMm;
+  su.levels = {c.immobile_below, c.dragged_above};
+  su.window = run.displacement_window();
+  const bool has_piv = su.window > 0.0 && h5::exists(run.file(), "snapshots/displacement");
+  const std::size_t set = c.velocity == "piv" && has_piv ? kPiv : kInst;
+
+  // Full fields for at most field_max_snapshots snapshots, evenly spaced (and the last).
+  std::vector<std::size_t> fields_at;
+  if (c.field_max_snapshots > 0) {
+    const auto room = static_cast<std::size_t>(c.field_max_snapshots);
+    fields_at = every_kth(S, std::max<std::size_t>(1, (S + room - 1) / room));
+    if (fields_at.size() > room) fields_at.erase(fields_at.end() - 2);  // the last one stays
+  }
+
+  // Snapshots in batches: read serially (HDF5), coarse-grained and measured in
+  // parallel; each result depends on its own snapshot only (any thread count).
+  const int threads = in.threads > 0 ? in.threads : omp_get_max_threads();
+  const std::size_t batch = static_cast<std::size_t>(std::max(1, 2 * threads));
+  std::vector<LabMeasure> ms(S);
+  std::vector<double> times(S);
+  std::vector<std::uint8_t> piv_ok(S, 0);
+  for (std::size_t k0 = 0; k0 < S; k0 += batch) {
+    const std::size_t k1 = std::min(S, k0 + batch);
+    const auto [snaps, piv] = read_batch(run, k0, k1, has_piv, su.window);
+    for (std::size_t k = k0; k < k1; ++k) times[k] = snaps[k - k0].time, piv_ok[k] = piv[k - k0].ok;
+    std::vector<std::string> errors(snaps.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (std::size_t q = 0; q < snaps.size(); ++q) {
+      const std::size_t k = k0 + q;
+      try {
+        // A snapshot without PIV-like velocities (the first ones) uses the instantaneous ones.
+        const Fields f = coarse_grain(su.grid, su.kernel, grains_of(snaps[q], has_piv ? &piv[q].v : nullptr));
+        ms[k] = measure(su, f, piv[q].ok ? set : kInst, snaps[q], std::binary_search(fields_at.begin(), fields_at.end(), k));
+      } catch (const std::exception& e) {
+        errors[q] = path + ": snapshot " + std::to_string(k) + ": " + e.what();
+      }
+    }
+    for (const std::string& e : errors)
+      if (!e.empty()) throw CgError(e);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+
+  // ---- metrics ----
+  const LabMeasure& last = ms.back();
+  const bool zones = su.v_ref > 0.0;
+  const auto zone_fraction = [&](double area) { return zones && last.area > 0.0 ? json(area / last.area) : json(nullptr); };
+  json m;
+  m["run_file"] = path;
+  m["config_file"] = in.config_path;
+  m["intruder"] = false;
+  m["intruder_note"] = "the run has no body with role 'intruder': lab-frame fields, solid fraction and zones only; "
+                       "the cone angle, wall mobility, dilatancy and intruder-frame window are not defined";
+  m["frame"] = "lab";
+  m["grid"] = {{"nx", su.grid.nx}, {"ny", su.grid.ny}, {"spacing_mm", su.grid.dx * kMm},
+               {"height_mm", static_cast<double>(su.grid.ny) * su.grid.dx * kMm},
+               {"w_mm", su.kernel.w * kMm}, {"cutoff_mm", su.kernel.radius() * kMm},
+               {"mean_diameter_mm", su.d * kMm}, {"phi_ref", su.phi_ref}, {"mask_phi", su.min_phi}};
+  m["phi_ref_source"] = "bulk of the bed at the last snapshot";
+  m["velocity_source"] = set == kPiv ? "piv" : "instantaneous";
+  m["snapshots"] = S;
+  m["snapshots_with_piv"] = static_cast<std::size_t>(std::count(piv_ok.begin(), piv_ok.end(), 1));
+  m["field_snapshots"] = fields_at.size();
+  m["reference_speed_mm_s"] = zones ? json(su.v_ref * kMm) : json(nullptr);
+  if (!zones) m["zones_note"] = "no zones.reference_speed_mm_s: v* = |V| / V_ref needs a reference speed without an intruder";
+  m["final"] = {{"time_s", times.back()},
+                {"bed_height_mm", last.surface * kMm},
+                {"bed_area_mm2", last.area * kMm * kMm},
+                {"bed_solid_fraction", number_or_null(last.phi)},
+                {"mean_speed_mm_s", number_or_null(last.mean_speed * kMm)},
+                {"max_speed_mm_s", number_or_null(last.max_speed * kMm)},
+                {"immobile_fraction", zone_fraction(last.zones.immobile)},
+                {"intermediate_fraction", zone_fraction(last.zones.cone)},
+                {"mobile_fraction", zone_fraction(last.zones.dragged)}};
+  m["cost"] = {{"seconds", seconds}, {"threads", threads}};
+
+  // ---- cg.h5 ----
+  std::vector<Dataset> D;
+  const auto f64 = [&](std::string name, std::string unit, std::vector<double> v, std::string about) {
+    D.push_back({Dataset::Type::f64, std::move(name), std::move(unit), std::move(about), {}, {}, std::move(v), {}});
+  };
+  const auto f32 = [&](std::string name, std::string unit, std::vector<float> v, std::vector<hsize_t> dims, std::string about) {
+    D.push_back({Dataset::Type::f32, std::move(name), std::move(unit), std::move(about), std::move(dims), std::move(v), {}, {}});
+  };
+  const auto per = [&](auto get) {
+    std::vector<double> v(S);
+    for (std::size_t k = 0; k < S; ++k) v[k] = get(ms[k]);
+    return v;
+  };
+  std::vector<double> gx(su.grid.nx), gy(su.grid.ny);
+  for (std::size_t i = 0; i < su.grid.nx; ++i) gx[i] = su.grid.x(i);
+  for (std::size_t j = 0; j < su.grid.ny; ++j) gy[j] = su.grid.y(j);
+  f64("grid/x", "m", gx, "node x (run-file frame)");
+  f64("grid/y", "m", gy, "node y (run-file frame)");
+  f64("snapshots/time", "s", times, "snapshot time");
+  f64("snapshots/bed_height", "m", per([](const LabMeasure& x) { return x.surface; }), "free surface above the floor's inner face");
+  f64("snapshots/bed_area", "m^2", per([](const LabMeasure& x) { return x.area; }), "area of the nodes with phi >= mask_phi");
+  f64("snapshots/bed_solid_fraction", "-", per([](const LabMeasure& x) { return x.phi; }), "mean phi of the bed nodes");
+  f64("snapshots/mean_speed", "m/s", per([](const LabMeasure& x) { return x.mean_speed; }), "mean |V| of the bed nodes");
+  f64("snapshots/max_speed", "m/s", per([](const LabMeasure& x) { return x.max_speed; }), "largest |V| of the bed nodes");
+  if (zones) {
+    f64("zones/immobile_area", "m^2", per([](const LabMeasure& x) { return x.zones.immobile; }), "bed nodes with v* < zones.immobile_below");
+    f64("zones/intermediate_area", "m^2", per([](const LabMeasure& x) { return x.zones.cone; }), "bed nodes in between");
+    f64("zones/mobile_area", "m^2", per([](const LabMeasure& x) { return x.zones.dragged; }), "bed nodes with v* > zones.dragged_above");
+  }
+  {
+    std::vector<double> at;
+    std::vector<float> phi, vx, vy;
+    for (const std::size_t k : fields_at) {
+      at.push_back(static_cast<double>(k));
+      phi.insert(phi.end(), ms[k].phi_field.begin(), ms[k].phi_field.end());
+      vx.insert(vx.end(), ms[k].vx_field.begin(), ms[k].vx_field.end());
+      vy.insert(vy.end(), ms[k].vy_field.begin(), ms[k].vy_field.end());
+    }
+    const std::vector<hsize_t> dims = {fields_at.size(), su.grid.ny, su.grid.nx};
+    f64("fields/snapshot", "-", at, "snapshot index of each stored field");
+    f32("fields/phi", "-", std::move(phi), dims, "solid fraction [field, y, x]");
+    f32("fields/vx", "m/s", std::move(vx), dims, "lab-frame velocity x (NaN outside the bed)");
+    f32("fields/vy", "m/s", std::move(vy), dims, "lab-frame velocity y (NaN outside the bed)");
+  }
+  CgResult r;
+  r.metrics = {{"cg", m}};
+  r.datasets = std::move(D);
+  r.attributes = {{"format", "dem2d-cg-lab-1"}, {"run_file", path}, {"frame", "lab"},
+                  {"velocity_source", m["velocity_source"].get<std::string>()}, {"metrics", r.metrics.dump()},
+                  {"floor_y", std::to_string(su.cell.floor)}};
+  return r;
+}
+
+}  // namespace dem2d::analysis
