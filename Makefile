@@ -89,7 +89,7 @@ DEBIAN_PACKAGES := g++ cmake make pkg-config git \
   python3-h5py python3-numpy python3-matplotlib
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: deps build install test test-release test-sanitize test-pipeline test-cluster bench bench-scaling bench-compare reproduce check validate \
+.PHONY: deps build install test test-release test-sanitize test-pipeline test-cluster fuzz bench bench-scaling bench-compare reproduce check validate \
   pulloff-slice cyclic metrics figures report accuracy ensemble clean FORCE
 
 deps:
@@ -123,6 +123,14 @@ test-sanitize: deps $(SANITIZE_BUILD)/CMakeCache.txt
 test-pipeline: build
 	$(MAKE) --no-print-directory reproduce PRESET=quick THREADS=$(THREADS)
 	tests/pipeline_test.sh results/quick
+
+# The input-and-fault suite in full (docs/fuzz.md) on the release and the
+# ASan+UBSan builds: counts per class and outcome; fails on any defect.
+FUZZ_SEED ?= 1
+fuzz: build $(SANITIZE_BUILD)/CMakeCache.txt
+	cmake --build $(SANITIZE_BUILD) -j $(JOBS)
+	$(PYTHON) tests/fuzz/fuzz.py --bin $(BUILD) --seed $(FUZZ_SEED) --jobs $(JOBS)
+	$(PYTHON) tests/fuzz/fuzz.py --bin $(SANITIZE_BUILD) --seed $(FUZZ_SEED) --jobs $(JOBS)
 
 # The Slurm executor on a real one-node Slurm cluster started and stopped
 # here (installs munge and slurm-wlm as root; skipped, loudly, otherwise).

@@ -199,6 +199,47 @@ TEST(Checkpoint, CohesiveRunResumesBitwise) {
   EXPECT_GT(gap, 0u);
 }
 
+// Bytes changed inside a dataset of an unfinished run (a disk error, a
+// hand edit) read back as other numbers, which HDF5 cannot notice: the
+// checkpoint and each segment carry a checksum of their content, and the
+// resume stops, naming the file and --fresh, instead of continuing from them.
+TEST(Checkpoint, ChangedBytesInTheWorkDirectoryStopTheResume) {
+  Scene s = stirred_box();
+  const std::int64_t every = std::llround(s.output.snapshot_interval / s.dt);
+  for (const auto& [file, dataset] : {std::pair{"checkpoint.h5", "particles/x"},
+                                      std::pair{"segment_000000.h5", "snapshots/position"}}) {
+    TempDir dir("damaged");
+    RunOptions opt{dir.path().string()};
+    opt.interrupt_at_step = 3 * every + 1;
+    ASSERT_FALSE(run_scene(s, opt).complete);
+    const std::string path = (dir.path() / ".run.work" / file).string();
+    haddr_t offset = HADDR_UNDEF;
+    {
+      const h5::File f = h5::File::open_read(path);
+      h5::Handle d(H5Dopen2(f.id(), dataset, H5P_DEFAULT), H5Dclose);
+      offset = H5Dget_offset(d);
+    }
+    ASSERT_NE(offset, HADDR_UNDEF) << dataset;
+    {
+      std::fstream io(path, std::ios::in | std::ios::out | std::ios::binary);
+      io.seekp(static_cast<std::streamoff>(offset + 8));
+      io.write("\x13\x13\x13\x13", 4);  // one coordinate changed, still a finite number
+    }
+    opt.interrupt_at_step = -1;
+    try {
+      run_scene(s, opt);
+      FAIL() << "resumed from a damaged " << file;
+    } catch (const std::runtime_error& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find(path + ": its content does not match its checksum"), std::string::npos) << m;
+      EXPECT_NE(m.find("--fresh"), std::string::npos) << m;
+    }
+    EXPECT_FALSE(fs::exists(dir.path() / "run.h5"));
+    opt.fresh = true;
+    EXPECT_TRUE(run_scene(s, opt).complete);
+  }
+}
+
 TEST(Checkpoint, RefusesToResumeAnotherScene) {
   Scene s = stirred_box();
   TempDir dir("other");

@@ -147,6 +147,19 @@ TEST_F(RunReaderChecks, ShapesAreCheckedAgainstEachOther) {
   EXPECT_ERROR(run.series("no_such_column"), valid_, "dataset /series/no_such_column is missing");
 }
 
+// What no stage reads is checked too: no damaged file passes for a good one.
+TEST_F(RunReaderChecks, RecordsNoStageReadsAreChecked) {
+  const std::string ids = with_dataset(*dir_, valid_, "empty_ids", "particles/id", std::vector<std::int32_t>{}, {0});
+  EXPECT_ERROR(RunReader{ids}, ids, "dataset /particles/id has shape [0], expected [30]");
+  std::vector<std::int32_t> swapped(30);
+  for (std::int32_t i = 0; i < 30; ++i) swapped[static_cast<std::size_t>(i)] = i;
+  std::swap(swapped[3], swapped[4]);
+  const std::string order = with_dataset(*dir_, valid_, "swapped_ids", "particles/id", swapped, {30});
+  EXPECT_ERROR(RunReader{order}, order, "dataset /particles/id: row 3 holds 4");
+  const std::string theta = with_dataset(*dir_, valid_, "short_theta", "snapshots/theta", std::vector<double>(30, 0.0), {1, 30});
+  EXPECT_ERROR(RunReader{theta}, theta, "dataset /snapshots/theta has shape [1, 30], expected [4, 30]");
+}
+
 TEST_F(RunReaderChecks, IntegersStandingInForCoordinatesAreRefused) {
   const std::string ints = with_dataset(*dir_, valid_, "int_position", "snapshots/position",
                                         std::vector<std::int64_t>(4 * 30 * 2, 0), {4, 30, 2});

@@ -422,7 +422,25 @@ TEST(SceneTomlErrors, TimesBeyondWhatARunCanCount) {
   expect_error(edit(kValid, "min_time = 0.02", "min_time = 1e300"), {"stop.min_time = 1e+300", "more than"}, 30);
   expect_error(edit(kBare, "dt = 1e-6", "dt = 1e-20"), {"time.duration = 1: is 1e+20 steps"}, 6);
   expect_error(edit(kBare, "d = 2e-3", "d = 1e-300"),
-               {"time.dt = 1e-06: the smallest grain (d = 1e-300 m) has dt_c = sqrt(m_min/k_n) = 0 s"}, 7);
+               {"time.dt = 1e-06: the smallest grain, particle 0 (particle[0], line 13) (d = 1e-300 m), has dt_c = sqrt(m_min/k_n) = 0 s"}, 7);
+}
+
+// The neighbour search's cells must fit in what the engine can index:
+// `check` refuses a domain far larger than the grains, as `run` does (where
+// it was an exit 1 without the scene's name, after `check` said valid); and a
+// 100 000-character unknown key is shown by its start and length.
+TEST(SceneTomlErrors, WhatRunRefusesCheckRefuses) {
+  expect_error(edit(edit(kValid, "xmax = 0.05", "xmax = 1e3"), "ymax = 0.2", "ymax = 1e3"),
+               {"domain.xmax = 1000: the domain", "neighbour-search cells of", "more than the 2e+08 the engine can index"});
+  const std::string key(100000, 'k');
+  try {
+    parse_scene(edit(kValid, "[time]", "[time]\n" + key + " = 1"), kPath);
+    FAIL() << "expected an error";
+  } catch (const SceneError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("unknown key 'kkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkk... (100000 characters)' in [time]"), std::string::npos) << m.substr(0, 300);
+    EXPECT_LT(m.size(), 400u);
+  }
 }
 
 // [[body]] role: what the analyses find a body by (core/body_roles.hpp).

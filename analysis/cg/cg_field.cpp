@@ -1,4 +1,5 @@
 #include "cg/cg_field.hpp"
+#include "core/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -26,7 +27,7 @@ Grid make_grid(double xmin, double xmax, double ymin, double ymax, double dx) {
   if (nx < 1.0 || ny < 1.0)
     throw CgError("grid spacing " + mm(dx) + " is larger than the domain (" + mm(width) + " x " + mm(height) +
                   "): no node");
-  if (nx * ny > 1e8) throw CgError("grid of " + std::to_string(nx * ny) + " nodes: too many (spacing " + mm(dx) + ")");
+  if (nx * ny > 1e8) throw CgError("grid of " + sig3(nx * ny) + " nodes: more than 1e8 (spacing " + mm(dx) + ")");
   Grid g;
   g.dx = dx;
   g.nx = static_cast<std::size_t>(nx);
@@ -46,7 +47,7 @@ double Kernel::operator()(double r) const {
 
 Kernel make_kernel(double w, double cutoff_over_w) {
   if (!(w > 0.0)) throw CgError("kernel width w = " + mm(w) + ": must be > 0");
-  if (!(cutoff_over_w > 0.0)) throw CgError("kernel cut-off " + std::to_string(cutoff_over_w) + " w: must be > 0");
+  if (!(cutoff_over_w > 0.0)) throw CgError("kernel cut-off " + shortest(cutoff_over_w) + " w: must be > 0");
   return {w, cutoff_over_w};
 }
 

@@ -12,6 +12,7 @@
 #include <limits>
 
 #include "cg/cg_stage.hpp"
+#include "core/number_text.hpp"
 #include "common/pulloff_frame.hpp"  // every_kth
 #include "common/stage_output.hpp"   // number_or_null
 #include "io/h5.hpp"
@@ -78,7 +79,7 @@ CgResult compute_cg_lab(const RunReader& run, const CgInput& in) {
   }
   kernel_and_grid(in, path, s0, su);
   // The bed's reference solid fraction where it is packed: at the last snapshot.
-  su.phi_ref = bulk_solid_fraction(su, run.snapshot(S - 1), path);
+  su.phi_ref = bulk_solid_fraction(su, run.snapshot(S - 1), path, in.config_path);
   su.min_phi = c.mask_fraction * su.phi_ref;
   su.v_ref = c.reference_speed_mm_s / kMm;
   su.levels = {c.immobile_below, c.dragged_above};
@@ -204,7 +205,7 @@ CgResult compute_cg_lab(const RunReader& run, const CgInput& in) {
   r.datasets = std::move(D);
   r.attributes = {{"format", "dem2d-cg-lab-1"}, {"run_file", path}, {"frame", "lab"},
                   {"velocity_source", m["velocity_source"].get<std::string>()}, {"metrics", r.metrics.dump()},
-                  {"floor_y", std::to_string(su.cell.floor)}};
+                  {"floor_y", shortest(su.cell.floor)}};
   return r;
 }
 

@@ -1,4 +1,5 @@
 #include "cg/cg_report.hpp"
+#include "core/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -370,6 +371,7 @@ json cg_metrics(const StageRecord& r) {
                {"phi_ref", su.phi_ref},
                {"mask_phi", su.min_phi},
                {"frame", "fixed grid (lab frame); intruder-frame velocities are V - V_intruder on the same nodes"}};
+  m["intruder"] = true;
   m["intruder_speed_mm_s"] = su.intruder_speed * kMm;
   m["reference_speed_mm_s"] = su.v_ref * kMm;
   m["displacement_window_s"] = su.window;
@@ -519,9 +521,9 @@ std::vector<std::pair<std::string, std::string>> cg_attributes(const StageRecord
           {"run_file", r.run_path},
           {"velocity_source", kSourceName[r.primary]},
           {"metrics", metrics.dump()},
-          {"floor_y", std::to_string(r.setup.cell.floor)},
-          {"grain_density", std::to_string(r.setup.grain_density)},
-          {"centre_x", std::to_string(g.x(r.setup.centre_i))}};
+          {"floor_y", shortest(r.setup.cell.floor)},
+          {"grain_density", shortest(r.setup.grain_density)},
+          {"centre_x", shortest(g.x(r.setup.centre_i))}};
 }
 
 

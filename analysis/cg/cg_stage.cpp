@@ -111,13 +111,14 @@ void kernel_and_grid(const CgInput& in, const std::string& path, const Snapshot&
   }
 }
 
-double bulk_solid_fraction(const Setup& su, const Snapshot& s, const std::string& path) {
+double bulk_solid_fraction(const Setup& su, const Snapshot& s, const std::string& path, const std::string& config) {
   const Fields f = coarse_grain(su.grid, su.kernel, grains_of(s, nullptr));
   Region bulk;
   try {
     bulk = bulk_region(su.cell, bed_surface(s, su.cell, su.d).height, su.kernel.radius());
   } catch (const BedError& e) {
-    throw CgError(path + ": snapshot " + std::to_string(s.index) + ": the bed is too small for the kernel (cut-off " +
+    throw CgError(path + ": snapshot " + std::to_string(s.index) + ": the bed is too small for the kernel of " +
+                  (config.empty() ? std::string("the default settings") : config) + " (cut-off " +
                   mm(su.kernel.radius()) + "): " + e.what());
   }
   double sum = 0.0;
@@ -126,7 +127,8 @@ double bulk_solid_fraction(const Setup& su, const Snapshot& s, const std::string
     for (std::size_t i = 0; i < su.grid.nx; ++i)
       if (bulk.contains(su.grid.x(i), su.grid.y(j))) sum += f.phi[su.grid.at(i, j)], ++n;
   if (n == 0)
-    throw CgError(path + ": no grid node in the bulk of the bed at snapshot " + std::to_string(s.index) + " (grid too coarse)");
+    throw CgError(path + ": no grid node in the bulk of the bed at snapshot " + std::to_string(s.index) +
+                  " (grid.spacing_mm of " + (config.empty() ? std::string("the default settings") : config) + " too coarse)");
   return sum / static_cast<double>(n);
 }
 
@@ -171,7 +173,7 @@ Setup make_setup(const RunReader& run, const Snapshot& s0, const CgInput& in) {
   su.height0 = with(su.heights, c.region_height_d * su.d);
 
   // reference solid fraction: the bulk of the bed at snapshot 0
-  su.phi_ref = bulk_solid_fraction(su, s0, path);
+  su.phi_ref = bulk_solid_fraction(su, s0, path, in.config_path);
   su.min_phi = c.mask_fraction * su.phi_ref;
 
   return su;

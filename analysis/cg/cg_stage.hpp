@@ -84,8 +84,9 @@ SnapshotBatch read_batch(const RunReader& run, std::size_t k0, std::size_t k1, b
 void kernel_and_grid(const CgInput& in, const std::string& path, const Snapshot& s0, Setup& su);
 
 // The mean solid fraction of the nodes in the bulk of the bed at snapshot s
-// (a cut-off radius from the walls, the floor and the free surface).
-double bulk_solid_fraction(const Setup& su, const Snapshot& s, const std::string& path);
+// (a cut-off radius from the walls, the floor and the free surface); the
+// errors name the run (path) and the settings (config).
+double bulk_solid_fraction(const Setup& su, const Snapshot& s, const std::string& path, const std::string& config);
 
 // DIR/cg.h5 and DIR/metrics.json; std::runtime_error naming the file if one cannot be written.
 void write_cg(const CgResult& r, const std::string& out_dir);

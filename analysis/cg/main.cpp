@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
       [&](const CgResult& result) {
         write_cg(result, cmd.out);
         const auto& m = result.metrics["cg"];
-        if (m.value("frame", std::string()) == "lab") {
+        if (!m.value("intruder", true)) {
           const auto& f = m["final"];
           return std::to_string(m["snapshots"].get<std::size_t>()) + " snapshots, no intruder (lab frame): final bed solid fraction " +
                  show(f["bed_solid_fraction"], "") + ", mean speed " + show(f["mean_speed_mm_s"], " mm/s") +

@@ -1,4 +1,5 @@
 #include "common/events.hpp"
+#include "core/number_text.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -73,8 +74,8 @@ std::vector<RuptureEvent> read_events(const std::string& path) {
     for (std::size_t k = 0; k < out.size(); ++k) {
       const RuptureEvent& e = out[k];
       if (!(e.load_start_time <= e.peak_time && e.peak_time <= e.drop_end_time))
-        fail("event " + std::to_string(k) + ": load_start_time " + std::to_string(e.load_start_time) +
-             " s, peak_time " + std::to_string(e.peak_time) + " s and drop_end_time " + std::to_string(e.drop_end_time) +
+        fail("event " + std::to_string(k) + ": load_start_time " + shortest(e.load_start_time) +
+             " s, peak_time " + shortest(e.peak_time) + " s and drop_end_time " + shortest(e.drop_end_time) +
              " s are not in this order");
     }
   } catch (const StageError&) {

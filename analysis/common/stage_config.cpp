@@ -1,5 +1,7 @@
 #include "common/stage_config.hpp"
 
+#include "common/stage_output.hpp"  // format_number
+
 namespace dem2d::analysis {
 
 namespace {
@@ -65,7 +67,16 @@ void StageConfig::numbers(std::string_view key, std::vector<double>& out, double
                           std::string_view meaning, Ends ends) {
   if (!take(key)) return;
   std::string text;
-  out = *reader().numbers(key, range(meaning, min, max, ends, text));
+  std::vector<double> v = *reader().numbers(key, range(meaning, min, max, ends, text));
+  // Each value is one row of a table or one band edge: a repeat means nothing
+  // (and two rows of one name cannot both be written).
+  constexpr std::size_t kMaxValues = 100;
+  if (v.size() > kMaxValues)
+    reader().fail(key, "has " + std::to_string(v.size()) + " values, at most " + std::to_string(kMaxValues));
+  for (std::size_t i = 0; i < v.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (v[i] == v[j]) reader().fail(key, "lists " + format_number(v[i]) + " twice: each value once");
+  out = std::move(v);
 }
 
 void StageConfig::text(std::string_view key, std::string& out, std::string_view meaning) {

@@ -9,6 +9,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 
 #include "core/share_dir.hpp"
@@ -53,6 +54,12 @@ class StageCommand {
     decltype(compute()) result;
     try {
       result = compute();
+    } catch (const std::bad_alloc&) {
+      std::fprintf(stderr,
+                   "%s: %s: out of memory (std::bad_alloc): the run and the settings (%s) need more memory than "
+                   "this process may have (the machine's free memory, or `ulimit -v`)\n",
+                   name_.c_str(), run.c_str(), config.empty() ? "defaults" : config.c_str());
+      return kExitFailed;
     } catch (const std::exception& e) {
       std::fprintf(stderr, "%s: %s\n", name_.c_str(), e.what());
       return kExitBadInput;

@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
         write_file_atomic(cmd.out + "/metrics.json", r.metrics.dump(2) + "\n");
         const auto& m = r.metrics["friction"];
         const auto show = [](const nlohmann::ordered_json& v) { return v.is_null() ? std::string("n/a") : v.dump(); };
-        if (m["intruder"] == false)
+        if (!m.value("intruder", true))
           return "no intruder: slip fraction " + show(m["slip_fraction"]) + ", mean mu* bulk " +
                  show(m["mean_mu_star_bulk"]) + ", walls " + show(m["mean_mu_star_wall"]);
         return "slip fraction " + show(m["slip_fraction"]) + ", mean mu* lower " + show(m["mean_mu_star_lower"]) +

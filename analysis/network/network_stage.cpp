@@ -323,6 +323,7 @@ NetworkResult run_network(const NetworkInputs& in, const NetworkConfig& cfg, con
   m["events_file"] = in.events.empty() ? json(nullptr) : json(in.events);
   m["spectrum_metrics_file"] = in.spectrum_metrics.empty() ? json(nullptr) : json(in.spectrum_metrics);
   m["snapshots"] = S;
+  m["intruder"] = true;
   m["d_mm"] = d_mean * kMm;
   m["measured_mean_diameter_mm"] = measured_d * kMm;
   m["initial_bed_height_mm"] = bed0 * kMm;

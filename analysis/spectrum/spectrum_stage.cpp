@@ -158,7 +158,11 @@ SpectrumStage compute_spectrum_stage(const SpectrumInputs& in, const SpectrumCon
   if (!(st.scales.bed_height > 0.0))
     fail(in.run, "cannot tell the bed height: the run did not stop on the intruder leaving the bed "
                  "([stop] body_free); give --fill-metrics");
-  st.result = analyse(profile, st.scales, config, in.run);
+  try {
+    st.result = analyse(profile, st.scales, config, in.run);
+  } catch (const SpectrumError& e) {  // the run's drag profile against the settings: name both
+    throw SpectrumError(std::string(e.what()) + " (settings: " + (in.config.empty() ? "defaults" : in.config) + ")");
+  }
 
   nlohmann::ordered_json m;
   m["run_file"] = in.run;

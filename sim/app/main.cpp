@@ -13,6 +13,7 @@
 #include <csignal>
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -157,6 +158,13 @@ int main(int argc, char** argv) {
   } catch (const dem2d::SceneError& e) {
     std::fprintf(stderr, "dem2d: %s\n", e.what());
     return kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr,
+                 "dem2d: %s: out of memory (std::bad_alloc): the scene needs more memory than this process may "
+                 "have (the machine's free memory, or `ulimit -v`); fewer grains, a smaller [domain] or fewer "
+                 "outputs need less\n",
+                 scene_path.c_str());
+    return kExitFailed;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dem2d: %s\n", e.what());
     return kExitFailed;

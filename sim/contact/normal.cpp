@@ -1,4 +1,5 @@
 #include "contact/normal.hpp"
+#include "core/number_text.hpp"
 
 #include <cmath>
 
@@ -8,7 +9,7 @@
 namespace dem2d {
 
 double restitution_of_damping_ratio(double nu) {
-  if (!(nu >= 0.0)) throw std::invalid_argument("damping ratio " + std::to_string(nu) + " is not >= 0");
+  if (!(nu >= 0.0)) throw std::invalid_argument("damping ratio " + shortest(nu) + " is not >= 0");
   if (nu == 0.0) return 1.0;
   // arccos(nu)/sqrt(1 - nu^2) continues analytically to arccosh(nu)/sqrt(nu^2 - 1)
   // above 1; both tend to 1 at nu = 1, where a series avoids 0/0.
@@ -26,7 +27,7 @@ double restitution_of_damping_ratio(double nu) {
 double damping_ratio(double restitution) {
   const double e = restitution;
   if (!(e > 0.0 && e <= 1.0))
-    throw std::invalid_argument("restitution " + std::to_string(e) + " is not in (0, 1]");
+    throw std::invalid_argument("restitution " + shortest(e) + " is not in (0, 1]");
   if (e == 1.0) return 0.0;
   // e(nu) falls monotonically from 1 to 0: bisect on [0, hi] with e(hi) < e
   double lo = 0.0, hi = 1.0;

@@ -5,6 +5,8 @@
 // its messages.
 #pragma once
 
+#include "core/number_text.hpp"  // sig3, shortest
+
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -50,12 +52,5 @@ inline std::string describe(const Num& n) {
 // "normal stiffness in N/m, > 0"
 inline std::string range_text(const Num& n) { return describe(n) + ", " + rule_text(n); }
 
-// A derived quantity in a message: 3 significant digits.
-inline std::string sig3(double v) {
-  std::ostringstream os;
-  os.precision(3);
-  os << v;
-  return os.str();
-}
 
 }  // namespace dem2d

@@ -83,7 +83,7 @@ System::System(const Scene& scene)
   body_torque_sum.assign(nb, 0.0);
 
   // how far beyond touching contacts act (m)
-  const double range = std::max(law_range(pp, effects), has(effects, effect::walls) ? law_range(pw, effects) : 0.0);
+  const double range = scene.interaction_range();
   lists.configure(domain.xmin, domain.ymin, domain.xmax, domain.ymax, std::max(r_max, 1e-300), scene.skin,
                   range);
   advance_ = advance_kernel(effects);

@@ -16,6 +16,7 @@
 #include "engine/diagnostics.hpp"
 #include "engine/energy_ledger.hpp"
 #include "io/h5.hpp"
+#include "io/h5_seal.hpp"
 
 namespace dem2d {
 
@@ -26,6 +27,7 @@ namespace {
 // Per-snapshot contact counts: kept in the segments, turned into
 // /snapshots/contact_start in the run file.
 const std::string kContactCount = "snapshots/contact_count";
+const std::string kDisplacement = "snapshots/displacement";  // NaN where a grain has no displacement yet
 
 std::vector<hsize_t> stacked(std::uint64_t rows, const std::vector<std::uint64_t>& record) {
   std::vector<hsize_t> dims{rows};
@@ -188,7 +190,7 @@ std::vector<RunRecorder::Column> RunRecorder::columns() {
       {"snapshots/step", {}, &snap_.step, s},
       {"snapshots/position", {n, 2}, &snap_.position, s},
       {"snapshots/velocity", {n, 2}, &snap_.velocity, s},
-      {"snapshots/displacement", {n, 2}, &snap_.displacement, s},
+      {kDisplacement, {n, 2}, &snap_.displacement, s},
       {"snapshots/omega", {n}, &snap_.omega, s},
       {"snapshots/theta", {n}, &snap_.theta, s},
       {"snapshots/active", {n}, &snap_.active, s},
@@ -301,6 +303,7 @@ void RunRecorder::flush_segment() {
   h5::write_atomically(segment_path(segments_), [&](const h5::File& f) {
     for (const Column& c : columns())
       std::visit([&](auto* v) { h5::write(f, c.name, *v, stacked(c.rows, c.record)); }, c.data);
+    h5::seal(f);
   });
   ++segments_;
   for (const Column& c : columns()) std::visit([](auto* v) { v->clear(); }, c.data);
@@ -316,6 +319,13 @@ void RunRecorder::restore_counts(int segments, std::int64_t series_rows, std::in
     const std::string name = e.path().filename().string();
     if (name.starts_with("segment_") && (name.ends_with(".tmp") || std::atoi(name.c_str() + 8) >= segments))
       fs::remove(e.path());
+  }
+  // The segments kept go into the run file as they are: each must be the
+  // one this run wrote, whole and unchanged (its checksum, h5_seal.hpp).
+  for (int k = 0; k < segments; ++k) {
+    const std::string path = segment_path(k);
+    if (!fs::exists(path)) throw std::runtime_error(path + ": missing: the unfinished run's files are incomplete");
+    h5::check_seal(h5::File::open_read(path));
   }
 }
 

@@ -1,4 +1,5 @@
 #include "io/run_reader.hpp"
+#include "core/number_text.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -196,8 +197,8 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
   mass_ = checked<double>("particles/mass", {N});
   for (std::size_t i = 0; i < N; ++i)
     if (!(diameter_[i] > 0.0) || !(mass_[i] > 0.0))
-      fail("grain " + std::to_string(i) + " has diameter " + std::to_string(diameter_[i]) + " m and mass " +
-           std::to_string(mass_[i]) + " kg/m in /particles: both must be > 0");
+      fail("grain " + std::to_string(i) + " has diameter " + shortest(diameter_[i]) + " m and mass " +
+           shortest(mass_[i]) + " kg/m in /particles: both must be > 0");
   body_names_ = h5::read_strings(file_, "bodies/name");
   const hsize_t B = body_names_.size();
   thickness_ = checked<double>("bodies/thickness", {B});
@@ -246,13 +247,45 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
     series_times_ = checked<double>("series/time", {length("series/time")});
     check_increasing("series/time", series_times_);
   }
+  check_records(N, S);
+}
+
+// What no stage reads but a run file holds (grain ids, the lost grains, jam
+// times, rotation angles): checked too, so that no damaged file passes for
+// a good one. Files written before these existed lack them.
+void RunReader::check_records(hsize_t N, hsize_t S) const {
+  const auto has = [&](const char* name) { return h5::exists(file_, name); };
+  const auto rows = [&](const char* name) {  // a 1-D record's length (the shape check refuses any other rank)
+    const std::vector<hsize_t> dims = h5::shape(file_, name);
+    return dims.empty() ? hsize_t{0} : dims[0];
+  };
+  if (has("particles/id")) {
+    const std::vector<std::int32_t> id = checked<std::int32_t>("particles/id", {N});
+    for (std::size_t i = 0; i < id.size(); ++i)
+      if (id[i] != static_cast<std::int32_t>(i)) fail("dataset /particles/id: row " + std::to_string(i) + " holds " + std::to_string(id[i]));
+  }
+  if (has("particles/inertia"))
+    for (const double v : checked<double>("particles/inertia", {N}))
+      if (!(v > 0.0)) fail("dataset /particles/inertia holds " + shortest(v) + ": moments of inertia are > 0");
+  if (has("snapshots/theta")) check_dataset("snapshots/theta", {S, N}, "f8");
+  if (has("bodies/velocity")) check_dataset("bodies/velocity", {static_cast<hsize_t>(body_names_.size()), 2}, "f8");
+  if (has("snapshots/displacement")) check_dataset("snapshots/displacement", {S, N, 2}, "f8");
+  if (has("lost/id")) {
+    const hsize_t L = rows("lost/id");
+    for (const std::int32_t i : checked<std::int32_t>("lost/id", {L}))
+      if (i < 0 || static_cast<hsize_t>(i) >= N) fail("dataset /lost/id holds " + std::to_string(i) + ", not a grain");
+    checked<std::int64_t>("lost/step", {L});
+    checked<double>("lost/x", {L});
+    checked<double>("lost/y", {L});
+  }
+  if (has("events/jam_time")) check_increasing("events/jam_time", checked<double>("events/jam_time", {rows("events/jam_time")}));
 }
 
 void RunReader::check_increasing(const std::string& name, const std::vector<double>& t) const {
   for (std::size_t k = 1; k < t.size(); ++k)
     if (!(t[k] > t[k - 1]))
       fail("dataset /" + name + " is not strictly increasing: row " + std::to_string(k) + " is " +
-           std::to_string(t[k]) + " s after " + std::to_string(t[k - 1]) + " s");
+           shortest(t[k]) + " s after " + shortest(t[k - 1]) + " s");
 }
 
 std::vector<double> RunReader::series(const std::string& name, const std::vector<hsize_t>& row_shape) const {

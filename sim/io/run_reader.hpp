@@ -154,6 +154,7 @@ class RunReader {
   // every value finite; the error names the row (`row_word` row0 + k / per_row)
   void check_finite(const std::string& name, const std::vector<double>& v, std::size_t per_row,
                     const char* row_word, std::size_t row0) const;
+  void check_records(hsize_t N, hsize_t S) const;
   void check_increasing(const std::string& name, const std::vector<double>& t) const;
   // the whole dataset, checked (shape, type, finite values for floats)
   template <class T>

@@ -7,11 +7,6 @@
 
 namespace dem2d {
 
-std::string shortest(double v) {
-  char buf[32];
-  return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
-}
-
 std::string show(const toml::node& n) {
   std::string s;
   if (const auto* i = n.as_integer())
@@ -110,6 +105,12 @@ std::string suggestion(std::string_view key, const std::vector<std::string_view>
   return best.empty() ? "" : "; did you mean '" + std::string(best) + "'?";
 }
 
+// A key as a message shows it: whole up to 64 characters, else its start and its length.
+std::string show_key(std::string_view key) {
+  if (key.size() <= 64) return std::string(key);
+  return std::string(key.substr(0, 40)) + "... (" + std::to_string(key.size()) + " characters)";
+}
+
 }  // namespace
 
 TableReader::TableReader(const TomlFile& f, const toml::node* node, std::string name,
@@ -123,7 +124,7 @@ TableReader::TableReader(const TomlFile& f, const toml::node* node, std::string 
     const std::string where = name_.empty()                          ? "at the top level"
                               : name_.find('[') != std::string::npos ? "in " + name_
                                                                      : "in [" + name_ + "]";
-    f.fail(&key.source(), "unknown key '" + std::string(key.str()) + "' " + where + " (allowed: " + join(allowed) + ")" +
+    f.fail(&key.source(), "unknown key '" + show_key(key.str()) + "' " + where + " (allowed: " + join(allowed) + ")" +
                               suggestion(key.str(), allowed));
   }
 }

@@ -6,6 +6,8 @@
 // (`contact.wall.kn`, `body[2].thickness`), the value given and what is allowed.
 #pragma once
 
+#include "core/number_text.hpp"  // shortest
+
 #include <toml++/toml.h>
 
 #include <array>
@@ -26,7 +28,6 @@ class TomlError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-std::string shortest(double v);  // the shortest text that reads back as v
 // A value as the user wrote it (near enough), shortened if long.
 std::string show(const toml::node& n);
 // Integers are accepted where a float is expected.

@@ -1,4 +1,5 @@
 #include "neighbour/cell_grid.hpp"
+#include "core/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,6 +7,10 @@
 #include <string>
 
 namespace dem2d {
+
+double CellGrid::cell_count(double xmin, double ymin, double xmax, double ymax, double cell_size) {
+  return (std::ceil((xmax - xmin) / cell_size) + 2.0) * (std::ceil((ymax - ymin) / cell_size) + 2.0);
+}
 
 void CellGrid::configure(double xmin, double ymin, double xmax, double ymax, double cell_size) {
   if (!(cell_size > 0.0) || !(xmax > xmin) || !(ymax > ymin))
@@ -15,9 +20,9 @@ void CellGrid::configure(double xmin, double ymin, double xmax, double ymax, dou
   inv_cell_ = 1.0 / cell_size;
   const double nx = std::ceil((xmax - xmin) / cell_size) + 2.0;
   const double ny = std::ceil((ymax - ymin) / cell_size) + 2.0;
-  if (nx * ny > 2.0e8)
+  if (!(nx * ny <= kMaxCells))
     throw std::invalid_argument("the domain holds more than 2e8 neighbour-search cells of " +
-                                std::to_string(cell_size) + " m; shrink [domain]");
+                                sig3(cell_size) + " m; shrink [domain]");
   nx_ = static_cast<int>(nx);
   ny_ = static_cast<int>(ny);
   start_.assign(static_cast<std::size_t>(nx_) * ny_ + 1, 0);

@@ -11,7 +11,14 @@ namespace dem2d {
 
 class CellGrid {
  public:
-  // Covers [xmin, xmax] x [ymin, ymax] plus one cell of margin on every side.
+  // At most this many cells (their index is an int; 2e8 cells hold 1.6 GB of offsets).
+  static constexpr double kMaxCells = 2.0e8;
+  // How many cells configure() makes for this domain and cell size (m).
+  static double cell_count(double xmin, double ymin, double xmax, double ymax, double cell_size);
+
+  // Covers [xmin, xmax] x [ymin, ymax] plus one cell of margin on every side;
+  // std::invalid_argument beyond kMaxCells (the scene reader refuses such a
+  // domain first, naming its keys).
   void configure(double xmin, double ymin, double xmax, double ymax, double cell_size);
 
   // Counting sort of the active particles into cells: O(N + cells).

@@ -7,6 +7,7 @@
 
 #include "contact/contact_model.hpp"
 #include "core/version.hpp"
+#include "io/h5_seal.hpp"
 #include "io/h5.hpp"
 #include "io/run_file.hpp"
 
@@ -129,6 +130,7 @@ void write_checkpoint(const std::string& path, const System& sys, std::span<Cont
     for (const auto& [name, v] : accumulators(sys.energy)) h5::write(f, std::string("energy/") + name, *v);
     h5::write_attr(f, "/", "energy_removed", sys.energy.removed);
     h5::write_attr(f, "/", "energy_error_offset", sys.energy.error_offset);
+    h5::seal(f);
   });
 }
 
@@ -143,6 +145,7 @@ double read_checkpoint(const std::string& path, System& sys, std::span<Controlle
   const h5::File f = h5::File::open_read(path);
   if (h5::read_attr_string(f, "/", "format") != kFormat)
     throw std::runtime_error(path + ": not a dem2d checkpoint");
+  h5::check_seal(f);
   const std::size_t n = sys.size();
   for (const auto& [name, v] : particle_arrays(sys.p)) {
     const std::vector<double> column = h5::read<double>(f, std::string("particles/") + name);

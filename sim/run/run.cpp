@@ -116,8 +116,21 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   System sys(scene);
   RunReport report;
   const bool resume = !opt.fresh && fs::exists(ckpt);
-  if (resume && checkpoint_scene_text(ckpt) != scene.text)
-    throw std::runtime_error(ckpt + " was written by a different scene or dem2d version; rerun with --fresh to discard it");
+  // A checkpoint that cannot be resumed from: say so, and how to start over.
+  const auto unusable = [&](const std::string& why) {
+    return std::runtime_error(why + "; rerun with --fresh to discard the unfinished run in " + work.string() +
+                              " and start over");
+  };
+  std::string ckpt_scene;
+  if (resume) {
+    try {
+      ckpt_scene = checkpoint_scene_text(ckpt);
+    } catch (const std::exception& e) {
+      throw unusable(std::string("cannot resume: ") + e.what());
+    }
+  }
+  if (resume && ckpt_scene != scene.text)
+    throw unusable(ckpt + " was written by a different scene or dem2d version");
   if (!resume) {
     fs::remove_all(work);
     fs::create_directories(work);
@@ -133,7 +146,11 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
 
   double wall_before = 0.0;  // spent by earlier invocations
   if (resume) {
-    wall_before = read_checkpoint(ckpt, sys, controllers);
+    try {
+      wall_before = read_checkpoint(ckpt, sys, controllers);
+    } catch (const std::exception& e) {
+      throw unusable(std::string("cannot resume: ") + e.what());
+    }
     report.resumed = true;
   }
   auto wall_now = [&] { return wall_before + std::chrono::duration<double>(Clock::now() - t_start).count(); };

@@ -1,4 +1,5 @@
 #include "run/stop_criteria.hpp"
+#include "core/number_text.hpp"
 
 #include <sstream>
 
@@ -25,7 +26,7 @@ std::string StopCriteria::act(System& sys) {
   next_check_ += every_;
   if (free_ && held_by_bed(sys, free_body_)) last_contact_ = sys.step;
   if (free_ && sys.step - last_contact_ >= free_steps_)
-    return "body " + stop_.body_free + " free of the bed for " + std::to_string(stop_.free_time) + " s";
+    return "body " + stop_.body_free + " free of the bed for " + shortest(stop_.free_time) + " s";
   if (energy_ && kinetic_energy_criterion_met(sys, stop_) && highest_grain(sys) < stop_.all_below) {
     std::ostringstream why;
     if (stop_.kinetic_energy_per_grain_below > 0.0)

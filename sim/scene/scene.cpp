@@ -23,6 +23,17 @@ double Scene::critical_dt() const {
   return std::sqrt(min_mass() / kn);
 }
 
+double Scene::interaction_range() const {
+  const double pp = law_range(coefficients(particle_particle, dt), effects);
+  return std::max(pp, has(effects, effect::walls) ? law_range(coefficients(particle_wall, dt), effects) : 0.0);
+}
+
+double Scene::neighbour_cell_size() const {
+  double d_max = 0.0;
+  for (const ParticleInit& p : particles) d_max = std::max(d_max, p.d);
+  return d_max + skin + interaction_range();
+}
+
 StabilityLimit Scene::stability_limit() const {
   StabilityLimit limit = dem2d::stability_limit(particle_particle, effects, density, min_diameter());
   if (has(effects, effect::walls)) {

@@ -21,6 +21,7 @@
 #include "core/key_spec.hpp"
 #include "core/step_count.hpp"
 #include "io/toml_reader.hpp"
+#include "neighbour/cell_grid.hpp"
 #include "scene/generators.hpp"
 #include "shape/shape_kinds.hpp"
 #include "scene/initial_state.hpp"
@@ -115,6 +116,7 @@ class SceneParser {
     if (!allow_overlap && s_.initial_run.empty()) check_overlaps();  // a run's grains touch: that is their state
     set_time_step(time);
     check_step_counts();
+    check_neighbour_cells();
   }
 
  private:
@@ -257,7 +259,7 @@ class SceneParser {
     } catch (const std::exception& e) {
       t.fail("run", std::string("cannot start from it: ") + e.what());
     }
-    origins_.push_back({0, "the initial run", true, t.where()});
+    origins_.push_back({0, "the initial run " + file.lexically_normal().string(), true, t.where()});
   }
 
   void read_particles() {
@@ -550,6 +552,21 @@ class SceneParser {
     }
   }
 
+  // The neighbour search's cells (d_max + skin + range wide) must fit in
+  // CellGrid::kMaxCells: a domain far larger than the grains is refused here,
+  // by `check` as by `run`.
+  void check_neighbour_cells() const {
+    const Box& d = s_.domain;
+    const double cell = s_.neighbour_cell_size();
+    const double cells = CellGrid::cell_count(d.xmin, d.ymin, d.xmax, d.ymax, cell);
+    if (cells <= CellGrid::kMaxCells) return;
+    top_.table("domain", {"xmin", "xmax", "ymin", "ymax"})
+        .fail("xmax", "the domain [" + shortest(d.xmin) + ", " + shortest(d.xmax) + "] x [" + shortest(d.ymin) + ", " +
+                shortest(d.ymax) + "] m holds " + sig3(cells) + " neighbour-search cells of " + sig3(cell) +
+                " m (the largest grain plus the skin), more than the " + sig3(CellGrid::kMaxCells) +
+                " the engine can index: shrink [domain] to where the grains can go");
+  }
+
   void check_overlaps() const {
     const auto& ps = s_.particles;
     const std::size_t n = ps.size();
@@ -611,16 +628,18 @@ class SceneParser {
   }
 
   void set_time_step(const TableReader& t) {
-    double d_min = s_.particles[0].d;
-    for (const auto& p : s_.particles) d_min = std::min(d_min, p.d);
+    std::size_t smallest = 0;
+    for (std::size_t i = 1; i < s_.particles.size(); ++i)
+      if (s_.particles[i].d < s_.particles[smallest].d) smallest = i;
+    const double d_min = s_.particles[smallest].d;
     s_.skin = skin_ > 0.0 ? skin_ : 0.25 * d_min;
 
     const double dt_c = s_.critical_dt();
     const bool fraction = t.has("dt_over_critical");
     if (!(dt_c > 0.0))
       t.fail(fraction ? "dt_over_critical" : "dt",
-             "the smallest grain (d = " + sig3(d_min) + " m) has dt_c = sqrt(m_min/k_n) = " + sig3(dt_c) +
-                 " s: its mass underflows, no time step resolves it");
+             "the smallest grain, " + who(smallest) + " (d = " + sig3(d_min) + " m), has dt_c = sqrt(m_min/k_n) = " +
+                 sig3(dt_c) + " s: its mass underflows, no time step resolves it");
     const double given = *t.number(fraction ? "dt_over_critical" : "dt", {"", "", Rule::positive});
     s_.dt = fraction ? given * dt_c : given;
     if (!(s_.dt > 0.0))  // a fraction of dt_c that underflows

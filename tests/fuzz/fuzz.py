@@ -1,0 +1,456 @@
+#!/usr/bin/python3
+"""The input-and-fault suite (make fuzz; a short version in make test).
+
+  fuzz.py --bin DIR [--quick] [--seed N] [--work DIR] [--only CLASS,...]
+
+DIR holds sim/dem2d and analysis/<stage> (a build tree: build/release or
+build/sanitize). Deterministic for a seed. Classes:
+  scene    mutated scenes (from tests/scenes, examples/, tests/fuzz): dem2d
+           check, then dem2d run of what check accepts (a few hundred steps)
+  config   mutated stage settings (data/<stage>.toml) and study constants
+           (data/study.toml), each stage on the suite's pull-off run
+  runfile  corrupted copies of that run file, read by every stage and by
+           dem2d check --initial
+  fault    SIGKILL, SIGTERM, SIGINT at random moments, a full disk (a file
+           size limit), a damaged work directory: the rerun must resume to a
+           run file bitwise identical to the uninterrupted one, or refuse and
+           say --fresh; a run file that exists is never wrong
+Outcomes per input: ok (accepted), error (exit 2, bad input, the message
+names the file), failed (exit 1 with a message: out of memory, a run that
+diverges, a damaged work directory), and the defects: crash (a signal or
+another exit code), sanitizer (an ASan/UBSan report), hang (no exit within
+the time limit), message (exit 2 whose message does not name the file, or is
+too long), disagree (check accepts what run refuses), silent (exit 0 on an
+input the program must refuse), fault (a resume that differs or a wrong
+file). Prints counts per class and outcome; exit 1 if any defect."""
+import argparse
+import collections
+import os
+import random
+import resource
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import h5py
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import mutate  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent.parent
+DEFECTS = ("crash", "sanitizer", "hang", "message", "disagree", "silent", "fault")
+STAGES = ("bed_metrics", "pulloff_metrics", "spectrum", "cg", "network", "friction")
+SCENES = ["tests/scenes/valid_minimal.toml", "tests/scenes/quick_fill.toml", "examples/box/scene.toml",
+          "examples/silo/scene.toml", "tests/fuzz/tiny_fill.toml", "tests/fuzz/tiny_pulloff.toml"]
+COUNTS = {"quick": {"scene": 40, "config": 30, "runfile": 10, "fault": 6},
+          "full": {"scene": 1200, "config": 700, "runfile": 300, "fault": 40}}
+TIMEOUT = 60.0  # s per program run (x 4 in a sanitizer build)
+
+
+class Result:
+    def __init__(self, rc, err, seconds):
+        self.rc, self.err, self.seconds = rc, err, seconds
+
+
+def execute(cmd, timeout, preexec=None):
+    t0 = time.monotonic()
+    try:
+        p = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, errors="replace",
+                           timeout=timeout, preexec_fn=preexec)
+        return Result(p.returncode, p.stderr, time.monotonic() - t0)
+    except subprocess.TimeoutExpired as e:
+        err = e.stderr.decode(errors="replace") if isinstance(e.stderr, bytes) else (e.stderr or "")
+        return Result(None, err, time.monotonic() - t0)
+
+
+def classify(r, program, names, must_fail=False):
+    """The outcome of one run: `names` are the input files one of which a
+    bad-input message must name (by path or file name)."""
+    if r.rc is None:
+        return "hang"
+    if "runtime error:" in r.err or "Sanitizer" in r.err:
+        return "sanitizer"
+    if r.rc < 0 or r.rc not in (0, 1, 2, 3):
+        return "crash"
+    if r.rc == 0:
+        return "silent" if must_fail else "ok"
+    first = r.err.strip().splitlines()[0] if r.err.strip() else ""
+    sane = first.startswith(f"{program}: ") and len(r.err) <= 4000
+    if r.rc == 2:
+        named = any(str(n) in r.err or Path(n).name in r.err for n in names)
+        return "error" if sane and named else "message"
+    return "failed" if sane else "message"
+
+
+class Suite:
+    def __init__(self, args):
+        self.bin = Path(args.bin).resolve()
+        self.dem2d = self.bin / "sim" / "dem2d"
+        self.analysis = self.bin / "analysis"
+        self.rng = random.Random(args.seed)
+        self.work = Path(args.work)
+        self.timeout = TIMEOUT * (4 if "sanitize" in str(self.bin) else 1)
+        self.counts = COUNTS["quick" if args.quick else "full"]
+        self.table = collections.defaultdict(collections.Counter)  # (class, kind) -> outcome counts
+        self.defects = []
+        self.failures = []  # exit 1 with a message: not defects, listed for a look
+        self.jobs = args.jobs
+
+    def record(self, cls, kind, outcome, what):
+        self.table[(cls, kind)][outcome] += 1
+        if outcome in DEFECTS:
+            self.defects.append(f"{cls}/{kind}: {outcome}: {what}")
+        elif outcome == "failed":
+            self.failures.append(f"{cls}/{kind}: {what}")
+
+    # ---- the valid inputs everything starts from ----
+    def setup(self):
+        d = self.work / "base"
+        shutil.rmtree(d, ignore_errors=True)
+        d.mkdir(parents=True)
+        fill, pull = d / "fill", d / "pull"
+        for cmd in ([self.dem2d, "run", ROOT / "tests/fuzz/tiny_fill.toml", "--out", fill],
+                    [self.dem2d, "run", ROOT / "tests/fuzz/tiny_pulloff.toml", "--initial", fill / "run.h5", "--out", pull],
+                    [self.analysis / "spectrum", pull / "run.h5", "--out", d / "spectrum"]):
+            r = execute(cmd, self.timeout * 5)
+            if r.rc != 0:
+                sys.exit(f"fuzz: the valid base failed: {' '.join(map(str, cmd))}:\n{r.err}")
+        self.fill, self.pull = fill / "run.h5", pull / "run.h5"
+        self.events, self.spectrum_metrics = d / "spectrum/spectrum.h5", d / "spectrum/metrics.json"
+        # every consumer accepts the valid run file, or the oracle means nothing
+        for name, cmd in self.consumers(self.pull, d / "valid").items():
+            r = execute(cmd, self.timeout)
+            if r.rc != 0:
+                sys.exit(f"fuzz: {name} refuses the valid pull-off run:\n{r.err}")
+
+    def stage_command(self, stage, run, out, config=None, study=None):
+        cmd = [self.analysis / stage, run, "--out", out / ("metrics.json" if stage in ("bed_metrics", "pulloff_metrics") else "")]
+        if stage == "pulloff_metrics":
+            cmd += ["--bed", self.fill]
+        if stage in ("cg", "network"):
+            cmd += ["--events", self.events]
+        if stage == "network":
+            cmd += ["--spectrum-metrics", self.spectrum_metrics]
+        if config:
+            cmd += ["--config", config]
+        if study:
+            cmd += ["--study", study]
+        return cmd
+
+    def consumers(self, run, out):
+        c = {s: self.stage_command(s, run, out / s) for s in STAGES}
+        c["dem2d_initial"] = [self.dem2d, "check", ROOT / "tests/fuzz/tiny_pulloff.toml", "--initial", run]
+        return c
+
+    def parallel(self, items, fn):
+        with ThreadPoolExecutor(self.jobs) as pool:
+            return list(pool.map(fn, items))
+
+    # ---- scenes ----
+    def scenes(self):
+        d = self.work / "scene"
+        shutil.rmtree(d, ignore_errors=True)
+        d.mkdir(parents=True)
+        cases = []
+        for k in range(self.counts["scene"]):
+            base = ROOT / self.rng.choice(SCENES)
+            kind, text = mutate.mutate_toml(self.rng, base.read_text())
+            path = d / f"{k:05d}_{base.stem if base.stem != 'scene' else base.parent.name}.toml"
+            path.write_text(text, errors="surrogateescape")
+            cases.append((kind, path, base.name == "tiny_pulloff.toml"))
+
+        def one(case):
+            kind, path, needs_bed = case
+            extra = ["--initial", self.fill] if needs_bed else []
+            r = execute([self.dem2d, "check", path, *extra], self.timeout)
+            outcome = classify(r, "dem2d", [path])
+            if outcome == "ok":
+                out = path.with_suffix("")
+                run = execute([self.dem2d, "run", path, *extra, "--out", out, "--threads", "1",
+                               "--interrupt-at-step", "300"], self.timeout)
+                outcome = "ok" if run.rc == 3 else classify(run, "dem2d", [path])  # 3: stopped at the step asked
+                if outcome == "error":
+                    outcome = "disagree"
+                r = run
+                shutil.rmtree(out, ignore_errors=True)
+            return kind, outcome, f"{path}: {r.err.strip()[:300]}"
+
+        for kind, outcome, what in self.parallel(cases, one):
+            self.record("scene", kind, outcome, what)
+
+    # ---- stage settings ----
+    def configs(self):
+        d = self.work / "config"
+        shutil.rmtree(d, ignore_errors=True)
+        d.mkdir(parents=True)
+        cases = []
+        for k in range(self.counts["config"]):
+            stage = self.rng.choice(STAGES)
+            own = ROOT / "data" / f"{stage}.toml"
+            # pulloff_metrics has no settings file, bed_metrics no study constants
+            study = stage == "pulloff_metrics" or (stage != "bed_metrics" and self.rng.random() < 0.2)
+            base = ROOT / "data/study.toml" if study else own
+            kind, text = mutate.mutate_toml(self.rng, base.read_text())
+            path = d / f"{k:05d}_{base.name}"
+            path.write_text(text, errors="surrogateescape")
+            out = d / f"{k:05d}_out"
+            cmd = self.stage_command(stage, self.pull, out, None if study else path, path if study else None)
+            cases.append((f"{stage}{'/study' if study else ''}:{kind}", path, cmd))
+
+        def one(case):
+            kind, path, cmd = case
+            r = execute(cmd, self.timeout)
+            return kind, classify(r, cmd[0].name, [path]), f"{path}: {r.err.strip()[:300]}"
+
+        for kind, outcome, what in self.parallel(cases, one):
+            self.record("config", kind.split(":")[1], outcome, what)
+
+    # ---- run files ----
+    # Which consumers must refuse a mutation (the rest may accept it: they
+    # need not read what changed). Every consumer opens the file with the
+    # run-file reader, which checks the particles, bodies, times and every
+    # dataset's shape and type on opening; a snapshot's values when it is read.
+    OPENED = ("particles/", "bodies/", "snapshots/time", "snapshots/step", "series/time", "snapshots/contact_start")
+    READS_ALL_SNAPSHOTS = ("cg", "network", "friction")
+    READS_LAST_SNAPSHOT = ("bed_metrics", "dem2d_initial")
+    READS_CONTACTS = ("network", "friction", "bed_metrics", "dem2d_initial")
+
+    # Records a run file may lack (files written before they existed): their
+    # deletion is not damage a reader must see.
+    OPTIONAL = ("particles/id", "particles/inertia", "snapshots/theta", "snapshots/displacement", "bodies/role",
+                "bodies/velocity", "lost/", "events/")
+
+    def must_fail(self, consumer, kind, name, where):
+        if kind == "truncate_file" or where == "none":
+            return kind == "truncate_file"
+        structural = kind in ("shorter", "empty", "delete", "int_type", "reverse_time", "repeat_time")
+        if name.startswith("series/"):  # read by the drag's consumers only
+            return consumer in ("pulloff_metrics", "spectrum") and (structural or kind in ("nan", "inf")) and \
+                name in ("series/time", "series/body_force_mean", "series/body_vertices")
+        if structural:
+            if kind == "delete" and name.startswith(self.OPTIONAL):
+                return False
+            return name.startswith(self.OPENED + self.OPTIONAL) or name.startswith(("snapshots/", "contacts/"))
+        if name.startswith(("particles/diameter", "particles/mass")):
+            return kind != "huge"
+        if name in ("snapshots/time", "series/time"):
+            return kind in ("nan", "inf")
+        if name in ("snapshots/position", "snapshots/velocity") and kind in ("nan", "inf"):
+            return consumer in self.READS_ALL_SNAPSHOTS or (where == "last" and consumer in self.READS_LAST_SNAPSHOT)
+        if name.startswith("contacts/") and kind in ("nan", "inf", "bad_contact"):
+            reads = consumer in ("network", "friction") or (where == "last" and consumer in self.READS_CONTACTS)
+            return reads and name != "contacts/mr"
+        return False
+
+    def runfiles(self):
+        d = self.work / "runfile"
+        shutil.rmtree(d, ignore_errors=True)
+        d.mkdir(parents=True)
+        cases = []
+        for k in range(self.counts["runfile"]):
+            path = d / f"{k:05d}.h5"
+            shutil.copy(self.pull, path)
+            with h5py.File(path, "r+") as f:
+                kind, name, where = mutate.mutate_run(self.rng, f)
+            if kind == "truncate_file":
+                size = path.stat().st_size
+                with open(path, "r+b") as fh:
+                    fh.truncate(self.rng.randrange(size))
+            for consumer, cmd in self.consumers(path, d / f"{k:05d}_out").items():
+                cases.append((kind, name, where, consumer, path, cmd))
+
+        def one(case):
+            kind, name, where, consumer, path, cmd = case
+            r = execute(cmd, self.timeout)
+            program = "dem2d" if consumer == "dem2d_initial" else consumer
+            outcome = classify(r, program, [path], self.must_fail(consumer, kind, name, where))
+            return kind, outcome, f"{consumer} on {path} ({kind} {name} {where}): {r.err.strip()[:300]}"
+
+        for kind, outcome, what in self.parallel(cases, one):
+            self.record("runfile", kind, outcome, what)
+
+    # ---- faults ----
+    def faults(self):
+        d = self.work / "fault"
+        shutil.rmtree(d, ignore_errors=True)
+        d.mkdir(parents=True)
+        scene = d / "scene.toml"
+        scene.write_text((ROOT / "tests/fuzz/tiny_fill.toml").read_text().replace(
+            "checkpoint_interval = 0.05", "checkpoint_interval = 0.01"))
+        run = [self.dem2d, "run", scene, "--threads", "1"]
+        r = execute([*run, "--out", d / "ref"], self.timeout * 5)
+        if r.rc != 0:
+            sys.exit(f"fuzz: the fault scene failed:\n{r.err}")
+        ref, wall = d / "ref/run.h5", r.seconds
+        same = ROOT / "tests/tools/same_run.py"
+
+        def identical(out):
+            return execute([sys.executable, same, out / "run.h5", ref], self.timeout).rc == 0
+
+        modes = ["KILL", "TERM", "INT", "disk", "workdir"] + (["tmpfs"] if self.can_mount(d) else [])
+        for k in range(self.counts["fault"]):
+            mode = self.rng.choice(modes)
+            out = d / f"{k:03d}_{mode}"
+            what = f"{out}"
+            if mode in ("KILL", "TERM", "INT"):
+                p = subprocess.Popen([str(c) for c in [*run, "--out", out]], stderr=subprocess.PIPE, text=True)
+                time.sleep(self.rng.uniform(0.05, 1.1) * wall)  # the end: while the run file is assembled
+                p.send_signal(getattr(signal, "SIG" + mode))
+                _, err = p.communicate()
+                first = p.returncode
+                if (out / "run.h5").exists() and first == 0:
+                    outcome = "ok" if identical(out) else "fault"  # finished before the signal
+                else:
+                    if "runtime error:" in err or "Sanitizer" in err:
+                        self.record("fault", mode, "sanitizer", f"{what}: {err[:300]}")
+                        continue
+                    if (out / "run.h5").exists():
+                        outcome = "fault"  # an interrupted run left a run file
+                    else:
+                        r = execute([*run, "--out", out], self.timeout * 5)
+                        outcome = "resumed" if r.rc == 0 and identical(out) else "fault"
+                        what += f": rerun exit {r.rc}: {r.err.strip()[:300]}"
+            elif mode == "tmpfs":
+                outcome, what = self.full_tmpfs(d / f"{k:03d}_tmpfs", run, identical)
+            elif mode == "disk":
+                limit = self.rng.choice([8, 30, 80, 200, 600]) * 1024
+
+                def small_disk(limit=limit):
+                    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+                    resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
+
+                r = execute([*run, "--out", out], self.timeout * 5, preexec=small_disk)
+                if r.rc == 0:
+                    outcome = "ok" if identical(out) else "fault"
+                elif classify(r, "dem2d", [out]) in ("failed", "error") and not (out / "run.h5").exists():
+                    r2 = execute([*run, "--out", out], self.timeout * 5)
+                    outcome = "resumed" if r2.rc == 0 and identical(out) else "fault"
+                    what += f": rerun exit {r2.rc}: {r2.err.strip()[:300]}"
+                else:
+                    outcome = classify(r, "dem2d", [out])
+                    outcome = outcome if outcome in DEFECTS else "fault"
+                what += f" (file size limit {limit} B): exit {r.rc}: {r.err.strip()[:300]}"
+            else:
+                r = execute([*run, "--out", out, "--interrupt-at-step", str(self.rng.randrange(2000, 40000))], self.timeout * 5)
+                damage = self.damage(out / ".run.work")
+                r = execute([*run, "--out", out], self.timeout * 5)
+                if r.rc == 0:
+                    outcome = "resumed" if identical(out) else "fault"
+                elif "--fresh" in r.err and not (out / "run.h5").exists():
+                    r2 = execute([*run, "--out", out, "--fresh"], self.timeout * 5)
+                    outcome = "refused" if r2.rc == 0 and identical(out) else "fault"
+                else:
+                    outcome = classify(r, "dem2d", [out])
+                    outcome = outcome if outcome in DEFECTS else "fault"
+                what += f" ({damage}): exit {r.rc}: {r.err.strip()[:300]}"
+                mode = f"workdir:{damage.split(' ')[0]}"
+            self.record("fault", mode, outcome, what)
+
+    def can_mount(self, d):
+        """A real full disk needs a small tmpfs: root only (CI runs as root)."""
+        probe = d / "mount_probe"
+        probe.mkdir(exist_ok=True)
+        ok = os.geteuid() == 0 and subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(probe)],
+                                                  capture_output=True).returncode == 0
+        if ok:
+            subprocess.run(["umount", str(probe)], check=True)
+        else:
+            print("fuzz: NOT TESTED: a full disk on a tmpfs (needs root and mount); the file size limit stands in")
+        return ok
+
+    def full_tmpfs(self, mnt, run, identical):
+        """The run on a tmpfs too small for it: a clean failure and no run file;
+        then the same tmpfs grown and the run resumed."""
+        size = self.rng.choice([48, 120, 300, 800])
+        mnt.mkdir()
+        subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}k", "tmpfs", str(mnt)], check=True)
+        try:
+            out = mnt / "out"
+            r = execute([*run, "--out", out], self.timeout * 5)
+            what = f"{mnt} ({size} KiB): exit {r.rc}: {r.err.strip()[:300]}"
+            if r.rc == 0:
+                return ("ok" if identical(out) else "fault"), what
+            outcome = classify(r, "dem2d", [out])
+            if outcome not in ("failed", "error") or (out / "run.h5").exists():
+                return (outcome if outcome in DEFECTS else "fault"), what
+            subprocess.run(["mount", "-o", "remount,size=64m", str(mnt)], check=True)
+            r2 = execute([*run, "--out", out], self.timeout * 5)
+            ok = r2.rc == 0 and identical(out)
+            return ("resumed" if ok else "fault"), what + f"; grown: exit {r2.rc}: {r2.err.strip()[:300]}"
+        finally:
+            subprocess.run(["umount", str(mnt)], check=False)
+
+    def damage(self, work):
+        """Damages an unfinished run's work directory; returns what was done."""
+        files = sorted(work.glob("*.h5"))
+        if not files:
+            return "none (no work directory)"
+        kind = self.rng.choice(["truncate", "garbage", "delete", "nan"])
+        victim = self.rng.choice(files)
+        if kind == "truncate":
+            size = victim.stat().st_size
+            with open(victim, "r+b") as f:
+                f.truncate(self.rng.randrange(size))
+        elif kind == "garbage":
+            with open(victim, "r+b") as f:
+                f.seek(self.rng.randrange(victim.stat().st_size))
+                f.write(bytes(self.rng.randrange(256) for _ in range(64)))
+        elif kind == "delete":
+            victim.unlink()
+        else:
+            with h5py.File(victim, "r+") as f:
+                names = mutate.float_datasets(f)
+                name = self.rng.choice(names)
+                data = f[name][...]
+                data.reshape(-1)[self.rng.randrange(data.size)] = float("nan")
+                f[name][...] = data
+        return f"{kind} {victim.name}"
+
+    def report(self, seconds):
+        outcomes = ["ok", "error", "failed", "resumed", "refused", *DEFECTS]
+        print(f"fuzz: {self.bin} ({seconds:.0f} s)")
+        print(f"{'class':8} {'kind':22} {'inputs':>6} " + " ".join(f"{o:>9}" for o in outcomes))
+        total = collections.Counter()
+        for (cls, kind), c in sorted(self.table.items()):
+            total.update(c)
+            print(f"{cls:8} {kind:22} {sum(c.values()):6} " + " ".join(f"{c[o]:9}" for o in outcomes))
+        print(f"{'all':8} {'':22} {sum(total.values()):6} " + " ".join(f"{total[o]:9}" for o in outcomes))
+        for f in self.failures[:20]:
+            print("failed (exit 1)", f)
+        for d in self.defects:
+            print("DEFECT", d)
+        print(f"fuzz: {len(self.defects)} defects")
+        return 1 if self.defects else 0
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--bin", required=True, help="build tree with sim/dem2d and analysis/")
+    ap.add_argument("--quick", action="store_true", help="the short version (make test)")
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--work", default=None, help="working folder (default: a temporary one)")
+    ap.add_argument("--only", default="scene,config,runfile,fault")
+    ap.add_argument("--jobs", type=int, default=2)
+    args = ap.parse_args()
+    tmp = None
+    if args.work is None:
+        tmp = tempfile.TemporaryDirectory(prefix="dem2d_fuzz_")
+        args.work = tmp.name
+    t0 = time.monotonic()
+    suite = Suite(args)
+    suite.setup()
+    for cls in args.only.split(","):
+        {"scene": suite.scenes, "config": suite.configs, "runfile": suite.runfiles, "fault": suite.faults}[cls]()
+    rc = suite.report(time.monotonic() - t0)
+    if tmp:
+        tmp.cleanup()
+    return rc
+
+
+if __name__ == "__main__":
+    sys.exit(main())
