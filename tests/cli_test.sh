@@ -31,6 +31,8 @@ expect 2 "threads: 65536: must be an integer from 0 (all processors) to" -- \
   "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/many" --threads 65536
 [ -e "$WORK/many" ] && fail "a rejected --threads left an output folder"
 expect 2 "threads: -1: must be an integer" -- "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/many" --threads -1
+expect 2 "unknown command 'rnu' (commands: run, check, bench); did you mean 'run'?" -- "$DEM2D" rnu "$TESTS/scenes/valid_minimal.toml"
+"$DEM2D" run --help | grep -q -- "--interrupt-at-step" && fail "the test-only --interrupt-at-step shows in run --help"
 
 # a complete run: run file and XDMF, valid layout, no work directory left
 expect 0 "run.h5" -- "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/minimal"

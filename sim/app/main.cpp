@@ -15,10 +15,12 @@
 #include <exception>
 #include <new>
 #include <string>
+#include <string_view>
 #include <vector>
 
-#include "core/version.hpp"
 #include "app/bench.hpp"
+#include "core/version.hpp"
+#include "io/toml_reader.hpp"  // did_you_mean, show_key
 #include "run/run.hpp"
 #include "scene/scene_toml.hpp"
 
@@ -124,7 +126,8 @@ int main(int argc, char** argv) {
   run->add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(thread_count);
   run->add_flag("--fresh", run_opt.fresh, "Discard a checkpoint in DIR instead of resuming from it");
   run->add_option("--interrupt-at-step", run_opt.interrupt_at_step,
-                  "Testing: checkpoint and stop as if interrupted at this step");
+                  "Testing: checkpoint and stop as if interrupted at this step")
+      ->group("");  // for the tests: not in --help
 
   auto* check = app.add_subcommand("check", "Validate a scene file and print its summary");
   scene_options(check);
@@ -146,6 +149,15 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
 
+  // A misspelt command: say which, and the nearest (CLI11 says only that one is required).
+  if (argc > 1 && argv[1][0] != '-') {
+    const std::vector<std::string_view> commands = {"run", "check", "bench"};
+    if (std::find(commands.begin(), commands.end(), std::string_view(argv[1])) == commands.end()) {
+      std::fprintf(stderr, "dem2d: unknown command '%s' (commands: run, check, bench)%s\n",
+                   dem2d::show_key(argv[1]).c_str(), dem2d::did_you_mean(argv[1], commands).c_str());
+      return kExitBadInput;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

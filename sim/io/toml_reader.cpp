@@ -78,24 +78,25 @@ toml::table TomlFile::parse_file() const {
 
 namespace {
 
+// Edits (insert, delete, replace, swap two neighbours) from a to b: "rnu" is one from "run".
 std::size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  std::vector<std::size_t> before(b.size() + 1), prev(b.size() + 1), row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
   for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
     row[0] = i;
     for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t next = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = row[j];
-      row[j] = next;
+      row[j] = std::min({prev[j] + 1, row[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) row[j] = std::min(row[j], before[j - 2] + 1);
     }
+    std::swap(before, prev);
+    std::swap(prev, row);
   }
-  return row[b.size()];
+  return prev[b.size()];
 }
 
-// "; did you mean 'kn'?" for the allowed key nearest a misspelt one (at most
-// a third of its letters apart), "" if none is that near.
-std::string suggestion(std::string_view key, const std::vector<std::string_view>& allowed) {
+}  // namespace
+
+std::string did_you_mean(std::string_view key, const std::vector<std::string_view>& allowed) {
   std::string_view best;
   std::size_t best_distance = key.size() / 3 + 1;
   for (const std::string_view a : allowed) {
@@ -105,13 +106,10 @@ std::string suggestion(std::string_view key, const std::vector<std::string_view>
   return best.empty() ? "" : "; did you mean '" + std::string(best) + "'?";
 }
 
-// A key as a message shows it: whole up to 64 characters, else its start and its length.
 std::string show_key(std::string_view key) {
   if (key.size() <= 64) return std::string(key);
   return std::string(key.substr(0, 40)) + "... (" + std::to_string(key.size()) + " characters)";
 }
-
-}  // namespace
 
 TableReader::TableReader(const TomlFile& f, const toml::node* node, std::string name,
                          std::vector<std::string_view> allowed)
@@ -125,7 +123,7 @@ TableReader::TableReader(const TomlFile& f, const toml::node* node, std::string 
                               : name_.find('[') != std::string::npos ? "in " + name_
                                                                      : "in [" + name_ + "]";
     f.fail(&key.source(), "unknown key '" + show_key(key.str()) + "' " + where + " (allowed: " + join(allowed) + ")" +
-                              suggestion(key.str(), allowed));
+                              did_you_mean(key.str(), allowed));
   }
 }
 

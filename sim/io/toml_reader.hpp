@@ -23,6 +23,12 @@
 
 namespace dem2d {
 
+// "; did you mean 'kn'?" for the allowed name nearest a misspelt one (at most
+// a third of its letters apart), "" if none is that near.
+std::string did_you_mean(std::string_view key, const std::vector<std::string_view>& allowed);
+// A name as a message shows it: whole up to 64 characters, else its start and its length.
+std::string show_key(std::string_view key);
+
 class TomlError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;

@@ -57,11 +57,17 @@ class Result:
         self.rc, self.err, self.seconds = rc, err, seconds
 
 
-def execute(cmd, timeout, preexec=None):
+# A file HDF5 could not flush stays in its memory until the exit: LeakSanitizer's report of it is expected
+# in the full-disk trials, and only there (lsan_full_disk.supp).
+FULL_DISK_ENV = dict(os.environ, LSAN_OPTIONS=":".join(
+    filter(None, [os.environ.get("LSAN_OPTIONS"), f"suppressions={Path(__file__).resolve().parent / 'lsan_full_disk.supp'}"])))
+
+
+def execute(cmd, timeout, preexec=None, env=None):
     t0 = time.monotonic()
     try:
         p = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, errors="replace",
-                           timeout=timeout, preexec_fn=preexec)
+                           timeout=timeout, preexec_fn=preexec, env=env)
         return Result(p.returncode, p.stderr, time.monotonic() - t0)
     except subprocess.TimeoutExpired as e:
         err = e.stderr.decode(errors="replace") if isinstance(e.stderr, bytes) else (e.stderr or "")
@@ -302,19 +308,17 @@ class Suite:
                 time.sleep(self.rng.uniform(0.05, 1.1) * wall)  # the end: while the run file is assembled
                 p.send_signal(getattr(signal, "SIG" + mode))
                 _, err = p.communicate()
-                first = p.returncode
-                if (out / "run.h5").exists() and first == 0:
-                    outcome = "ok" if identical(out) else "fault"  # finished before the signal
+                if "runtime error:" in err or "Sanitizer" in err:
+                    self.record("fault", mode, "sanitizer", f"{what}: {err[:300]}")
+                    continue
+                if (out / "run.h5").exists():
+                    # finished before the signal, or killed after the run file's last rename
+                    # (its segments not yet deleted): a run file that exists is the whole run
+                    outcome = "ok" if identical(out) else "fault"
                 else:
-                    if "runtime error:" in err or "Sanitizer" in err:
-                        self.record("fault", mode, "sanitizer", f"{what}: {err[:300]}")
-                        continue
-                    if (out / "run.h5").exists():
-                        outcome = "fault"  # an interrupted run left a run file
-                    else:
-                        r = execute([*run, "--out", out], self.timeout * 5)
-                        outcome = "resumed" if r.rc == 0 and identical(out) else "fault"
-                        what += f": rerun exit {r.rc}: {r.err.strip()[:300]}"
+                    r = execute([*run, "--out", out], self.timeout * 5)
+                    outcome = "resumed" if r.rc == 0 and identical(out) else "fault"
+                    what += f": rerun exit {r.rc}: {r.err.strip()[:300]}"
             elif mode == "tmpfs":
                 outcome, what = self.full_tmpfs(d / f"{k:03d}_tmpfs", run, identical)
             elif mode == "disk":
@@ -324,7 +328,7 @@ class Suite:
                     signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
                     resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
 
-                r = execute([*run, "--out", out], self.timeout * 5, preexec=small_disk)
+                r = execute([*run, "--out", out], self.timeout * 5, preexec=small_disk, env=FULL_DISK_ENV)
                 if r.rc == 0:
                     outcome = "ok" if identical(out) else "fault"
                 elif classify(r, "dem2d", [out]) in ("failed", "error") and not (out / "run.h5").exists():
@@ -371,7 +375,7 @@ class Suite:
         subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}k", "tmpfs", str(mnt)], check=True)
         try:
             out = mnt / "out"
-            r = execute([*run, "--out", out], self.timeout * 5)
+            r = execute([*run, "--out", out], self.timeout * 5, env=FULL_DISK_ENV)
             what = f"{mnt} ({size} KiB): exit {r.rc}: {r.err.strip()[:300]}"
             if r.rc == 0:
                 return ("ok" if identical(out) else "fault"), what
