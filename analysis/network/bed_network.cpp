@@ -59,7 +59,6 @@ NetworkResult run_bed_network(const RunReader& run, const NetworkInputs& in, con
     const Snapshot s = run.snapshot(k);
     try {
       const PulloffGeometry geo = pulloff_geometry(s);
-      if (geo.has_intruder()) throw StageError("a body has the role 'intruder' here but not at snapshot 0");
       if (k == 0) measured_d = mean_diameter(s);
       const std::vector<Partner> partners = classify_contacts(s, geo);
       const ContactGraph g = build_contact_graph(s, partners);
