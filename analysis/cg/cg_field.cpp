@@ -1,11 +1,12 @@
 #include "cg/cg_field.hpp"
-#include "core/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <sstream>
+
+#include "core/number_text.hpp"
 
 namespace dem2d::analysis {
 

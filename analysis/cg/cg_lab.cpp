@@ -157,33 +157,23 @@ CgResult compute_cg_lab(const RunReader& run, const CgInput& in) {
   m["cost"] = {{"seconds", seconds}, {"threads", threads}};
 
   // ---- cg.h5 ----
-  std::vector<Dataset> D;
-  const auto f64 = [&](std::string name, std::string unit, std::vector<double> v, std::string about) {
-    D.push_back({Dataset::Type::f64, std::move(name), std::move(unit), std::move(about), {}, {}, std::move(v), {}});
-  };
-  const auto f32 = [&](std::string name, std::string unit, std::vector<float> v, std::vector<hsize_t> dims, std::string about) {
-    D.push_back({Dataset::Type::f32, std::move(name), std::move(unit), std::move(about), std::move(dims), std::move(v), {}, {}});
-  };
+  DatasetList D;
   const auto per = [&](auto get) {
     std::vector<double> v(S);
     for (std::size_t k = 0; k < S; ++k) v[k] = get(ms[k]);
     return v;
   };
-  std::vector<double> gx(su.grid.nx), gy(su.grid.ny);
-  for (std::size_t i = 0; i < su.grid.nx; ++i) gx[i] = su.grid.x(i);
-  for (std::size_t j = 0; j < su.grid.ny; ++j) gy[j] = su.grid.y(j);
-  f64("grid/x", "m", gx, "node x (run-file frame)");
-  f64("grid/y", "m", gy, "node y (run-file frame)");
-  f64("snapshots/time", "s", times, "snapshot time");
-  f64("snapshots/bed_height", "m", per([](const LabMeasure& x) { return x.surface; }), "free surface above the floor's inner face");
-  f64("snapshots/bed_area", "m^2", per([](const LabMeasure& x) { return x.area; }), "area of the nodes with phi >= mask_phi");
-  f64("snapshots/bed_solid_fraction", "-", per([](const LabMeasure& x) { return x.phi; }), "mean phi of the bed nodes");
-  f64("snapshots/mean_speed", "m/s", per([](const LabMeasure& x) { return x.mean_speed; }), "mean |V| of the bed nodes");
-  f64("snapshots/max_speed", "m/s", per([](const LabMeasure& x) { return x.max_speed; }), "largest |V| of the bed nodes");
+  D.grid(su.grid, "node y (run-file frame)");
+  D.f64("snapshots/time", "s", times, {}, "snapshot time");
+  D.f64("snapshots/bed_height", "m", per([](const LabMeasure& x) { return x.surface; }), {}, "free surface above the floor's inner face");
+  D.f64("snapshots/bed_area", "m^2", per([](const LabMeasure& x) { return x.area; }), {}, "area of the nodes with phi >= mask_phi");
+  D.f64("snapshots/bed_solid_fraction", "-", per([](const LabMeasure& x) { return x.phi; }), {}, "mean phi of the bed nodes");
+  D.f64("snapshots/mean_speed", "m/s", per([](const LabMeasure& x) { return x.mean_speed; }), {}, "mean |V| of the bed nodes");
+  D.f64("snapshots/max_speed", "m/s", per([](const LabMeasure& x) { return x.max_speed; }), {}, "largest |V| of the bed nodes");
   if (zones) {
-    f64("zones/immobile_area", "m^2", per([](const LabMeasure& x) { return x.zones.immobile; }), "bed nodes with v* < zones.immobile_below");
-    f64("zones/intermediate_area", "m^2", per([](const LabMeasure& x) { return x.zones.cone; }), "bed nodes in between");
-    f64("zones/mobile_area", "m^2", per([](const LabMeasure& x) { return x.zones.dragged; }), "bed nodes with v* > zones.dragged_above");
+    D.f64("zones/immobile_area", "m^2", per([](const LabMeasure& x) { return x.zones.immobile; }), {}, "bed nodes with v* < zones.immobile_below");
+    D.f64("zones/intermediate_area", "m^2", per([](const LabMeasure& x) { return x.zones.cone; }), {}, "bed nodes in between");
+    D.f64("zones/mobile_area", "m^2", per([](const LabMeasure& x) { return x.zones.dragged; }), {}, "bed nodes with v* > zones.dragged_above");
   }
   {
     std::vector<double> at;
@@ -195,14 +185,14 @@ CgResult compute_cg_lab(const RunReader& run, const CgInput& in) {
       vy.insert(vy.end(), ms[k].vy_field.begin(), ms[k].vy_field.end());
     }
     const std::vector<hsize_t> dims = {fields_at.size(), su.grid.ny, su.grid.nx};
-    f64("fields/snapshot", "-", at, "snapshot index of each stored field");
-    f32("fields/phi", "-", std::move(phi), dims, "solid fraction [field, y, x]");
-    f32("fields/vx", "m/s", std::move(vx), dims, "lab-frame velocity x (NaN outside the bed)");
-    f32("fields/vy", "m/s", std::move(vy), dims, "lab-frame velocity y (NaN outside the bed)");
+    D.f64("fields/snapshot", "-", at, {}, "snapshot index of each stored field");
+    D.f32("fields/phi", "-", std::move(phi), dims, "solid fraction [field, y, x]");
+    D.f32("fields/vx", "m/s", std::move(vx), dims, "lab-frame velocity x (NaN outside the bed)");
+    D.f32("fields/vy", "m/s", std::move(vy), dims, "lab-frame velocity y (NaN outside the bed)");
   }
   CgResult r;
   r.metrics = {{"cg", m}};
-  r.datasets = std::move(D);
+  r.datasets = std::move(D.items);
   r.attributes = {{"format", "dem2d-cg-lab-1"}, {"run_file", path}, {"frame", "lab"},
                   {"velocity_source", m["velocity_source"].get<std::string>()}, {"metrics", r.metrics.dump()},
                   {"floor_y", shortest(su.cell.floor)}};

@@ -1,9 +1,10 @@
 #include "cg/cg_report.hpp"
-#include "core/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+
+#include "core/number_text.hpp"
 
 namespace dem2d::analysis {
 
@@ -134,7 +135,6 @@ WallLoss wall_loss(const std::vector<SnapshotMeasure>& ms, const std::vector<std
 }
 
 nlohmann::ordered_json nullable(double v) { return std::isnan(v) ? nlohmann::ordered_json() : nlohmann::ordered_json(v); }
-
 
 // The snapshots the cone and wall metrics use: the pre-rupture ones with events, else all.
 std::vector<std::size_t> selection(const StageRecord& r, bool all) {
@@ -395,68 +395,50 @@ std::vector<Dataset> cg_datasets(const StageRecord& r) {
   const std::size_t S = ms.size();
   const double dx = su.grid.dx;
   const std::size_t cone0 = su.cone0(), wall0 = su.wall0();
-  std::vector<Dataset> D;
-  const auto f64 = [&](std::string name, std::string unit, std::vector<double> v, std::vector<hsize_t> dims = {},
-                       std::string about = "") {
-    Dataset d{Dataset::Type::f64, std::move(name), std::move(unit), std::move(about), std::move(dims), {}, std::move(v), {}};
-    D.push_back(std::move(d));
-  };
-  const auto f32 = [&](std::string name, std::string unit, std::vector<float> v, std::vector<hsize_t> dims,
-                       std::string about = "") {
-    Dataset d{Dataset::Type::f32, std::move(name), std::move(unit), std::move(about), std::move(dims), std::move(v), {}, {}};
-    D.push_back(std::move(d));
-  };
-  const auto i64 = [&](std::string name, std::vector<std::int64_t> v, std::string about = "") {
-    Dataset d{Dataset::Type::i64, std::move(name), "", std::move(about), {}, {}, {}, std::move(v)};
-    D.push_back(std::move(d));
-  };
+  DatasetList D;
   const auto per = [&](auto get) {
     std::vector<double> v(S);
     for (std::size_t k = 0; k < S; ++k) v[k] = get(ms[k]);
     return v;
   };
   const Grid& g = su.grid;
-  std::vector<double> gx(g.nx), gy(g.ny);
-  for (std::size_t i = 0; i < g.nx; ++i) gx[i] = g.x(i);
-  for (std::size_t j = 0; j < g.ny; ++j) gy[j] = g.y(j);
   const auto S_ = static_cast<hsize_t>(S), NX = static_cast<hsize_t>(g.nx), NY = static_cast<hsize_t>(g.ny);
-  f64("grid/x", "m", gx, {}, "node x (run-file frame)");
-  f64("grid/y", "m", gy, {}, "node y (run-file frame); the floor's face is at attribute floor_y");
-  f64("snapshots/time", "s", r.times);
-  f64("snapshots/intruder_height", "m", per([](const SnapshotMeasure& x) { return x.height; }), {},
+  D.grid(g, "node y (run-file frame); the floor's face is at attribute floor_y");
+  D.f64("snapshots/time", "s", r.times);
+  D.f64("snapshots/intruder_height", "m", per([](const SnapshotMeasure& x) { return x.height; }), {},
       "intruder centre above the floor's face");
-  f64("snapshots/surface_height", "m", per([](const SnapshotMeasure& x) { return x.surface; }), {},
+  D.f64("snapshots/surface_height", "m", per([](const SnapshotMeasure& x) { return x.surface; }), {},
       "free surface above the floor: mean over columns ~d wide of the highest grain top");
-  f64("snapshots/phi_region", "-", per([&](const SnapshotMeasure& x) { return x.phi_follow[su.height0]; }), {},
+  D.f64("snapshots/phi_region", "-", per([&](const SnapshotMeasure& x) { return x.phi_follow[su.height0]; }), {},
       "solid fraction in the dilatancy region following the intruder");
-  i64("snapshots/piv_valid", std::vector<std::int64_t>(r.piv_ok.begin(), r.piv_ok.end()),
+  D.i64("snapshots/piv_valid", std::vector<std::int64_t>(r.piv_ok.begin(), r.piv_ok.end()),
       "1 if the snapshot has PIV-like velocities (every active grain has a displacement)");
   {
     std::vector<std::int64_t> ev(S, -1);
     for (std::size_t e = 0; e < r.pre.size(); ++e)
       if (r.pre[e] >= 0) ev[static_cast<std::size_t>(r.pre[e])] = static_cast<std::int64_t>(e);
-    i64("snapshots/pre_rupture_event", ev, "event whose loading phase this snapshot ends, -1 if none");
+    D.i64("snapshots/pre_rupture_event", ev, "event whose loading phase this snapshot ends, -1 if none");
   }
   for (const std::size_t set : {kInst, kPiv}) {
     const std::string p = std::string("snapshots/") + kSourceName[set] + "/";
     const auto src = [&](auto get) {
       return per([&](const SnapshotMeasure& x) { return x.src[set].valid ? get(x.src[set]) : kNaN; });
     };
-    f64(p + "area_immobile", "m^2", src([](const SourceMeasure& s) { return s.zones.immobile; }));
-    f64(p + "area_cone", "m^2", src([](const SourceMeasure& s) { return s.zones.cone; }));
-    f64(p + "area_dragged", "m^2", src([](const SourceMeasure& s) { return s.zones.dragged; }));
-    f64(p + "red_extent", "m", src([](const SourceMeasure& s) { return s.red.height; }), {},
+    D.f64(p + "area_immobile", "m^2", src([](const SourceMeasure& s) { return s.zones.immobile; }));
+    D.f64(p + "area_cone", "m^2", src([](const SourceMeasure& s) { return s.zones.cone; }));
+    D.f64(p + "area_dragged", "m^2", src([](const SourceMeasure& s) { return s.zones.dragged; }));
+    D.f64(p + "red_extent", "m", src([](const SourceMeasure& s) { return s.red.height; }), {},
         "highest node of the dragged zone grown from the intruder, above its top face");
-    f64(p + "beta", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].beta_deg(kVerticalEdgeDeg); }), {},
+    D.f64(p + "beta", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].beta_deg(kVerticalEdgeDeg); }), {},
         "mean of the snapshot's edge angles that widen upwards (<= 90 deg); NaN if none");
-    f64(p + "beta_left", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].left.beta_deg; }), {},
+    D.f64(p + "beta_left", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].left.beta_deg; }), {},
         "fitted edge angle from the horizontal, narrowing edges (> 90 deg) included");
-    f64(p + "beta_right", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].right.beta_deg; }));
-    f64(p + "wall_meet_y", "m", src([&](const SourceMeasure& s) { return s.cone[cone0].wall_y(kVerticalEdgeDeg); }), {},
+    D.f64(p + "beta_right", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].right.beta_deg; }));
+    D.f64(p + "wall_meet_y", "m", src([&](const SourceMeasure& s) { return s.cone[cone0].wall_y(kVerticalEdgeDeg); }), {},
         "y where the cone's edge reaches the wall column (mean of the sides that do, narrowing edges left out)");
-    f64(p + "wall_mobile_left", "m", src([&](const SourceMeasure& s) { return s.wall_left[wall0]; }));
-    f64(p + "wall_mobile_right", "m", src([&](const SourceMeasure& s) { return s.wall_right[wall0]; }));
-    f64(p + "median_vstar", "-", src([](const SourceMeasure& s) { return s.median_vstar; }));
+    D.f64(p + "wall_mobile_left", "m", src([&](const SourceMeasure& s) { return s.wall_left[wall0]; }));
+    D.f64(p + "wall_mobile_right", "m", src([&](const SourceMeasure& s) { return s.wall_right[wall0]; }));
+    D.f64(p + "median_vstar", "-", src([](const SourceMeasure& s) { return s.median_vstar; }));
   }
   const auto rows = [&](auto get) {
     std::vector<float> v;
@@ -467,32 +449,32 @@ std::vector<Dataset> cg_datasets(const StageRecord& r) {
     }
     return v;
   };
-  f32("profiles/centre_vy_instantaneous", "m/s", rows([](const SnapshotMeasure& x) -> const auto& { return x.centre_vy[kInst]; }), {S_, NY},
+  D.f32("profiles/centre_vy_instantaneous", "m/s", rows([](const SnapshotMeasure& x) -> const auto& { return x.centre_vy[kInst]; }), {S_, NY},
       "vertical velocity (lab frame) along the node column through the intruder's centre (attribute centre_x)");
-  f32("profiles/centre_vy_piv", "m/s", rows([](const SnapshotMeasure& x) -> const auto& { return x.centre_vy[kPiv]; }), {S_, NY});
-  f32("profiles/centre_phi", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.centre_phi; }), {S_, NY});
-  f32("profiles/wall_vstar_left", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_vstar[0]; }), {S_, NY},
+  D.f32("profiles/centre_vy_piv", "m/s", rows([](const SnapshotMeasure& x) -> const auto& { return x.centre_vy[kPiv]; }), {S_, NY});
+  D.f32("profiles/centre_phi", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.centre_phi; }), {S_, NY});
+  D.f32("profiles/wall_vstar_left", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_vstar[0]; }), {S_, NY},
       "mean v* of the nodes within wall.band_d of the left wall, per row (velocity_source)");
-  f32("profiles/wall_vstar_right", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_vstar[1]; }), {S_, NY});
+  D.f32("profiles/wall_vstar_right", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_vstar[1]; }), {S_, NY});
   {
     std::vector<double> tx(su.tip_nx), ty(su.tip_ny);
     for (std::size_t a = 0; a < su.tip_nx; ++a) tx[a] = (static_cast<double>(a) - static_cast<double>(su.tip_nx / 2)) * dx;
     for (std::size_t b = 0; b < su.tip_ny; ++b) ty[b] = (static_cast<double>(b) - static_cast<double>(su.tip_ny / 2)) * dx;
-    f64("tips/dx", "m", tx, {}, "node offsets from the intruder's centre (window snapped to the nearest node)");
-    f64("tips/dy", "m", ty);
+    D.f64("tips/dx", "m", tx, {}, "node offsets from the intruder's centre (window snapped to the nearest node)");
+    D.f64("tips/dy", "m", ty);
     const hsize_t TY = su.tip_ny, TX = su.tip_nx;
     for (const std::size_t set : {kInst, kPiv})
       for (int comp = 0; comp < 2; ++comp) {
         std::vector<float> v;
         for (const SnapshotMeasure& x : ms) v.insert(v.end(), x.tip[set][comp].begin(), x.tip[set][comp].end());
-        f32(std::string("tips/") + (comp ? "vy_" : "vx_") + kSourceName[set], "m/s", std::move(v), {S_, TY, TX},
+        D.f32(std::string("tips/") + (comp ? "vy_" : "vx_") + kSourceName[set], "m/s", std::move(v), {S_, TY, TX},
             "velocity in the intruder's frame (V - V_intruder) around the intruder");
       }
   }
   {
     const auto F = static_cast<hsize_t>(r.fields_at.size());
     std::vector<std::int64_t> idx(r.fields_at.begin(), r.fields_at.end());
-    i64("fields/snapshot", idx, "snapshot index of each stored field");
+    D.i64("fields/snapshot", idx, "snapshot index of each stored field");
     std::vector<float> phi;
     std::vector<float> v[2][2];
     for (const std::size_t k : r.fields_at) {
@@ -500,19 +482,19 @@ std::vector<Dataset> cg_datasets(const StageRecord& r) {
       for (int set = 0; set < 2; ++set)
         for (int comp = 0; comp < 2; ++comp) v[set][comp].insert(v[set][comp].end(), ms[k].v_field[set][comp].begin(), ms[k].v_field[set][comp].end());
     }
-    f32("fields/phi", "-", std::move(phi), {F, NY, NX}, "solid fraction; the mass density is rho = grain_density (root attribute) * phi");
+    D.f32("fields/phi", "-", std::move(phi), {F, NY, NX}, "solid fraction; the mass density is rho = grain_density (root attribute) * phi");
     for (const std::size_t set : {kInst, kPiv})
       for (int comp = 0; comp < 2; ++comp)
-        f32(std::string("fields/") + (comp ? "vy_" : "vx_") + kSourceName[set], "m/s", std::move(v[set][comp]),
+        D.f32(std::string("fields/") + (comp ? "vy_" : "vx_") + kSourceName[set], "m/s", std::move(v[set][comp]),
             {F, NY, NX}, "lab-frame velocity V = p/rho, NaN where phi < mask_phi");
   }
   if (r.have_events) {
     std::vector<double> peak;
     for (const RuptureEvent& e : r.events) peak.push_back(e.peak_time);
-    f64("events/peak_time", "s", std::move(peak));
-    i64("events/pre_rupture_snapshot", r.pre, "the snapshot just before the rupture, -1 if none");
+    D.f64("events/peak_time", "s", std::move(peak));
+    D.i64("events/pre_rupture_snapshot", r.pre, "the snapshot just before the rupture, -1 if none");
   }
-  return D;
+  return std::move(D.items);
 }
 
 std::vector<std::pair<std::string, std::string>> cg_attributes(const StageRecord& r, const json& metrics) {

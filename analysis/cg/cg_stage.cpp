@@ -69,6 +69,28 @@ std::vector<std::size_t> field_snapshots(const std::vector<double>& heights, con
 
 }  // namespace
 
+void DatasetList::f64(std::string name, std::string unit, std::vector<double> v, std::vector<hsize_t> dims,
+                      std::string about) {
+  items.push_back({Dataset::Type::f64, std::move(name), std::move(unit), std::move(about), std::move(dims), {}, std::move(v), {}});
+}
+
+void DatasetList::f32(std::string name, std::string unit, std::vector<float> v, std::vector<hsize_t> dims,
+                      std::string about) {
+  items.push_back({Dataset::Type::f32, std::move(name), std::move(unit), std::move(about), std::move(dims), std::move(v), {}, {}});
+}
+
+void DatasetList::i64(std::string name, std::vector<std::int64_t> v, std::string about) {
+  items.push_back({Dataset::Type::i64, std::move(name), "", std::move(about), {}, {}, {}, std::move(v)});
+}
+
+void DatasetList::grid(const Grid& g, std::string y_about) {
+  std::vector<double> gx(g.nx), gy(g.ny);
+  for (std::size_t i = 0; i < g.nx; ++i) gx[i] = g.x(i);
+  for (std::size_t j = 0; j < g.ny; ++j) gy[j] = g.y(j);
+  f64("grid/x", "m", std::move(gx), {}, "node x (run-file frame)");
+  f64("grid/y", "m", std::move(gy), {}, std::move(y_about));
+}
+
 Grains grains_of(const Snapshot& s, const std::vector<Vec2>* piv) {
   Grains g{s.position, s.mass, s.diameter, s.active, {s.velocity}};
   if (piv) g.velocities.emplace_back(*piv);
@@ -157,8 +179,8 @@ Setup make_setup(const RunReader& run, const Snapshot& s0, const CgInput& in) {
     su.v_ref = c.reference_speed_mm_s > 0.0 ? c.reference_speed_mm_s / kMm : su.intruder_speed;
     if (!(su.intruder_speed > 0.0)) throw CgError(path + ": the intruder '" + run.body_names()[b] + "' does not move (/bodies/velocity = 0): no v* = |V|/V_intruder");
   }
-  const double dx = c.spacing_mm / kMm;
   kernel_and_grid(in, path, s0, su);
+  const double dx = su.grid.dx;
   su.window = run.displacement_window();
   su.centre_i = static_cast<std::size_t>(
       std::clamp(std::round((su.start.xc - su.grid.x0) / dx), 0.0, static_cast<double>(su.grid.nx - 1)));

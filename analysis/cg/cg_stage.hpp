@@ -47,6 +47,17 @@ struct Dataset {
   std::vector<std::int64_t> i64;
 };
 
+// cg.h5's datasets as they are collected (cg_report.cpp, cg_lab.cpp).
+struct DatasetList {
+  std::vector<Dataset> items;
+  void f64(std::string name, std::string unit, std::vector<double> v, std::vector<hsize_t> dims = {},
+           std::string about = "");
+  void f32(std::string name, std::string unit, std::vector<float> v, std::vector<hsize_t> dims, std::string about = "");
+  void i64(std::string name, std::vector<std::int64_t> v, std::string about = "");
+  // grid/x and grid/y: the nodes' coordinates (m); y_about describes grid/y.
+  void grid(const Grid& g, std::string y_about);
+};
+
 struct CgResult {
   nlohmann::ordered_json metrics;  // {"cg": {...}}
   std::vector<Dataset> datasets;   // the content of cg.h5

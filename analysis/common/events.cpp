@@ -1,10 +1,10 @@
 #include "common/events.hpp"
-#include "core/number_text.hpp"
 
 #include <cmath>
 #include <filesystem>
 #include <limits>
 
+#include "core/number_text.hpp"
 
 namespace dem2d::analysis {
 

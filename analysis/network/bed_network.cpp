@@ -1,8 +1,6 @@
 // Stage `network` on a run without an intruder (a box, a silo, a fill): what
 // needs no intruder. Definitions: analysis/network/README.md ("Runs without
 // an intruder").
-#include <boost/graph/graph_traits.hpp>
-
 #include <cmath>
 #include <limits>
 
@@ -67,10 +65,7 @@ NetworkResult run_bed_network(const RunReader& run, const NetworkInputs& in, con
       bed.push_back(bed_height(s, geo));
       mean_fn.push_back(g.mean_fn);
       contacts.push_back(static_cast<std::int64_t>(g.edges()));
-      std::int64_t n_strong = 0;
-      for (const auto e : boost::make_iterator_range(boost::edges(g.graph)))
-        n_strong += boost::get(boost::edge_weight, g.graph, e) > strong;
-      strong_contacts.push_back(n_strong);
+      strong_contacts.push_back(g.edges_above(strong));
       span_strong.push_back(percolation(g, strong, rule, g.left()).right);
       span_whole.push_back(percolation(g, 0.0, rule, g.left()).right);
       for (std::size_t v = 0; v < variants; ++v)

@@ -124,6 +124,12 @@ ContactGraph build_contact_graph(const Snapshot& s, const std::vector<Partner>& 
   return g;
 }
 
+std::int64_t ContactGraph::edges_above(double fn) const {
+  std::int64_t n = 0;
+  for (const Edge e : boost::make_iterator_range(boost::edges(graph))) n += boost::get(boost::edge_weight, graph, e) > fn;
+  return n;
+}
+
 Percolation percolation(const ContactGraph& g, double threshold, FloorRule rule, std::size_t source) {
   const std::vector<std::uint8_t> excluded = excluded_grains(g, rule);
   const boost::filtered_graph<Graph, GrainEdge> paths(g.graph, GrainEdge{&g.graph, &excluded, g.grains, threshold});

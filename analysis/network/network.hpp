@@ -45,6 +45,7 @@ struct ContactGraph {
   std::size_t floor() const { return grains + 2; }
   std::size_t intruder() const { return grains + 3; }
   std::size_t edges() const { return boost::num_edges(graph); }
+  std::int64_t edges_above(double fn) const;  // edges with weight > fn (the strong network's size)
 };
 ContactGraph build_contact_graph(const Snapshot& s, const std::vector<Partner>& partners);
 

@@ -265,10 +265,7 @@ NetworkResult run_network(const NetworkInputs& in, const NetworkConfig& cfg, con
       t.intruder_y.push_back(geo.centre.y);
       t.mean_fn.push_back(g.mean_fn);
       t.contacts.push_back(static_cast<std::int64_t>(g.edges()));
-      std::int64_t n_strong = 0;
-      for (const auto e : boost::make_iterator_range(boost::edges(g.graph)))
-        n_strong += boost::get(boost::edge_weight, g.graph, e) > strong;
-      t.strong_contacts.push_back(n_strong);
+      t.strong_contacts.push_back(g.edges_above(strong));
       for (Variant& v : variants) {
         const Percolation p = percolation(g, v.factor * g.mean_fn, v.rule, g.intruder());
         v.left[k] = p.left, v.right[k] = p.right;

@@ -1,10 +1,11 @@
 #include "contact/normal.hpp"
-#include "core/number_text.hpp"
 
 #include <cmath>
 
 #include <stdexcept>
 #include <string>
+
+#include "core/number_text.hpp"
 
 namespace dem2d {
 

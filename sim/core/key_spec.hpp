@@ -5,11 +5,11 @@
 // its messages.
 #pragma once
 
-#include "core/number_text.hpp"  // sig3, shortest
-
 #include <cmath>
 #include <sstream>
 #include <string>
+
+#include "core/number_text.hpp"  // sig3, shortest
 
 namespace dem2d {
 
@@ -51,6 +51,5 @@ inline std::string describe(const Num& n) {
 }
 // "normal stiffness in N/m, > 0"
 inline std::string range_text(const Num& n) { return describe(n) + ", " + rule_text(n); }
-
 
 }  // namespace dem2d

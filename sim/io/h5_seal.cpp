@@ -1,5 +1,6 @@
 #include "io/h5_seal.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 #include <string>

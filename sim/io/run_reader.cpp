@@ -1,5 +1,4 @@
 #include "io/run_reader.hpp"
-#include "core/number_text.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -10,6 +9,7 @@
 #include <type_traits>
 
 #include "core/body_roles.hpp"
+#include "core/number_text.hpp"
 #include "io/run_format.hpp"
 
 namespace dem2d {

@@ -6,8 +6,6 @@
 // (`contact.wall.kn`, `body[2].thickness`), the value given and what is allowed.
 #pragma once
 
-#include "core/number_text.hpp"  // shortest
-
 #include <toml++/toml.h>
 
 #include <array>
@@ -20,6 +18,7 @@
 #include <vector>
 
 #include "core/key_spec.hpp"
+#include "core/number_text.hpp"  // shortest
 
 namespace dem2d {
 

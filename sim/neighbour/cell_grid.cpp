@@ -1,10 +1,11 @@
 #include "neighbour/cell_grid.hpp"
-#include "core/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "core/number_text.hpp"
 
 namespace dem2d {
 

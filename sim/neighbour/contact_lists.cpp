@@ -50,7 +50,7 @@ void NeighbourLists::configure(double xmin, double ymin, double xmax, double yma
   skin_ = skin;
   reach_ = skin + range;
   r_max_ = r_max;
-  grid_.configure(xmin, ymin, xmax, ymax, 2.0 * r_max + reach_);
+  grid_.configure(xmin, ymin, xmax, ymax, cell_width(r_max, skin, range));
 }
 
 void NeighbourLists::rebuild_pairs(const Particles& p) {

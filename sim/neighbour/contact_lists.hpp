@@ -96,6 +96,8 @@ class NeighbourLists {
   // candidate is any pair within range + skin of touching.
   void configure(double xmin, double ymin, double xmax, double ymax, double r_max, double skin,
                  double range = 0.0);
+  // The grid's cell width for these (m): a candidate pair is within one cell.
+  static double cell_width(double r_max, double skin, double range) { return 2.0 * r_max + skin + range; }
   double skin() const { return skin_; }
 
   void rebuild_pairs(const Particles& p);

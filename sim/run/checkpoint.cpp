@@ -7,8 +7,8 @@
 
 #include "contact/contact_model.hpp"
 #include "core/version.hpp"
-#include "io/h5_seal.hpp"
 #include "io/h5.hpp"
+#include "io/h5_seal.hpp"
 #include "io/run_file.hpp"
 
 namespace dem2d {

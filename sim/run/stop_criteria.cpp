@@ -1,8 +1,8 @@
 #include "run/stop_criteria.hpp"
-#include "core/number_text.hpp"
 
 #include <sstream>
 
+#include "core/number_text.hpp"
 #include "core/step_count.hpp"
 #include "engine/diagnostics.hpp"
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "neighbour/contact_lists.hpp"  // NeighbourLists::cell_width
+
 namespace dem2d {
 
 double Scene::min_diameter() const {
@@ -31,7 +33,7 @@ double Scene::interaction_range() const {
 double Scene::neighbour_cell_size() const {
   double d_max = 0.0;
   for (const ParticleInit& p : particles) d_max = std::max(d_max, p.d);
-  return d_max + skin + interaction_range();
+  return NeighbourLists::cell_width(0.5 * d_max, skin, interaction_range());
 }
 
 StabilityLimit Scene::stability_limit() const {

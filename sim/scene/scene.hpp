@@ -133,8 +133,8 @@ struct Scene {
   // The largest stable time step of this scene (contact/stability.hpp): the
   // smaller of the two laws' limits on a dense packing of the smallest grains.
   StabilityLimit stability_limit() const;
-  // Width of the neighbour-search cells (m): the largest diameter plus the
-  // skin plus how far beyond touching the laws in use act (cohesion).
+  // Width of the neighbour-search cells (m, NeighbourLists::cell_width): the
+  // largest diameter plus the skin plus how far beyond touching the laws act.
   double neighbour_cell_size() const;
   // How far beyond touching contacts act (m), the larger of the two laws in use.
   double interaction_range() const;

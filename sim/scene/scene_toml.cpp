@@ -563,7 +563,7 @@ class SceneParser {
     top_.table("domain", {"xmin", "xmax", "ymin", "ymax"})
         .fail("xmax", "the domain [" + shortest(d.xmin) + ", " + shortest(d.xmax) + "] x [" + shortest(d.ymin) + ", " +
                 shortest(d.ymax) + "] m holds " + sig3(cells) + " neighbour-search cells of " + sig3(cell) +
-                " m (the largest grain plus the skin), more than the " + sig3(CellGrid::kMaxCells) +
+                " m (the largest grain plus the skin and the contact range), more than the " + sig3(CellGrid::kMaxCells) +
                 " the engine can index: shrink [domain] to where the grains can go");
   }
 

@@ -107,6 +107,13 @@ class Suite:
         self.failures = []  # exit 1 with a message: not defects, listed for a look
         self.jobs = args.jobs
 
+    def fresh(self, name):
+        """An empty folder for one class's inputs and outputs."""
+        d = self.work / name
+        shutil.rmtree(d, ignore_errors=True)
+        d.mkdir(parents=True)
+        return d
+
     def record(self, cls, kind, outcome, what):
         self.table[(cls, kind)][outcome] += 1
         if outcome in DEFECTS:
@@ -116,9 +123,7 @@ class Suite:
 
     # ---- the valid inputs everything starts from ----
     def setup(self):
-        d = self.work / "base"
-        shutil.rmtree(d, ignore_errors=True)
-        d.mkdir(parents=True)
+        d = self.fresh("base")
         fill, pull = d / "fill", d / "pull"
         for cmd in ([self.dem2d, "run", ROOT / "tests/fuzz/tiny_fill.toml", "--out", fill],
                     [self.dem2d, "run", ROOT / "tests/fuzz/tiny_pulloff.toml", "--initial", fill / "run.h5", "--out", pull],
@@ -159,9 +164,7 @@ class Suite:
 
     # ---- scenes ----
     def scenes(self):
-        d = self.work / "scene"
-        shutil.rmtree(d, ignore_errors=True)
-        d.mkdir(parents=True)
+        d = self.fresh("scene")
         cases = []
         for k in range(self.counts["scene"]):
             base = ROOT / self.rng.choice(SCENES)
@@ -191,9 +194,7 @@ class Suite:
 
     # ---- stage settings ----
     def configs(self):
-        d = self.work / "config"
-        shutil.rmtree(d, ignore_errors=True)
-        d.mkdir(parents=True)
+        d = self.fresh("config")
         cases = []
         for k in range(self.counts["config"]):
             stage = self.rng.choice(STAGES)
@@ -254,9 +255,7 @@ class Suite:
         return False
 
     def runfiles(self):
-        d = self.work / "runfile"
-        shutil.rmtree(d, ignore_errors=True)
-        d.mkdir(parents=True)
+        d = self.fresh("runfile")
         cases = []
         for k in range(self.counts["runfile"]):
             path = d / f"{k:05d}.h5"
@@ -282,9 +281,7 @@ class Suite:
 
     # ---- faults ----
     def faults(self):
-        d = self.work / "fault"
-        shutil.rmtree(d, ignore_errors=True)
-        d.mkdir(parents=True)
+        d = self.fresh("fault")
         scene = d / "scene.toml"
         scene.write_text((ROOT / "tests/fuzz/tiny_fill.toml").read_text().replace(
             "checkpoint_interval = 0.05", "checkpoint_interval = 0.01"))
