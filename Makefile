@@ -82,6 +82,8 @@ OVERLAY := $(foreach f,$(OVERLAY_FILES),--overlay $(f))
 # (make accuracy gives each sweep point a bed made elsewhere).
 FILL_RUN ?= $(RESULTS)/fill/run.h5
 THREADS ?= $(JOBS)
+# seconds of wall time between a simulation's progress lines (in the make log and DIR/run.log)
+PROGRESS ?= 60
 
 DEBIAN_PACKAGES := g++ cmake make pkg-config git \
   libeigen3-dev libboost-graph-dev libfftw3-dev libhdf5-dev \
@@ -189,18 +191,23 @@ endif
 # $(call timed,COMMAND): runs COMMAND, then records its wall time beside the
 # target ($(@D)/timing.json, read into the cost table of the report). When it
 # fails, says how to remake a missing or corrupt input.
-timed = echo '$(strip $(1))' && t0=$$(date +%s.%N) && \
+# $(call started,WHAT): a line saying which stage starts, where, and when
+started = echo "make: $(1) $(@D) started $$(date +%T)"
+simulating = $(call started,simulation) && echo "  (a progress line every $(PROGRESS) s of wall time, also in $(@D)/run.log)"
+timed = $(call started,stage) && echo '  $(strip $(1))' && t0=$$(date +%s.%N) && \
   { $(1) || { echo "make: $(@D) failed. If the message above names a missing or corrupt input file, delete it and run \`make reproduce PRESET=$(PRESET)\`, which remakes it." >&2; exit 1; }; } && awk -v t0=$$t0 -v t1=$$(date +%s.%N) \
   'BEGIN { printf "{\"wall_seconds\": %.3f}\n", t1 - t0 }' > $(@D)/timing.json.tmp && \
   mv $(@D)/timing.json.tmp $(@D)/timing.json
 
 ifeq ($(FILL_RUN),$(RESULTS)/fill/run.h5)
 $(RESULTS)/fill/run.h5: $(FILL_SCENE) $(OVERLAY_FILES) $(FILL_OVERLAY) $(DEM2D)
-	$(DEM2D) run $(FILL_SCENE) $(OVERLAY) $(if $(FILL_OVERLAY),--overlay $(FILL_OVERLAY)) --out $(@D) --threads $(THREADS)
+	@$(simulating)
+	$(DEM2D) run $(FILL_SCENE) $(OVERLAY) $(if $(FILL_OVERLAY),--overlay $(FILL_OVERLAY)) --out $(@D) --threads $(THREADS) --progress $(PROGRESS)
 endif
 
 $(RESULTS)/pulloff/run.h5: $(PULLOFF_SCENE) $(OVERLAY_FILES) $(FILL_RUN) $(DEM2D)
-	$(DEM2D) run $(PULLOFF_SCENE) $(OVERLAY) --initial $(FILL_RUN) --out $(@D) --threads $(THREADS)
+	@$(simulating)
+	$(DEM2D) run $(PULLOFF_SCENE) $(OVERLAY) --initial $(FILL_RUN) --out $(@D) --threads $(THREADS) --progress $(PROGRESS)
 
 # The slice starts from the bed of preset BED_FROM (default: the same preset):
 # `make pulloff-slice PRESET=paper BED_FROM=default` measures the paper's cost
@@ -208,14 +215,16 @@ $(RESULTS)/pulloff/run.h5: $(PULLOFF_SCENE) $(OVERLAY_FILES) $(FILL_RUN) $(DEM2D
 BED_FROM ?= $(PRESET)
 SLICE_DIR := $(RESULTS)/pulloff_5mm$(if $(filter-out $(PRESET),$(BED_FROM)),_on_$(BED_FROM)_bed)
 $(SLICE_DIR)/run.h5: $(PULLOFF_SCENE) $(PRESET_FILE) pipeline/slice_5mm.toml results/$(BED_FROM)/fill/run.h5 $(DEM2D)
+	@$(simulating)
 	$(DEM2D) run $(PULLOFF_SCENE) $(OVERLAY) --overlay pipeline/slice_5mm.toml \
-	  --initial results/$(BED_FROM)/fill/run.h5 --out $(@D) --threads $(THREADS)
+	  --initial results/$(BED_FROM)/fill/run.h5 --out $(@D) --threads $(THREADS) --progress $(PROGRESS)
 
 $(SLICE_DIR)/metrics.json: $(SLICE_DIR)/run.h5 data/study.toml $(PULLOFF_METRICS)
 	$(PULLOFF_METRICS) $< --out $@ --csv $(@D)/drag.csv
 
 $(RESULTS)/cyclic/run.h5: $(CYCLIC_SCENE) $(OVERLAY_FILES) $(FILL_RUN) $(DEM2D)
-	$(DEM2D) run $(CYCLIC_SCENE) $(OVERLAY) --initial $(FILL_RUN) --out $(@D) --threads $(THREADS)
+	@$(simulating)
+	$(DEM2D) run $(CYCLIC_SCENE) $(OVERLAY) --initial $(FILL_RUN) --out $(@D) --threads $(THREADS) --progress $(PROGRESS)
 
 $(RESULTS)/cyclic/metrics.json: $(RESULTS)/cyclic/run.h5 data/study.toml $(PULLOFF_METRICS)
 	$(PULLOFF_METRICS) $< --out $@ --csv $(@D)/drag.csv --cycles $(@D)/cycles.csv
@@ -227,9 +236,9 @@ $(RESULTS)/metrics.json: $(STAGE_METRICS) pipeline/stages.toml $(REPORT_SCRIPTS)
 # The tolerance tests' verdicts for the report: misses do not stop the
 # reproduction (`make check` fails on them); a broken check program does.
 # $(call check_into,ARGS): the tolerance tests of ARGS (metrics [--ensemble stats])
-# into $@ (GoogleTest JSON) and $(@D)/check.log
+# into $@ (GoogleTest JSON) and $(@D)/check.log; says the counts and each failed test (value, target, source)
 check_into = $(CHECK) $(1) data/paper_targets.toml $(2) --gtest_output=json:$@.tmp > $(@D)/check.log 2>&1; rc=$$?; \
-  if [ $$rc -le 1 ] && [ -s $@.tmp ]; then mv $@.tmp $@; grep -E '^\[  (PASSED|FAILED)  \] [0-9]+ test' $(@D)/check.log; \
+  if [ $$rc -le 1 ] && [ -s $@.tmp ]; then mv $@.tmp $@; grep -E '^\[  (PASSED|FAILED)  \] [0-9]+ test|: FAIL \[' $(@D)/check.log | sed 's/^R[0-9]/  &/'; \
   else cat $(@D)/check.log; exit 1; fi
 $(RESULTS)/check.json: $(RESULTS)/metrics.json data/paper_targets.toml $(CHECK)
 	@$(call check_into,$<)

@@ -43,6 +43,16 @@ $CHECK "$WORK/minimal/run.h5" >/dev/null || fail "check_run_file on the minimal 
 SCENE=$TESTS/scenes/pour_resume.toml
 expect 0 "run.h5" -- "$DEM2D" run "$SCENE" --out "$WORK/ref" --threads 2
 
+# progress when stderr is not a terminal (a batch job): plain lines every --progress seconds,
+# the same in DIR/run.log; none with --progress 0
+"$DEM2D" run "$SCENE" --out "$WORK/progress" --threads 1 --progress 0.05 2>"$WORK/progress.err" >/dev/null
+grep -Eq '^\[dem2d\] t = [0-9.e+-]+ s  step [0-9]+  [0-9.]+ % of [0-9.]+ s \(the duration\) .* ETA [0-9]+:[0-9]{2}:[0-9]{2}$' \
+  "$WORK/progress.err" || fail "no progress line on stderr: $(head -3 "$WORK/progress.err")"
+[ "$(grep -c ' t = .* ETA ' "$WORK/progress/run.log")" -eq "$(grep -c '^\[dem2d\] t = ' "$WORK/progress.err")" ] ||
+  fail "run.log and stderr disagree on the progress lines"
+"$DEM2D" run "$SCENE" --out "$WORK/quiet" --threads 1 --progress 0 2>"$WORK/quiet.err" >/dev/null
+grep -q '^\[dem2d\] t = ' "$WORK/quiet.err" && fail "--progress 0 still printed progress lines"
+
 # start_and_signal SIGNAL DIR: runs the pour into DIR in the background and
 # sends SIGNAL once its first checkpoint exists; leaves its exit code in $rc
 start_and_signal() {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -16,7 +17,9 @@
 #include "io/run_reader.hpp"
 #include "pulloff/drag_cycles.hpp"
 #include "pulloff/drag_profile.hpp"
+#include "run/progress.hpp"
 #include "run/run.hpp"
+#include "run/stop_criteria.hpp"
 #include "scene/scene_toml.hpp"
 
 namespace dem2d::test {
@@ -82,6 +85,36 @@ TEST_F(QuickStudy, PullOffStartsFromTheFillAndEndsClear) {
   const double row = *std::max_element(b.diameter.begin(), b.diameter.end());
   for (std::size_t i = 1; i < b.size(); ++i)  // bottom-up rows of one largest diameter
     ASSERT_LE(std::floor(b.position[i - 1].y / row), std::floor(b.position[i].y / row)) << i;
+}
+
+// The progress lines' forecast of a pull-off's end (run/progress.hpp): a
+// quarter of the way, the intruder's bottom rising at its speed to the bed's
+// surface beside it, plus stop.free_time, foresees the end within 5 %.
+TEST_F(QuickStudy, ProgressForecastsThePullOffsEnd) {
+  const Scene s = scene("quick_pulloff.toml", fill.run_file);
+  System sys(s);
+  const double end = static_cast<double>(pull.final_step) * s.dt;
+  const StopCriteria criteria(s, sys);
+  const EndForecast at_start = criteria.forecast(sys);
+  sys.advance(pull.final_step / 4);
+  const EndForecast later = criteria.forecast(sys);
+  EXPECT_NEAR(at_start.time, end, 0.1 * end);
+  EXPECT_NEAR(later.time, end, 0.05 * end);
+  EXPECT_EQ(later.what, "intruder clear of the bed + 0.1 s");
+  EXPECT_FALSE(later.may_end_sooner);
+  const DurationLimit duration(s);
+  EXPECT_EQ(forecast_end(std::array<const Controller*, 2>{&criteria, &duration}, sys).time, later.time);
+  // the fill's kinetic-energy criterion cannot be foreseen: the duration, as "at most"
+  const Scene f = scene("quick_fill.toml");
+  const System fill_sys(f);
+  const StopCriteria energy(f, fill_sys);
+  const DurationLimit fill_duration(f);
+  const EndForecast e = forecast_end(std::array<const Controller*, 2>{&energy, &fill_duration}, fill_sys);
+  EXPECT_NEAR(e.time, f.stop.duration, f.dt);
+  EXPECT_TRUE(e.may_end_sooner);
+  EXPECT_EQ(Progress::line(2.5, 1000, 1e-5, 1000.0, 200, e),
+            "t = 2.5 s  step 1000  25.0 % of 10 s (the duration)  1e+03 steps/s  2e+05 particle-steps/s  "
+            "ETA at most 0:12:30");
 }
 
 TEST_F(QuickStudy, DragIsPositiveWhileBuriedAndVanishesOnceClear) {

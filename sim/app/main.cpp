@@ -1,5 +1,5 @@
 // dem2d: the command line.
-//   dem2d run SCENE.toml --out DIR [--overlay FILE]... [--initial RUN.h5] [--threads N] [--fresh]
+//   dem2d run SCENE.toml --out DIR [--overlay FILE]... [--initial RUN.h5] [--threads N] [--fresh] [--progress S]
 //   dem2d check SCENE.toml [--overlay FILE]... [--initial RUN.h5] [--json]
 //   dem2d bench [--scene FILE] [--steps N] [--threads 1,2]
 // Exit codes: 0 done, 1 run failed, 2 bad input, 3 interrupted (checkpoint written).
@@ -70,7 +70,7 @@ int cmd_check(const std::string& path, const dem2d::SceneSources& extra, bool js
 int cmd_run(const std::string& path, const dem2d::SceneSources& extra, dem2d::RunOptions opt, int threads) {
   dem2d::Scene scene = dem2d::load_scene(path, extra);
   scene.threads = threads;
-  opt.progress = isatty(STDERR_FILENO) != 0;
+  opt.progress.terminal = isatty(STDERR_FILENO) != 0;
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   const dem2d::RunReport r = dem2d::run_scene(scene, opt);
@@ -125,6 +125,11 @@ int main(int argc, char** argv) {
   run->add_option("--out", run_opt.out_dir, "Output directory")->required();
   run->add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(thread_count);
   run->add_flag("--fresh", run_opt.fresh, "Discard a checkpoint in DIR instead of resuming from it");
+  run->add_option("--progress", run_opt.progress.every,
+                  "Seconds of wall time between progress lines in DIR/run.log, and on stderr when it is not a "
+                  "terminal (0: none)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e9));
   run->add_option("--interrupt-at-step", run_opt.interrupt_at_step,
                   "Testing: checkpoint and stop as if interrupted at this step")
       ->group("");  // for the tests: not in --help

@@ -79,6 +79,19 @@ double highest_grain(const System& sys) {
   return h;
 }
 
+double bed_surface_beside(const System& sys, std::size_t b) {
+  const Bounds core = core_bounds(sys.bodies.shape[b]);
+  double d_max = 0.0;
+  for (std::size_t i = 0; i < sys.p.size(); ++i)
+    if (sys.p.active[i]) d_max = std::max(d_max, 2.0 * sys.p.radius[i]);
+  const double margin = sys.bodies.radius[b] + d_max;
+  double top = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < sys.p.size(); ++i)
+    if (sys.p.active[i] && (sys.p.x[i] < core.xmin - margin || sys.p.x[i] > core.xmax + margin))
+      top = std::max(top, sys.p.y[i] + sys.p.radius[i]);
+  return top;
+}
+
 bool held_by_bed(const System& sys, std::size_t b) {
   const PairList& L = sys.lists.pairs;
   const WallList& W = sys.lists.walls;

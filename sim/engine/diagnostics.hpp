@@ -27,6 +27,12 @@ double gravity_energy(const System& sys);
 // Height of the highest active grain centre (m); -inf without grains.
 double highest_grain(const System& sys);
 
+// Top of the bed beside body b (m): the highest top (y + radius) of the
+// active grains whose centre lies outside the body's horizontal extent
+// widened by its rounding and the largest grain's diameter (grains it carries
+// are not the bed); -inf without such grains.
+double bed_surface_beside(const System& sys, std::size_t b);
+
 // Whether body b is still held by the bed: some grain touching it is
 // connected, through touching grains, to a grain touching another body
 // (walls, floor). Grains carried on it (a cluster touching nothing else) do

@@ -51,6 +51,13 @@ inline std::int64_t steps_of_interval(double seconds, double dt) {
   return seconds > 0.0 ? steps_every(seconds, dt) : 0;
 }
 
+// A controller's forecast of the run's end, for the progress lines.
+struct EndForecast {
+  double time = std::numeric_limits<double>::infinity();  // simulated time it ends the run at (s); inf: cannot say
+  std::string what;             // what ends it then ("the duration", "intruder clear of the bed + 2 s")
+  bool may_end_sooner = false;  // it may end the run at a time it cannot predict (an energy criterion)
+};
+
 class Controller {
  public:
   static constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();
@@ -69,6 +76,9 @@ class Controller {
   virtual void restore(const ControllerState& in) = 0;
   // The run ended (any reason but an interruption): last records.
   virtual void finish(System&) {}
+  // When it expects to end the run, for the progress lines only (never
+  // changes results): see EndForecast.
+  virtual EndForecast forecast(const System&) const { return {}; }
 };
 
 }  // namespace dem2d

@@ -5,8 +5,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <ctime>
 #include <filesystem>
 #include <stdexcept>
 
@@ -17,6 +15,7 @@
 #include "run/checkpoint.hpp"
 #include "run/jam_control.hpp"
 #include "run/output_control.hpp"
+#include "run/progress.hpp"
 #include "run/stop_criteria.hpp"
 
 namespace dem2d {
@@ -28,78 +27,6 @@ namespace {
 
 std::atomic<bool> g_interrupt{false};
 static_assert(std::atomic<bool>::is_always_lock_free);
-
-std::string format_duration(double seconds) {
-  const auto s = static_cast<long long>(seconds);
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%lld:%02lld:%02lld", s / 3600, s / 60 % 60, s % 60);
-  return buf;
-}
-
-// How far a run is: a live line on a terminal (every 0.5 s) and a line in
-// DIR/run.log (every kLogSeconds of wall time), each with the simulated time,
-// the step against the duration's, the rate since its previous line and the
-// time left at that rate (an upper bound: a stop criterion may end the run
-// sooner). The log also says when the run starts, resumes, checkpoints and ends.
-class Progress {
- public:
-  static constexpr double kLogSeconds = 60.0;
-
-  Progress(bool terminal, const fs::path& log, std::int64_t total_steps, std::size_t particles, std::int64_t step)
-      : terminal_(terminal), log_(std::fopen(log.string().c_str(), "a")), total_(total_steps), particles_(particles),
-        term_{Clock::now(), step}, file_{Clock::now(), step} {}
-  ~Progress() {
-    if (log_) std::fclose(log_);
-  }
-  Progress(const Progress&) = delete;
-  Progress& operator=(const Progress&) = delete;
-
-  void update(std::int64_t step, double t) {
-    const auto now = Clock::now();
-    if (terminal_ && seconds(term_, now) >= 0.5) {
-      std::fprintf(stderr, "\r[dem2d] %s   ", line(term_, now, step, t).c_str());
-      std::fflush(stderr);
-    }
-    if (log_ && seconds(file_, now) >= kLogSeconds) note(line(file_, now, step, t));
-  }
-  // A line in the log, stamped with the date and time.
-  void note(const std::string& what) {
-    if (!log_) return;
-    const std::time_t now = std::time(nullptr);
-    char stamp[32];
-    std::strftime(stamp, sizeof stamp, "%Y-%m-%d %H:%M:%S", std::localtime(&now));
-    std::fprintf(log_, "%s %s\n", stamp, what.c_str());
-    std::fflush(log_);
-  }
-  void done() {
-    if (terminal_) std::fprintf(stderr, "\n");
-  }
-
- private:
-  struct Mark {
-    Clock::time_point when;
-    std::int64_t step;
-  };
-  static double seconds(const Mark& m, Clock::time_point now) { return std::chrono::duration<double>(now - m.when).count(); }
-  // The rate is averaged since the mark, which moves to now.
-  std::string line(Mark& m, Clock::time_point now, std::int64_t step, double t) const {
-    const double steps_per_s = static_cast<double>(step - m.step) / std::max(seconds(m, now), 1e-9);
-    m = {now, step};
-    const double eta = steps_per_s > 0 ? static_cast<double>(total_ - step) / steps_per_s : 0.0;
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "t = %.6g s  step %lld/%lld (%.1f %%)  %.3g steps/s  %.3g particle-steps/s  ETA %s", t,
-                  static_cast<long long>(step), static_cast<long long>(total_),
-                  total_ > 0 ? 100.0 * static_cast<double>(step) / static_cast<double>(total_) : 100.0, steps_per_s,
-                  steps_per_s * static_cast<double>(particles_), format_duration(eta).c_str());
-    return buf;
-  }
-
-  bool terminal_;
-  std::FILE* log_;
-  std::int64_t total_;
-  std::size_t particles_;
-  Mark term_, file_;
-};
 
 }  // namespace
 
@@ -158,7 +85,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   const std::int64_t first_step = sys.step;
   const std::int64_t first_rebuild = sys.lists.rebuild_count;
   const std::int64_t total = duration.last_step();
-  Progress progress(opt.progress, out_dir / "run.log", total, sys.size(), first_step);
+  Progress progress(opt.progress, out_dir / "run.log", scene.dt, sys.size(), first_step);
   progress.note(std::string(report.resumed ? "resumed" : "started") + " '" + scene.name + "' at step " +
                 std::to_string(first_step) + " of " + std::to_string(total) + ", " + std::to_string(sys.threads) +
                 " threads" + (scene.path.empty() ? "" : ", scene " + scene.path));
@@ -205,7 +132,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     // aim at ~0.1 s per call: responsive to signals and checkpoints, negligible overhead
     if (n == chunk && secs > 0)
       chunk = std::clamp<std::int64_t>(static_cast<std::int64_t>(static_cast<double>(n) / secs * 0.1), 1, 1 << 24);
-    progress.update(sys.step, sys.time());
+    if (progress.due()) progress.update(sys.step, sys.time(), forecast_end(controllers, sys));
   }
   progress.done();
   for (Controller* c : controllers) c->finish(sys);

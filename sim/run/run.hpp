@@ -4,13 +4,15 @@
 // the run file. Layout of the output directory:
 //   DIR/run.h5, DIR/run.xdmf   written only when the run is complete
 //   DIR/.run.work/             segments and checkpoint while it runs
-//   DIR/run.log                how far it is: start, resume, a line a minute, checkpoints, end (appended)
+//   DIR/run.log                how far it is: start, resume, a line every progress.every s, checkpoints,
+//                              end (appended)
 // Rerunning the same scene into the same DIR resumes from the checkpoint.
 #pragma once
 
 #include <cstdint>
 #include <string>
 
+#include "run/progress.hpp"
 #include "scene/scene.hpp"
 
 namespace dem2d {
@@ -18,7 +20,7 @@ namespace dem2d {
 struct RunOptions {
   std::string out_dir;
   bool fresh = false;     // discard an existing checkpoint instead of resuming
-  bool progress = false;  // live progress line on stderr
+  ProgressOptions progress{};  // where and how often to say how far the run is (run/progress.hpp)
   // For tests: act as if interrupted once this step is reached (-1: never).
   std::int64_t interrupt_at_step = -1;
 };

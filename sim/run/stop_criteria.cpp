@@ -1,5 +1,7 @@
 #include "run/stop_criteria.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "core/number_text.hpp"
@@ -37,6 +39,22 @@ std::string StopCriteria::act(System& sys) {
     return why.str();
   }
   return "";
+}
+
+EndForecast StopCriteria::forecast(const System& sys) const {
+  EndForecast f;
+  f.may_end_sooner = energy_ && every_ > 0;
+  if (!free_ || every_ == 0) return f;
+  const Bodies& B = sys.bodies;
+  const double vy = B.vy[free_body_];
+  const double surface = bed_surface_beside(sys, free_body_);
+  if (!B.active[free_body_] || !(vy > 0.0) || !std::isfinite(surface)) return f;
+  const double bottom = core_bounds(B.shape[free_body_]).ymin - B.radius[free_body_];
+  const double now = sys.time(), last_held = static_cast<double>(last_contact_) * sys.dt;
+  const double clear = bottom < surface ? now + (surface - bottom) / vy : std::max(now, last_held);
+  f.time = std::max(clear + stop_.free_time, now);
+  f.what = stop_.body_free + " clear of the bed + " + shortest(stop_.free_time) + " s";
+  return f;
 }
 
 void StopCriteria::save(const ControllerState& out) {

@@ -13,16 +13,19 @@ namespace dem2d {
 // Ends the run when stop.duration is reached.
 class DurationLimit final : public Controller {
  public:
-  explicit DurationLimit(const Scene& scene) : last_(steps_in(scene.stop.duration, scene.dt)) {}
+  explicit DurationLimit(const Scene& scene)
+      : last_(steps_in(scene.stop.duration, scene.dt)), end_(static_cast<double>(last_) * scene.dt) {}
   std::string name() const override { return "duration"; }
   std::int64_t next_step() const override { return last_; }
   std::string act(System&) override { return "duration reached"; }
   void save(const ControllerState&) override {}
   void restore(const ControllerState&) override {}
+  EndForecast forecast(const System&) const override { return {end_, "the duration", false}; }
   std::int64_t last_step() const { return last_; }
 
  private:
   std::int64_t last_;
+  double end_;  // (s)
 };
 
 // The earlier ends (kNever if the scene sets none).
@@ -34,6 +37,9 @@ class StopCriteria final : public Controller {
   std::string act(System& sys) override;
   void save(const ControllerState& out) override;
   void restore(const ControllerState& in) override;
+  // body_free: when the body's bottom, rising at its current velocity, clears
+  // the bed beside it, plus free_time; the energy criterion cannot be foreseen.
+  EndForecast forecast(const System& sys) const override;
 
  private:
   StopCondition stop_;
