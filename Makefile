@@ -1,7 +1,8 @@
 # dem2d: reproduction of a DEM study of an intruder pulled out of a granular bed.
-# Every target installs missing Debian packages first (make deps).
+# A first build installs missing Debian packages when run as root, and names
+# them otherwise (docs/install.md: other systems, no root).
 #
-#   make deps       install the Debian packages the project needs (apt-get)
+#   make deps       install the Debian packages the project and its tests need (apt-get, sudo unless root)
 #   make build      optimised build: build/release/sim/dem2d
 #   make install    PREFIX=DIR (default /usr/local): bin/dem2d, libexec/dem2d/<stage>, share/dem2d/data
 #   make test       unit + physics tests (optimised build), the quick tests again
@@ -27,6 +28,8 @@
 #   make network    stage: force network, percolation, keystones             (results/<preset>/network/)
 #   make friction   stage: friction mobilisation                             (results/<preset>/friction/)
 #   make metrics figures report   the merged metrics, the figures, the report of results/<preset>/
+#   make paraview   the force network at H = 34 mm rendered by ParaView from the pull-off's run.xdmf
+#                   (results/<preset>/figures/force_network_paraview.png)
 #   make validate   validation cases against analytic and established results (Chung & Ooi impacts,
 #                   rolling, statics, energy error order, stability limit, Janssen, Beverloo, repose):
 #                   results/validate/table.md and figures
@@ -38,6 +41,7 @@
 #   make clean      remove build/ (results/ stays)
 
 SHELL := /bin/bash
+export PYTHON
 JOBS ?= $(shell nproc)
 BUILD := build/release
 SANITIZE_BUILD := build/sanitize
@@ -54,7 +58,9 @@ STAGE_BIN := $(INSTALLED)/libexec/dem2d
 CHECK := $(STAGE_BIN)/check_paper_targets
 endif
 # any Python with h5py, numpy and matplotlib (Debian's python3-* by default): make PYTHON=...
-PYTHON ?= /usr/bin/python3
+ifeq ($(origin PYTHON),undefined)
+PYTHON := $(shell [ -x /usr/bin/python3 ] && echo /usr/bin/python3 || echo python3)
+endif
 REPORT_SCRIPTS := pipeline/report
 
 PRESET ?= default
@@ -85,38 +91,55 @@ THREADS ?= $(JOBS)
 # seconds of wall time between a simulation's progress lines (in the make log and DIR/run.log)
 PROGRESS ?= 60
 
+# Debian's packages for building and running the study; the tests' own (pytest, ParaView's Python)
 DEBIAN_PACKAGES := g++ cmake make pkg-config git \
   libeigen3-dev libboost-graph-dev libfftw3-dev libhdf5-dev \
   libgtest-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev \
   python3-h5py python3-numpy python3-matplotlib
+TEST_PACKAGES := python3-pytest python3-paraview xvfb xauth
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
-.PHONY: deps build install test test-release test-sanitize test-pipeline test-cluster fuzz bench bench-scaling bench-compare reproduce check validate \
+.PHONY: paraview deps needs needs-test build install test test-release test-sanitize test-pipeline test-cluster fuzz bench bench-scaling bench-compare reproduce check validate \
   pulloff-slice cyclic metrics figures report accuracy ensemble clean FORCE
+.DEFAULT_GOAL := build
 
+# $(call missing,PACKAGES): those of the Debian PACKAGES not installed (none off Debian)
+missing = $$(command -v dpkg >/dev/null && for p in $(1); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done)
+# make deps: what a user asks for: installs the missing packages with apt-get (through sudo unless root)
 deps:
-	@missing=$$(for p in $(DEBIAN_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done); \
-	if [ -n "$$missing" ]; then \
-	  echo "make deps: installing" $$missing; \
-	  $(SUDO) apt-get update -qq && \
-	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; \
-	fi
+	@m="$(call missing,$(DEBIAN_PACKAGES) $(TEST_PACKAGES))"; \
+	if [ -n "$$m" ]; then echo "make deps: installing" $$m; \
+	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$m; \
+	else echo "make deps: nothing missing"; fi
+# Before a first configure: the missing packages are installed when we are root
+# on Debian (a fresh machine, CI); otherwise named, with how to get them (docs/install.md).
+# Off Debian nothing is checked: CMake names what it cannot find. NO_DEPS=1 skips the check.
+NO_DEPS ?=
+needs needs-test: PACKAGES = $(DEBIAN_PACKAGES) $(if $(filter needs-test,$@),$(TEST_PACKAGES))
+needs needs-test:
+	@[ -n "$(NO_DEPS)" ] || { m="$(call missing,$(PACKAGES))"; [ -z "$$m" ] || \
+	  if [ "$$(id -u)" -eq 0 ]; then echo "make: installing missing Debian packages:" $$m; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$m; \
+	  else echo "make: missing Debian packages:" $$m; \
+	    echo "  install them with \`make deps\` (apt-get through sudo) or as docs/install.md says; NO_DEPS=1 skips this check"; exit 2; fi; }
 
-$(BUILD)/CMakeCache.txt: | deps
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
+# NATIVE=ON (this tree's default): optimised for this machine's CPU; the installed default is portable
+NATIVE ?= ON
+$(BUILD)/CMakeCache.txt: | needs
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DDEM2D_NATIVE=$(NATIVE) -DDEM2D_PYTHON=$(PYTHON)
 
-build: deps $(BUILD)/CMakeCache.txt
+build: $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j $(JOBS)
 
-$(SANITIZE_BUILD)/CMakeCache.txt: | deps
-	cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDEM2D_SANITIZE=ON
+$(SANITIZE_BUILD)/CMakeCache.txt: | needs
+	cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDEM2D_SANITIZE=ON -DDEM2D_PYTHON=$(PYTHON)
 
 test: test-release test-sanitize test-pipeline test-cluster
 
-test-release: build
+test-release: needs-test build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
-test-sanitize: deps $(SANITIZE_BUILD)/CMakeCache.txt
+test-sanitize: needs-test $(SANITIZE_BUILD)/CMakeCache.txt
 	cmake --build $(SANITIZE_BUILD) -j $(JOBS)
 	cd $(SANITIZE_BUILD) && ctest --output-on-failure -j $(JOBS) -L quick
 
@@ -140,10 +163,16 @@ test-cluster: build
 	tests/slurm_test.sh; rc=$$?; [ $$rc -eq 0 ] || [ $$rc -eq 77 ]
 
 # make install PREFIX=DIR: dem2d in DIR/bin, the stages' programs in DIR/libexec/dem2d,
-# data/ and code_version.txt in DIR/share/dem2d (found relative to the programs)
+# data/ and code_version.txt in DIR/share/dem2d (found relative to the programs), the
+# engine's libraries, headers and CMake package (find_package(dem2d); docs/install.md).
+# Built portable (any x86-64) in build/install unless INSTALL_NATIVE=ON.
 PREFIX ?= /usr/local
-install: build
-	cmake --install $(BUILD) --prefix $(PREFIX)
+INSTALL_NATIVE ?= OFF
+INSTALL_BUILD := build/install
+install: | needs
+	cmake -S . -B $(INSTALL_BUILD) -DCMAKE_BUILD_TYPE=Release -DDEM2D_NATIVE=$(INSTALL_NATIVE) -DDEM2D_PYTHON=$(PYTHON) >/dev/null
+	cmake --build $(INSTALL_BUILD) -j $(JOBS) --target installed
+	cmake --install $(INSTALL_BUILD) --prefix $(PREFIX)
 
 bench: build
 	$(DEM2D) bench
@@ -153,8 +182,8 @@ bench-scaling: build
 	$(DEM2D) bench --tiles 1 6 63 625 --repeat 3 --json results/bench_scaling.json
 
 bench-compare: build
-	@$(MAKE) --no-print-directory deps DEBIAN_PACKAGES=lammps
-	/usr/bin/python3 pipeline/bench_compare/compare.py data/bench/compare.toml $(DEM2D) results/bench_compare
+	@$(MAKE) --no-print-directory needs DEBIAN_PACKAGES=lammps
+	$(PYTHON) pipeline/bench_compare/compare.py data/bench/compare.toml $(DEM2D) results/bench_compare
 
 # --- the study's stages: file targets, so only what is stale reruns --------
 # The analysis stages' rules come from their registry, pipeline/stages.toml
@@ -164,7 +193,7 @@ STAGES_MK := $(BUILD)/$(basename $(notdir $(STAGE_REGISTRY))).mk
 ifneq ($(MAKECMDGOALS),clean)
 include $(STAGES_MK)
 endif
-$(STAGES_MK): $(STAGE_REGISTRY) pipeline/stages.py | deps
+$(STAGES_MK): $(STAGE_REGISTRY) pipeline/stages.py | needs
 	@mkdir -p $(@D)
 	$(PYTHON) pipeline/stages.py make $(STAGE_REGISTRY) > $@.tmp && mv $@.tmp $@
 
@@ -250,6 +279,14 @@ $(RESULTS)/figures/index.json: $(STAGE_METRICS) data/study.toml $(FIGURE_SCRIPTS
 $(RESULTS)/report.md: $(RESULTS)/metrics.json $(RESULTS)/check.json $(RESULTS)/figures/index.json \
                       $(REPORT_SCRIPTS)/report.py $(REPORT_SCRIPTS)/deviations.toml
 	$(PYTHON) $(REPORT_SCRIPTS)/report.py $(RESULTS) $(PRESET)
+
+# ParaView's view of the force network (the paper's Fig. 6b) from the pull-off's run.xdmf, headless
+# (pvbatch; xvfb-run where there is no display): pipeline/paraview/force_network.py
+PVBATCH ?= pvbatch
+$(RESULTS)/figures/force_network_paraview.png: $(RESULTS)/pulloff/run.h5 pipeline/paraview/force_network.py
+	@mkdir -p $(@D)
+	$(if $(DISPLAY),,xvfb-run -a) $(PVBATCH) pipeline/paraview/force_network.py $(RESULTS)/pulloff $@
+paraview: $(RESULTS)/figures/force_network_paraview.png
 
 pulloff-slice: $(SLICE_DIR)/metrics.json
 cyclic: $(RESULTS)/cyclic/metrics.json

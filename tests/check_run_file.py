@@ -46,10 +46,17 @@ def layout(T, S, C, L, N, B, J, K):
         "snapshots/contact_start": (i8, (S + 1,)),
         "contacts/i": (i4, (C,)), "contacts/j": (i4, (C,)), "contacts/fn": (f8, (C,)), "contacts/ft": (f8, (C,)),
         "contacts/overlap": (f8, (C,)), "contacts/nx": (f8, (C,)), "contacts/ny": (f8, (C,)),
-        "contacts/mr": (f8, (C,)), "contacts/sliding": (u1, (C,)),
+        "contacts/mr": (f8, (C,)), "contacts/sliding": (u1, (C,)), "contacts/mu_star": (f8, (C,)),
+        "contacts/line": (f8, (C, 2, 2)), "xdmf/body_outline": (i4, (B, K + 1)),
         "lost/id": (i4, (L,)), "lost/step": (i8, (L,)), "lost/x": (f8, (L,)), "lost/y": (f8, (L,)),
         "events/jam_time": (f8, (J,)),
     }
+
+
+def datasets(f):
+    names = []
+    f.visititems(lambda name, obj: names.append(name) if isinstance(obj, h5py.Dataset) else None)
+    return names
 
 
 def dtype_code(ds):
@@ -88,6 +95,10 @@ def check_run_file(f, errors):
             errors.append(f"/{name} is {dtype_code(f[name])}, expected {code}")
     if errors:
         return
+    for name in datasets(f):  # every dataset says what it holds
+        for attr in ("units", "description"):
+            if not isinstance(f[name].attrs.get(attr), str) or not f[name].attrs[attr]:
+                errors.append(f"/{name} has no {attr} attribute")
     if dim("lost/id") != f.attrs["lost_particles"]:
         errors.append("lost_particles does not match /lost/id")
     if not np.array_equal(f["particles/id"][...], np.arange(N)):
@@ -114,11 +125,22 @@ def check_run_file(f, errors):
         errors.append("/contacts: normals are not unit vectors")
     if np.any(f["contacts/sliding"][...] > 1):
         errors.append("/contacts/sliding is not 0/1")
+    mu_star = f["contacts/mu_star"][...]
+    if np.any(mu_star[~np.isnan(mu_star)] > 1 + 1e-9) or np.any(mu_star < 0):
+        errors.append("/contacts/mu_star outside [0, 1] (the Coulomb cone)")
+    line, position = f["contacts/line"][...], f["snapshots/position"]
+    seq = f["xdmf/sequence"][...]
+    if not np.array_equal(seq, np.arange(len(seq))) or len(seq) < 2 * max(np.diff(start), default=0):
+        errors.append("/xdmf/sequence is not 0, 1, ... up to twice the most contacts of a snapshot")
     for k in range(len(start) - 1):  # contacts of a snapshot come in slot order: pairs by (i, j), then walls
         ik, jk = i[start[k]:start[k + 1]], j[start[k]:start[k + 1]]
         pairs = jk >= 0
         if np.any(np.diff(pairs.astype(int)) > 0) or np.any(np.diff(ik[pairs]) < 0) or np.any(np.diff(ik[~pairs]) < 0):
             errors.append(f"contacts of snapshot {k} are not in slot order")
+            break
+        xy, lk = position[k], line[start[k]:start[k + 1]]
+        if not (np.array_equal(lk[:, 0], xy[ik]) and np.array_equal(lk[pairs, 1], xy[jk[pairs]])):
+            errors.append(f"/contacts/line of snapshot {k}: not from grain i's centre to grain j's")
             break
     if "series/energy" in f:
         check_energy(f, errors)
@@ -140,6 +162,12 @@ def check_energy(f, errors):
                       f"(largest term {scale:.3g} J/m)")
 
 
+# run.xdmf's three temporal collections: topology type, and the arrays each grid must have
+COLLECTIONS = {"particles": ("Polyvertex", {"diameter", "velocity", "omega", "theta", "active"}),
+               "bodies": ("Polyline", {"thickness"}),
+               "contacts": ("Polyline", {"fn", "ft", "mu_star", "overlap", "sliding"})}
+
+
 def check_xdmf(f, h5_path, xdmf_path, errors):
     try:
         root = ET.parse(xdmf_path).getroot()
@@ -147,51 +175,67 @@ def check_xdmf(f, h5_path, xdmf_path, errors):
         errors.append(f"{xdmf_path}: not well-formed XML: {e}")
         return
     h5_name = os.path.basename(h5_path)
-    grids = root.findall("./Domain/Grid[@CollectionType='Temporal']/Grid")
     times = f["snapshots/time"][...]
-    N = int(f.attrs["n_particles"])
-    if len(grids) != len(times):
-        errors.append(f"{xdmf_path}: {len(grids)} grids for {len(times)} snapshots")
-    for k, grid in enumerate(grids):
-        if float(grid.find("Time").get("Value")) != times[k]:
-            errors.append(f"grid {k}: time differs from /snapshots/time")
-        if grid.find("Topology").get("TopologyType") != "Polyvertex":
-            errors.append(f"grid {k}: topology is not Polyvertex")
-        if grid.find("Geometry").get("GeometryType") != "XY":
-            errors.append(f"grid {k}: geometry is not XY")
-        names = [a.get("Name") for a in grid.findall("Attribute")]
-        if not {"diameter", "velocity", "omega", "active"} <= set(names):
-            errors.append(f"grid {k}: attributes {names}")
-        for item in grid.iter("DataItem"):
-            dims = tuple(int(d) for d in item.get("Dimensions").split())
-            path, _, selection = item.text.strip().partition("|")
-            file, _, dataset = path.partition(":")
-            if file != h5_name or dataset.lstrip("/") not in f:
-                errors.append(f"grid {k}: {item.text.strip()} does not name a dataset of {h5_name}")
-                continue
-            shape = f[dataset].shape
-            if not selection:
-                if shape != dims:
-                    errors.append(f"grid {k}: {dataset} has shape {shape}, declared {dims}")
-                continue
-            start, stride, count, space = ([int(v) for v in part.split()] for part in selection.split(":"))
-            if tuple(space) != shape or np.prod(count) != np.prod(dims):
-                errors.append(f"grid {k}: selection {selection} does not fit {dataset} {shape} / {dims}")
-            elif any(c > 0 and s + (c - 1) * t >= n for s, t, c, n in zip(start, stride, count, shape)):
-                errors.append(f"grid {k}: selection {selection} out of bounds of {dataset} {shape}")
-            elif dataset.startswith("/snapshots/") and start[0] != k:
-                errors.append(f"grid {k}: {dataset} selects snapshot {start[0]}")
-        if grid.find("Topology/DataItem") is not None and N and \
-                grid.find("Topology/DataItem").text.strip() != f"{h5_name}:/particles/id":
-            errors.append(f"grid {k}: connectivity is not /particles/id")
+    start = f["snapshots/contact_start"][...]
+    N, B = int(f.attrs["n_particles"]), int(f.attrs["n_bodies"])
+    present = {"particles": True, "bodies": B > 0, "contacts": start[-1] > 0}
+    collections = {c.get("Name"): c for c in root.findall("./Domain/Grid[@CollectionType='Temporal']")}
+    if set(collections) != {name for name, p in present.items() if p}:
+        errors.append(f"{xdmf_path}: collections {sorted(collections)}, expected {[n for n, p in present.items() if p]}")
+        return
+    for cname, collection in collections.items():
+        topology, arrays = COLLECTIONS[cname]
+        grids = collection.findall("Grid")
+        if len(grids) != len(times):
+            errors.append(f"{xdmf_path}: {cname}: {len(grids)} grids for {len(times)} snapshots")
+        for k, grid in enumerate(grids):
+            where = f"{cname} grid {k}"
+            if float(grid.find("Time").get("Value")) != times[k]:
+                errors.append(f"{where}: time differs from /snapshots/time")
+            if cname == "contacts" and start[k + 1] == start[k]:
+                continue  # an empty grid
+            if grid.find("Topology").get("TopologyType") != topology:
+                errors.append(f"{where}: topology is not {topology}")
+            if grid.find("Geometry").get("GeometryType") != "XY":
+                errors.append(f"{where}: geometry is not XY")
+            names = {a.get("Name") for a in grid.findall("Attribute")}
+            if names != arrays:
+                errors.append(f"{where}: attributes {sorted(names)}, expected {sorted(arrays)}")
+            for item in grid.iter("DataItem"):
+                check_item(f, item, k, start, h5_name, where, errors)
+            connectivity = grid.find("Topology/DataItem").text.strip()
+            if cname == "particles" and N and connectivity != f"{h5_name}:/particles/id":
+                errors.append(f"{where}: connectivity is not /particles/id")
+
+
+def check_item(f, item, k, start, h5_name, where, errors):
+    """A DataItem names a dataset of the run file, and selects within it what grid k shows."""
+    dims = tuple(int(d) for d in item.get("Dimensions").split())
+    path, _, selection = item.text.strip().partition("|")
+    file, _, dataset = path.partition(":")
+    if file != h5_name or dataset.lstrip("/") not in f:
+        errors.append(f"{where}: {item.text.strip()} does not name a dataset of {h5_name}")
+        return
+    shape = f[dataset].shape
+    if not selection:
+        if shape != dims:
+            errors.append(f"{where}: {dataset} has shape {shape}, declared {dims}")
+        return
+    first, stride, count, space = ([int(v) for v in part.split()] for part in selection.split(":"))
+    if tuple(space) != shape or np.prod(count) != np.prod(dims):
+        errors.append(f"{where}: selection {selection} does not fit {dataset} {shape} / {dims}")
+    elif any(c > 0 and s + (c - 1) * t >= n for s, t, c, n in zip(first, stride, count, shape)):
+        errors.append(f"{where}: selection {selection} out of bounds of {dataset} {shape}")
+    elif dataset.startswith("/snapshots/") and first[0] != k:
+        errors.append(f"{where}: {dataset} selects snapshot {first[0]}")
+    elif dataset.startswith("/contacts/") and (first[0], count[0]) != (start[k], start[k + 1] - start[k]):
+        errors.append(f"{where}: {dataset} selects rows {first[0]}+{count[0]}, not snapshot {k}'s contacts")
 
 
 def compare_datasets(f, other_path, errors):
     """Every dataset of f equal, bit for bit, to the same dataset of other_path."""
     with h5py.File(other_path, "r") as g:
-        names = []
-        f.visititems(lambda name, obj: names.append(name) if isinstance(obj, h5py.Dataset) else None)
-        for name in names:
+        for name in datasets(f):
             if name not in g:
                 errors.append(f"{name} missing from {other_path}")
                 continue

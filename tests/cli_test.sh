@@ -5,7 +5,7 @@
 set -uo pipefail
 DEM2D=$1
 TESTS=$2
-PY=/usr/bin/python3
+PY=${PYTHON:-/usr/bin/python3}
 CHECK="$PY $TESTS/check_run_file.py"
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT

@@ -38,5 +38,18 @@ cd "$P" && "$I/bin/dem2d" run "$SRC/tests/scenes/valid_minimal.toml" --out "$P/r
 version=$(${PYTHON:-/usr/bin/python3} -c 'import h5py, sys; print(h5py.File(sys.argv[1], "r").attrs["code_version"])' \
   "$P/run/run.h5" 2>&1) || fail "cannot read the installed run's code version: $version"
 case $version in *+unknown | "") fail "the installed dem2d has no code version: '$version'" ;; esac
+# another project: find_package(dem2d) from the (moved) prefix, link the engine, run a scene, read it back
+for f in lib/libdem2d_core.a lib/libdem2d_runfile.a lib/cmake/dem2d/dem2dConfig.cmake include/dem2d/run/run.hpp \
+  include/dem2d/io/run_reader.hpp; do
+  [ -e "$I/$f" ] || fail "not installed: $f"
+done
+if cmake -S "$SRC/tests/install_consumer" -B "$P/consumer" -DCMAKE_PREFIX_PATH="$I" -DCMAKE_BUILD_TYPE=Release \
+     >"$P/consumer.log" 2>&1 && cmake --build "$P/consumer" -j 2 >>"$P/consumer.log" 2>&1; then
+  out=$("$P/consumer/consumer" "$SRC/tests/scenes/valid_minimal.toml" "$P/consumer_run" 2>&1) ||
+    fail "the consumer of find_package(dem2d) failed: $out"
+  echo "$out" | grep -q "^consumer: [1-9][0-9]* particles, [1-9][0-9]* snapshots" || fail "consumer said: $out"
+else
+  fail "find_package(dem2d) and a build against it failed: $(grep -A6 -i error "$P/consumer.log" | head -30)"
+fi
 [ "$failures" -eq 0 ] && echo "install_test: all checks passed ($I)" || echo "install_test: $failures failed"
 [ "$failures" -eq 0 ]

@@ -6,7 +6,7 @@
 # what to run.  Usage: tests/pipeline_test.sh results/quick  (from the repo root)
 set -uo pipefail
 R=$1
-PY=/usr/bin/python3
+PY=${PYTHON:-/usr/bin/python3}
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 failures=0

@@ -9,7 +9,7 @@
 set -uo pipefail
 DEM2D=$1
 TESTS=$2
-PY=/usr/bin/python3
+PY=${PYTHON:-/usr/bin/python3}
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 failures=0

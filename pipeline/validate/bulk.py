@@ -4,11 +4,16 @@ repose of a heap against sliding and rolling friction. Grains: SPEC's glass,
 d uniform in [2, 4] mm, k_n = 1.92e6 N/m (preset fast: the bulk laws do not
 depend on the stiffness), dt = dt_c/20."""
 import math
+import os
+import sys
 
 import numpy as np
 
 from checks import Check
 from runner import DENSITY, glass_contact, run
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+from dem2d.measure import heap_angle  # noqa: E402
 
 G = 9.81
 KN = 1.92e6
@@ -196,21 +201,3 @@ def repose(ctx) -> list:
                                 angles[(mu, rr, 0.0)] + 1.0, a, 0.0, "deg", "above",
                                 "cohesion steepens a heap (e.g. Nase et al. 2001; Luding 2008)"))
     return checks
-
-
-def heap_angle(pos: np.ndarray, d: float) -> float:
-    """Mean of the two flanks' angles (deg): the highest grain per bin of width
-    d, lines fitted where the surface is between 20 % and 80 % of the peak."""
-    x, y = pos[:, 0], pos[:, 1]
-    bins = np.arange(x.min(), x.max() + d, d)
-    idx = np.digitize(x, bins)
-    top = np.array([(x[idx == k][np.argmax(y[idx == k])], y[idx == k].max()) for k in np.unique(idx)])
-    peak = top[:, 1].max()
-    xp = top[np.argmax(top[:, 1]), 0]
-    band = (top[:, 1] > 0.2 * peak) & (top[:, 1] < 0.8 * peak)
-    angles = []
-    for side in (top[:, 0] < xp, top[:, 0] > xp):
-        sel = band & side
-        if sel.sum() >= 3:
-            angles.append(abs(math.degrees(math.atan(np.polyfit(top[sel, 0], top[sel, 1], 1)[0]))))
-    return float(np.mean(angles)) if angles else 0.0  # no heap: the grains ran off the base

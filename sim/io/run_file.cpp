@@ -17,6 +17,8 @@
 #include "engine/energy_ledger.hpp"
 #include "io/h5.hpp"
 #include "io/h5_seal.hpp"
+#include "io/run_file_units.hpp"
+#include "io/run_xdmf.hpp"
 
 namespace dem2d {
 
@@ -103,60 +105,6 @@ void write_header(const h5::File& f, const System& sys, const RunInfo& info, con
   write_lost(f, sys.lost);
 }
 
-// ParaView's view of the snapshots (docs/run_file.md): a temporal collection of
-// point clouds whose arrays are hyperslabs of the run file's datasets. Written
-// for the Xdmf3 readers, ParaView's default for .xdmf: they read a selection
-// given as "file:/dataset|start:stride:count:dataspace" but not HyperSlab
-// DataItems, which crash them. The polyvertex connectivity is /particles/id
-// (inline XML connectivity would be read for the first grid only).
-void write_xdmf(const std::string& path, const std::string& h5_name, const std::vector<double>& times,
-                std::uint64_t n) {
-  const std::string N = std::to_string(n), S = std::to_string(times.size());
-  const std::string f8 = "NumberType=\"Float\" Precision=\"8\"", u1 = "NumberType=\"UChar\" Precision=\"1\"",
-                    i4 = "NumberType=\"Int\" Precision=\"4\"";
-  const auto item = [&](const std::string& dims, const std::string& type, const std::string& content) {
-    return "<DataItem Dimensions=\"" + dims + "\" " + type + " Format=\"HDF\">" + h5_name + ":" + content +
-           "</DataItem>";
-  };
-  // record k of a dataset [S, N] (comps = 0) or [S, N, comps]
-  const auto record = [&](std::size_t k, const std::string& dataset, const std::string& type, int comps) {
-    std::ostringstream dims, sel;  // (streams: GCC 12 warns falsely on some string concatenations)
-    dims << N;
-    if (comps > 0) dims << ' ' << comps;
-    sel << dataset << '|' << k << (comps > 0 ? " 0 0" : " 0") << ':' << (comps > 0 ? "1 1 1" : "1 1") << ":1 "
-        << dims.str() << ':' << S << ' ' << dims.str();
-    return item(dims.str(), type, sel.str());
-  };
-  const auto attribute = [](const std::string& name, const std::string& kind, const std::string& data) {
-    return "      <Attribute Name=\"" + name + "\" AttributeType=\"" + kind + "\" Center=\"Node\">\n        " +
-           data + "\n      </Attribute>\n";
-  };
-
-  std::ofstream out(path);
-  out << "<?xml version=\"1.0\" ?>\n"
-      << "<Xdmf Version=\"3.0\">\n<Domain>\n"
-      << "  <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  char time[32];
-  for (std::size_t k = 0; k < times.size(); ++k) {
-    std::snprintf(time, sizeof time, "%.17g", times[k]);
-    out << "    <Grid Name=\"snapshot_" << k << "\" GridType=\"Uniform\">\n"
-        << "      <Time Value=\"" << time << "\"/>\n"
-        << "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << N << "\" NodesPerElement=\"1\">\n"
-        << "        " << item(N, i4, "/particles/id") << "\n"
-        << "      </Topology>\n"
-        << "      <Geometry GeometryType=\"XY\">\n        " << record(k, "/snapshots/position", f8, 2)
-        << "\n      </Geometry>\n"
-        << attribute("diameter", "Scalar", item(N, f8, "/particles/diameter"))
-        << attribute("velocity", "Vector", record(k, "/snapshots/velocity", f8, 2))
-        << attribute("omega", "Scalar", record(k, "/snapshots/omega", f8, 0))
-        << attribute("theta", "Scalar", record(k, "/snapshots/theta", f8, 0))
-        << attribute("active", "Scalar", record(k, "/snapshots/active", u1, 0)) << "    </Grid>\n";
-  }
-  out << "  </Grid>\n</Domain>\n</Xdmf>\n";
-  out.close();
-  if (!out) throw std::runtime_error(path + ": cannot write the XDMF file");
-}
-
 }  // namespace
 
 RunRecorder::RunRecorder(const System& sys, std::string work_dir)
@@ -205,6 +153,8 @@ std::vector<RunRecorder::Column> RunRecorder::columns() {
       {"contacts/ny", {}, &contact_.ny, c},
       {"contacts/mr", {}, &contact_.mr, c},
       {"contacts/sliding", {}, &contact_.sliding, c},
+      {"contacts/mu_star", {}, &contact_.mu_star, c},
+      {"contacts/line", {2, 2}, &contact_.line, c},
   };
   if (energy_) {
     const auto names = EnergyBalance{}.terms();
@@ -264,10 +214,14 @@ void RunRecorder::record_snapshot(const System& sys, const std::vector<double>* 
   const bool friction = has(sys.effects, effect::friction), cohesion = has(sys.effects, effect::cohesion);
   const bool gaps = reaches_beyond_contact(sys.effects);
   const std::size_t before = contact_.i.size();
+  // (ex, ey): the far end of the contact's line from grain i's centre (a grain's centre, a point on a body)
   const auto add = [&](std::size_t i, std::int32_t j, double fn, double ft, double overlap, double nx,
-                       double ny, double mr, const LawCoefficients& c) {
+                       double ny, double mr, const LawCoefficients& c, double ex, double ey) {
     // the load pressing the surfaces together caps friction: F_n, plus the adhesive pull with cohesion
     const double load = cohesion && overlap > 0.0 ? fn + Cohesion::pull(c, -overlap) : fn;
+    contact_.mu_star.push_back(friction && overlap > 0.0 && load > 0.0 ? std::abs(ft) / (c.mu * load)
+                                                                       : std::numeric_limits<double>::quiet_NaN());
+    contact_.line.insert(contact_.line.end(), {p.x[i], p.y[i], ex, ey});
     contact_.i.push_back(static_cast<std::int32_t>(i));
     contact_.j.push_back(j);
     contact_.fn.push_back(fn);
@@ -285,14 +239,16 @@ void RunRecorder::record_snapshot(const System& sys, const std::vector<double>* 
       const auto j = static_cast<std::size_t>(P.partner[sl]);
       const double dx = p.x[i] - p.x[j], dy = p.y[i] - p.y[j], dist = std::sqrt(dx * dx + dy * dy);
       add(i, P.partner[sl], P.fn[sl], P.ft[sl], P.overlap[sl], dist > 0.0 ? dx / dist : 1.0,
-          dist > 0.0 ? dy / dist : 0.0, P.mr[sl], sys.pp);
+          dist > 0.0 ? dy / dist : 0.0, P.mr[sl], sys.pp, p.x[j], p.y[j]);
     }
   const WallList& W = sys.lists.walls;
   for (std::size_t i = 0; i + 1 < W.start.size(); ++i)
     for (auto sl = static_cast<std::size_t>(W.start[i]); sl < static_cast<std::size_t>(W.start[i + 1]); ++sl) {
       if (!acted(W.overlap[sl], gaps)) continue;
       const Proximity g = closest_point(sys.bodies.shape[static_cast<std::size_t>(W.body[sl])], p.x[i], p.y[i]);
-      add(i, -1 - W.body[sl], W.fn[sl], W.ft[sl], W.overlap[sl], g.nx, g.ny, W.mr[sl], sys.pw);
+      const double reach = p.radius[i] - 0.5 * W.overlap[sl];  // centre to the contact point
+      add(i, -1 - W.body[sl], W.fn[sl], W.ft[sl], W.overlap[sl], g.nx, g.ny, W.mr[sl], sys.pw,
+          p.x[i] - reach * g.nx, p.y[i] - reach * g.ny);
     }
   snap_.contact_count.push_back(static_cast<std::int64_t>(contact_.i.size() - before));
   ++snapshots_;
@@ -368,7 +324,11 @@ void RunRecorder::finish(const System& sys, const RunInfo& info, const std::stri
         static_cast<std::int64_t>(h5::shape(f, "series/time").at(0)) != series_rows_ ||
         static_cast<hsize_t>(start.back()) != h5::shape(f, "contacts/i").at(0))
       throw std::runtime_error(work_dir_ + ": the segment files do not hold the recorded rows");
-    write_xdmf(xdmf_tmp, out.filename().string(), times, n_);
+    XdmfLayout view{out.filename().string(), times, start, {}, n_, nv_};
+    for (const Shape& shape : sys.bodies.shape) view.vertex_count.push_back(shape.n);
+    write_xdmf_indices(f, view);
+    describe_run_file(f);
+    write_xdmf(xdmf_tmp, view);
     f.close();
     // the XDMF first: a run file that exists is complete, its XDMF included
     h5::rename_checked(xdmf_tmp, xdmf.string());

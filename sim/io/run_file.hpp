@@ -96,7 +96,7 @@ class RunRecorder {
   } snap_;
   struct {
     std::vector<std::int32_t> i, j;
-    std::vector<double> fn, ft, overlap, nx, ny, mr;
+    std::vector<double> fn, ft, overlap, nx, ny, mr, mu_star, line;
     std::vector<std::uint8_t> sliding;
   } contact_;
 };

@@ -1,0 +1,239 @@
+"""The run file: a Run and what it holds (snapshots, contacts, bodies, series)."""
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass
+from functools import cached_property
+
+import h5py
+import numpy as np
+
+FORMATS = ("dem2d-run-1", "dem2d-run-2")
+
+
+def open_run(path):
+    """A Run for the run file at `path` (use it in a with-statement, or call close())."""
+    return Run(path)
+
+
+@dataclass(frozen=True)
+class Body:
+    """A wall or moving body: a convex core (a point, a segment or a polygon) rounded by thickness/2."""
+    index: int
+    name: str
+    role: str          # intruder, floor, left_wall, right_wall, hopper, or ""
+    shape: str         # segment, rectangle, polygon
+    thickness: float   # m
+    vertex_count: int
+
+    def core(self, body_vertices):
+        """This body's core vertices (x, y) in m from a snapshot's or series row's body_vertices [B, K, 2]."""
+        return np.asarray(body_vertices)[self.index, :self.vertex_count]
+
+
+@dataclass(frozen=True)
+class Particles:
+    diameter: np.ndarray  # m [N]
+    mass: np.ndarray      # kg/m [N]
+    inertia: np.ndarray   # kg m [N]
+
+
+class Contacts:
+    """The acting contacts of one snapshot, one row each (grain-grain first, then grain-body).
+
+    i: grain; j: the raw partner code of the file (j >= 0 a grain, else body -1-j);
+    grain_j: the partner grain or -1; body: the partner body's index or -1; is_body: body contacts.
+    fn, ft (N/m), overlap (m), normal [C, 2] (from the partner to grain i), mr (N), sliding (bool),
+    mu_star (|ft| / (mu F_load), NaN without friction), line [C, 2, 2] (m: grain i's centre to the
+    partner grain's centre or to the contact point on a body)."""
+
+    def __init__(self, rows: dict):
+        self.i = rows["i"]
+        self.j = rows["j"]
+        self.is_body = self.j < 0
+        self.grain_j = np.where(self.is_body, -1, self.j)
+        self.body = np.where(self.is_body, -1 - self.j, -1)
+        self.fn, self.ft, self.overlap, self.mr = rows["fn"], rows["ft"], rows["overlap"], rows["mr"]
+        self.normal = np.stack([rows["nx"], rows["ny"]], axis=-1) if len(self.i) else np.zeros((0, 2))
+        self.sliding = rows["sliding"].astype(bool)
+        self.mu_star = rows.get("mu_star")
+        self.line = rows.get("line")
+
+    def __len__(self):
+        return len(self.i)
+
+    def with_body(self, body: Body):
+        """Mask of the contacts on `body`."""
+        return self.body == body.index
+
+
+@dataclass
+class Snapshot:
+    index: int
+    time: float             # s
+    step: int
+    position: np.ndarray    # m [N, 2]
+    velocity: np.ndarray    # m/s [N, 2]
+    omega: np.ndarray       # rad/s [N]
+    theta: np.ndarray       # rad [N]
+    active: np.ndarray      # bool [N]
+    body_vertices: np.ndarray  # m [B, K, 2]
+    contacts: Contacts
+
+
+class Series:
+    """The time series (one row per series interval): time (s), step, and per body force/torque."""
+
+    def __init__(self, group: h5py.Group):
+        self._g = group
+        self.time = group["time"][...]
+        self.step = group["step"][...]
+
+    def __getitem__(self, name):
+        """Any series dataset by name, e.g. series["kinetic_energy"] or series["energy/sliding"]."""
+        return self._g[name][...]
+
+    def names(self):
+        out = []
+        self._g.visititems(lambda n, o: out.append(n) if isinstance(o, h5py.Dataset) else None)
+        return out
+
+    def body_force(self, body: Body, mean=True):
+        """[T, 2] force (fx, fy) of the grains on `body` (N/m): the mean over each interval, or the
+        value at the row's step (mean=False)."""
+        return self._g["body_force_mean" if mean else "body_force"][:, body.index, :]
+
+    def body_torque(self, body: Body, mean=True):
+        return self._g["body_torque_mean" if mean else "body_torque"][:, body.index]
+
+    def body_vertices(self, body: Body):
+        """[T, vertex_count, 2] core vertices of `body` (m)."""
+        return self._g["body_vertices"][:, body.index, :body.vertex_count, :]
+
+
+class Run:
+    """A run file, opened read-only. Snapshots are read when asked for."""
+
+    def __init__(self, path):
+        self.path = str(path)
+        try:
+            self.file = h5py.File(self.path, "r")
+        except OSError as e:
+            raise OSError(f"{self.path}: cannot open as a run file: {e}") from None
+        fmt = self.file.attrs.get("format")
+        if fmt not in FORMATS:
+            self.file.close()
+            raise ValueError(f"{self.path}: format {fmt!r} is not a dem2d run file ({', '.join(FORMATS)})")
+        self.attrs = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in self.file.attrs.items()}
+        self._start = self.file["snapshots/contact_start"][...]
+        self.times = self.file["snapshots/time"][...]
+
+    def close(self):
+        self.file.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __repr__(self):
+        return (f"<dem2d.Run {self.path}: {self.n_particles} grains, {len(self.bodies)} bodies, "
+                f"{len(self)} snapshots to t = {self.end_time:g} s>")
+
+    # --- the run as a whole -------------------------------------------------
+    @property
+    def dt(self):
+        return self.attrs["dt"]
+
+    @property
+    def end_time(self):
+        return self.attrs["end_time"]
+
+    @property
+    def n_particles(self):
+        return int(self.attrs["n_particles"])
+
+    @property
+    def stop_reason(self):
+        return self.attrs["stop_reason"]
+
+    @cached_property
+    def scene(self) -> dict:
+        """The scene file the run was made from (its TOML text parsed)."""
+        return tomllib.loads(self.attrs["scene_text"])
+
+    @cached_property
+    def particles(self) -> Particles:
+        p = self.file["particles"]
+        return Particles(p["diameter"][...], p["mass"][...], p["inertia"][...])
+
+    @cached_property
+    def bodies(self) -> list[Body]:
+        b = self.file["bodies"]
+        names = b["name"].asstr()[...]
+        roles = b["role"].asstr()[...] if "role" in b else [""] * len(names)
+        shapes = b["shape"].asstr()[...] if "shape" in b else ["segment"] * len(names)
+        counts = b["vertex_count"][...] if "vertex_count" in b else [2] * len(names)
+        return [Body(k, str(names[k]), str(roles[k]), str(shapes[k]), float(b["thickness"][k]), int(counts[k]))
+                for k in range(len(names))]
+
+    def body(self, key: str) -> Body:
+        """The body with this role (intruder, floor, left_wall, right_wall) or name."""
+        for by in ("role", "name"):
+            found = [b for b in self.bodies if getattr(b, by) == key]
+            if found:
+                return found[0]
+        raise KeyError(f"{self.path}: no body with role or name {key!r} "
+                       f"(bodies: {', '.join(b.name + (f' ({b.role})' if b.role else '') for b in self.bodies)})")
+
+    def floor_top(self) -> float:
+        """Height of the floor's face (m): the top of its rounded core."""
+        floor = self.body("floor")
+        return float(self.file["snapshots/body_vertices"][0, floor.index, :floor.vertex_count, 1].max()
+                     + floor.thickness / 2)
+
+    def heights(self, body="intruder"):
+        """[S] height of a body's centre (the mean of its core's vertices) above the floor's face, per snapshot (m):
+        the study's intruder height H."""
+        b = self.body(body)
+        return self.file["snapshots/body_vertices"][:, b.index, :b.vertex_count, 1].mean(axis=1) - self.floor_top()
+
+    @cached_property
+    def series(self) -> Series:
+        return Series(self.file["series"])
+
+    def units(self, path: str) -> str:
+        """The unit of a dataset, e.g. units("contacts/fn") == "N/m"."""
+        return self.file[path].attrs["units"]
+
+    def description(self, path: str) -> str:
+        return self.file[path].attrs["description"]
+
+    # --- snapshots ----------------------------------------------------------
+    def __len__(self):
+        return len(self.times)
+
+    def snapshot(self, k: int) -> Snapshot:
+        """Snapshot k (negative counts from the end)."""
+        n = len(self.times)
+        if not -n <= k < n:
+            raise IndexError(f"{self.path}: snapshot {k} of {n}")
+        k %= n
+        s = self.file["snapshots"]
+        return Snapshot(k, float(self.times[k]), int(s["step"][k]), s["position"][k], s["velocity"][k],
+                        s["omega"][k], s["theta"][k], s["active"][k].astype(bool), s["body_vertices"][k],
+                        self.contacts(k))
+
+    def snapshot_at(self, time: float) -> Snapshot:
+        """The snapshot nearest to `time` (s)."""
+        return self.snapshot(int(np.argmin(np.abs(self.times - time))))
+
+    def __iter__(self):
+        for k in range(len(self.times)):
+            yield self.snapshot(k)
+
+    def contacts(self, k: int) -> Contacts:
+        a, b = self._start[k], self._start[k + 1]
+        g = self.file["contacts"]
+        return Contacts({name: g[name][a:b] for name in g})
