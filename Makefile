@@ -249,14 +249,14 @@ $(SLICE_DIR)/run.h5: $(PULLOFF_SCENE) $(PRESET_FILE) pipeline/slice_5mm.toml res
 	  --initial results/$(BED_FROM)/fill/run.h5 --out $(@D) --threads $(THREADS) --progress $(PROGRESS)
 
 $(SLICE_DIR)/metrics.json: $(SLICE_DIR)/run.h5 data/study.toml $(PULLOFF_METRICS)
-	$(PULLOFF_METRICS) $< --out $@ --csv $(@D)/drag.csv
+	$(PULLOFF_METRICS) $< --out $(@D)
 
 $(RESULTS)/cyclic/run.h5: $(CYCLIC_SCENE) $(OVERLAY_FILES) $(FILL_RUN) $(DEM2D)
 	@$(simulating)
 	$(DEM2D) run $(CYCLIC_SCENE) $(OVERLAY) --initial $(FILL_RUN) --out $(@D) --threads $(THREADS) --progress $(PROGRESS)
 
 $(RESULTS)/cyclic/metrics.json: $(RESULTS)/cyclic/run.h5 data/study.toml $(PULLOFF_METRICS)
-	$(PULLOFF_METRICS) $< --out $@ --csv $(@D)/drag.csv --cycles $(@D)/cycles.csv
+	$(PULLOFF_METRICS) $< --out $(@D) --cycles
 
 # --- metrics, tolerance tests, figures, report -------------------------------
 $(RESULTS)/metrics.json: $(STAGE_METRICS) pipeline/stages.toml $(REPORT_SCRIPTS)/merge_metrics.py $(REPORT_SCRIPTS)/files.py

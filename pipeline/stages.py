@@ -19,7 +19,7 @@ REPO = Path(__file__).resolve().parents[1]
 REGISTRY = REPO / "pipeline" / "stages.toml"
 SIMULATIONS = ("fill", "pulloff")  # the run files the Makefile's dem2d rules make
 BED = "fill/run.h5"                # the bed: $(FILL_RUN), which a sweep may take from elsewhere
-KEYS = {"name", "program", "run", "out", "config", "inputs", "args", "outputs", "threads"}
+KEYS = {"name", "program", "run", "config", "inputs", "args", "outputs", "threads"}
 
 
 class RegistryError(Exception):
@@ -31,7 +31,6 @@ class Stage:
     name: str
     program: str
     run: str
-    out: str
     config: str = ""
     inputs: dict = field(default_factory=dict)
     args: list = field(default_factory=list)
@@ -64,7 +63,7 @@ def load(path: Path = REGISTRY) -> list:
         for key in e:
             if key not in KEYS:
                 raise RegistryError(f"{where}: unknown key '{key}' (allowed: {', '.join(sorted(KEYS))})")
-        for key in ("name", "program", "run", "out", "outputs"):
+        for key in ("name", "program", "run", "outputs"):
             if key not in e:
                 raise RegistryError(f"{where}: missing key '{key}'")
         if not isinstance(e["name"], str) or not re.fullmatch(r"[a-z][a-z0-9_]*", e["name"]):
@@ -75,8 +74,6 @@ def load(path: Path = REGISTRY) -> list:
             raise bad("program", "must be a program name (build/release/analysis/<program>)")
         if e["run"] not in SIMULATIONS:
             raise bad("run", f"allowed: {', '.join(SIMULATIONS)}")
-        if e["out"] not in ("dir", "file"):
-            raise bad("out", "allowed: dir, file")
         config = e.get("config", "")
         if config and not (REPO / config).is_file():
             raise bad("config", "no such file in the repository")
@@ -101,7 +98,7 @@ def load(path: Path = REGISTRY) -> list:
         threads = e.get("threads", False)
         if not isinstance(threads, bool):
             raise bad("threads", "must be true or false")
-        stages.append(Stage(e["name"], e["program"], e["run"], e["out"], config, dict(inputs), list(args),
+        stages.append(Stage(e["name"], e["program"], e["run"], config, dict(inputs), list(args),
                             list(outputs), threads))
     if not stages:
         raise RegistryError(f"{path}: no [[stage]] entries")
@@ -128,7 +125,7 @@ def make_rules(stages: list, registry: str) -> str:
         deps += ["$(FILL_RUN)" if p == BED else f"$(RESULTS)/{p.split('/')[0]}/metrics.json"
                  for p in s.inputs.values()]
         deps += ([s.config] if s.config else []) + ["data/study.toml", prog]
-        cmd = [prog, run_file[s.run], "--out", "$(@D)" if s.out == "dir" else "$@"]
+        cmd = [prog, run_file[s.run], "--out", "$(@D)"]
         if s.config:
             cmd += ["--config", s.config]
         for flag, p in s.inputs.items():

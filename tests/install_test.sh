@@ -18,7 +18,7 @@ mv "$P/prefix" "$P/moved"
 I=$P/moved
 for f in bin/dem2d libexec/dem2d/bed_metrics libexec/dem2d/pulloff_metrics libexec/dem2d/spectrum libexec/dem2d/cg \
   libexec/dem2d/network libexec/dem2d/friction share/dem2d/data/study.toml share/dem2d/data/bench/settled_bed.toml \
-  share/dem2d/code_version.txt; do
+  share/dem2d/code_version.txt share/dem2d/python/dem2d/run.py; do
   [ -e "$I/$f" ] || fail "not installed: $f"
 done
 "$I/bin/dem2d" bench --help | grep -q -- "--scene TEXT=$I/share/dem2d/data/bench/settled_bed.toml" ||
@@ -38,6 +38,12 @@ cd "$P" && "$I/bin/dem2d" run "$SRC/tests/scenes/valid_minimal.toml" --out "$P/r
 version=$(${PYTHON:-/usr/bin/python3} -c 'import h5py, sys; print(h5py.File(sys.argv[1], "r").attrs["code_version"])' \
   "$P/run/run.h5" 2>&1) || fail "cannot read the installed run's code version: $version"
 case $version in *+unknown | "") fail "the installed dem2d has no code version: '$version'" ;; esac
+# the Python reader, installed: reads the installed dem2d's run
+PYTHONPATH="$I/share/dem2d/python" ${PYTHON:-/usr/bin/python3} -c '
+import sys, dem2d
+with dem2d.open_run(sys.argv[1]) as run:
+    assert run.n_particles > 0 and len(run) > 0 and run.units("contacts/fn") == "N/m", run
+' "$P/run/run.h5" 2>"$P/python.err" || fail "the installed Python reader: $(tail -3 "$P/python.err")"
 # another project: find_package(dem2d) from the (moved) prefix, link the engine, run a scene, read it back
 for f in lib/libdem2d_core.a lib/libdem2d_runfile.a lib/cmake/dem2d/dem2dConfig.cmake include/dem2d/run/run.hpp \
   include/dem2d/io/run_reader.hpp; do

@@ -54,11 +54,11 @@ class Box(unittest.TestCase):
         cls.run_file = d / "run/run.h5"
         for stage in ("cg", "network", "friction"):
             run(ANALYSIS / stage, cls.run_file, "--out", d / stage)
-        run(ANALYSIS / "bed_metrics", cls.run_file, "--out", d / "bed.json")
+        run(ANALYSIS / "bed_metrics", cls.run_file, "--out", d / "bed")
         cls.cg = metrics(d / "cg", "cg")
         cls.net = metrics(d / "network", "network")
         cls.fr = metrics(d / "friction", "friction")
-        cls.bed = json.loads((d / "bed.json").read_text())["fill"]
+        cls.bed = json.loads((d / "bed" / "metrics.json").read_text())["fill"]
         cls.dir = d
 
     @classmethod

@@ -1,6 +1,6 @@
 // bed_metrics: the bed left by the filling stage, measured on the last
 // snapshot of a dem2d run file (definitions: analysis/bed/README.md).
-//   bed_metrics RUN.h5 --out METRICS.json [--config FILE.toml]
+//   bed_metrics RUN.h5 --out DIR [--config FILE.toml]        writes DIR/metrics.json
 // Exit codes (common/stage_main.hpp): 0 done; 1 the output could not be
 // written; 2 bad input (missing, corrupt or unsuitable run file, bad config,
 // bad command line).
@@ -15,12 +15,12 @@ int main(int argc, char** argv) {
   StageCommand cmd("bed_metrics",
                    "free-surface height, bulk solid fraction, coordination number, largest overlap and kinetic "
                    "energy of the last snapshot of a dem2d run file",
-                   "Run file (HDF5) written by dem2d", "Metrics file to write (JSON)");
+                   "Run file (HDF5) written by dem2d", "Output directory: metrics.json");
   cmd.add_config("bed_metrics.toml");
   return cmd.main(
       argc, argv, [&] { return measure_run_file(cmd.run, load_bed_config(cmd.config), cmd.config); },
       [&](const nlohmann::ordered_json& metrics) {
-        write_file_atomic(cmd.out, metrics.dump(2) + "\n");
+        write_file_atomic(cmd.out + "/metrics.json", metrics.dump(2) + "\n");
         const auto& f = metrics["fill"];
         char line[200];
         std::snprintf(line, sizeof line, "solid fraction %.4f, bed height %.2f mm, coordination %.3f",

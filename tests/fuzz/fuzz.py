@@ -140,7 +140,7 @@ class Suite:
                 sys.exit(f"fuzz: {name} refuses the valid pull-off run:\n{r.err}")
 
     def stage_command(self, stage, run, out, config=None, study=None):
-        cmd = [self.analysis / stage, run, "--out", out / ("metrics.json" if stage in ("bed_metrics", "pulloff_metrics") else "")]
+        cmd = [self.analysis / stage, run, "--out", out]
         if stage == "pulloff_metrics":
             cmd += ["--bed", self.fill]
         if stage in ("cg", "network"):
