@@ -425,8 +425,11 @@ def pareto(result: dict, path: Path) -> None:
                 continue
             ax.scatter(x, max(y, 1e-3), **style)
             ax.annotate(r["name"], (x, max(y, 1e-3)), xytext=(4, 3), textcoords="offset points", fontsize=7)
+    # the sweep's knobs; "default" is the sweep's base point (preset fast), not preset default
+    names = {"reference": "reference (paper law)", "default": "base (preset fast)", "replica": "base, replica",
+             "kn": "k_n varied", "dt": "dt varied", "V": "V varied"}
     for knob, c in colours.items():
-        left.scatter([], [], c=c, label=knob)
+        left.scatter([], [], c=c, label=names[knob])
     left.axhline(1.0, color="grey", ls="--", lw=1, label="tolerance")
     right.axhline(100 * result["overlap_tolerance"], color="grey", ls="--", lw=1, label="1 % of d")
     left.set_ylabel("worst deviation / max(tolerance, 2 x noise)")
