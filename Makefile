@@ -12,7 +12,7 @@
 #   make bench-compare  dem2d against LAMMPS (installs lammps) on the same settled bed, 1 and 2 cores
 #                   (results/bench_compare/compare.md)
 #   make reproduce  the study, PRESET=default (or fast, paper), into results/<preset>/: every stage,
-#                   metrics.json, the tolerance tests (check.json), figures/, report.md
+#                   metrics.json, the tolerance tests (check.json), figures/, report.md and report.html
 #   make check      the tolerance tests: results/<preset>/metrics.json against data/paper_targets.toml
 #   make test-pipeline  the whole pipeline on the small test scene (PRESET=quick), its outputs checked
 #   make test-cluster   a 4-member quick ensemble through a real one-node Slurm cluster (started and
@@ -41,7 +41,6 @@
 #   make clean      remove build/ (results/ stays)
 
 SHELL := /bin/bash
-export PYTHON
 JOBS ?= $(shell nproc)
 BUILD := build/release
 SANITIZE_BUILD := build/sanitize
@@ -61,6 +60,7 @@ endif
 ifeq ($(origin PYTHON),undefined)
 PYTHON := $(shell [ -x /usr/bin/python3 ] && echo /usr/bin/python3 || echo python3)
 endif
+export PYTHON
 REPORT_SCRIPTS := pipeline/report
 
 PRESET ?= default
@@ -95,7 +95,7 @@ PROGRESS ?= 60
 DEBIAN_PACKAGES := g++ cmake make pkg-config git \
   libeigen3-dev libboost-graph-dev libfftw3-dev libhdf5-dev \
   libgtest-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev \
-  python3-h5py python3-numpy python3-matplotlib
+  python3-h5py python3-numpy python3-matplotlib python3-markdown
 TEST_PACKAGES := python3-pytest python3-paraview xvfb xauth
 SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
@@ -274,7 +274,7 @@ $(RESULTS)/check.json: $(RESULTS)/metrics.json data/paper_targets.toml $(CHECK)
 
 FIGURE_SCRIPTS := $(filter-out %/report.py %/merge_metrics.py,$(wildcard $(REPORT_SCRIPTS)/*.py))
 $(RESULTS)/figures/index.json: $(STAGE_METRICS) data/study.toml $(FIGURE_SCRIPTS)
-	$(PYTHON) $(REPORT_SCRIPTS)/figures.py $(RESULTS)
+	$(PYTHON) $(REPORT_SCRIPTS)/figures.py $(RESULTS) --preset $(PRESET)$(if $(INTRUDER),_$(INTRUDER))
 
 $(RESULTS)/report.md: $(RESULTS)/metrics.json $(RESULTS)/check.json $(RESULTS)/figures/index.json \
                       $(REPORT_SCRIPTS)/report.py $(REPORT_SCRIPTS)/deviations.toml
@@ -374,7 +374,7 @@ ensemble:
 endif
 
 reproduce: $(RESULTS)/report.md
-	@echo "make reproduce: $(RESULTS) is up to date; the report is $(RESULTS)/report.md"
+	@echo "make reproduce: $(RESULTS) is up to date; the report is $(RESULTS)/report.md (one page: report.html)"
 
 clean:
 	rm -rf build

@@ -14,7 +14,7 @@ fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 
 # --- outputs -----------------------------------------------------------------
 $PY - "$R" <<'PYEOF' || fail "outputs of $R"
-import json, sys, tomllib
+import json, re, sys, tomllib
 from pathlib import Path
 sys.path.insert(0, "pipeline")
 from stages import load
@@ -40,7 +40,13 @@ for heading in ["## Metrics against the paper", "## Deviations from the paper", 
     assert heading in report, heading
 for t in tests:
     assert f"`{t['metric']}`" in report, t["metric"]
-print(f"pipeline outputs: {len(m)} metric groups, {len(tests)} targets, {len(index)} figures, report.md complete")
+# report.html: the same report in one self-contained page: every figure embedded, nothing fetched
+html = (r / "report.html").read_text()
+assert html.count('src="data:image/png;base64,') == len(index), "report.html does not embed every figure"
+assert not re.search(r'(src|href)="(?!data:|#|https?:)', html), "report.html refers to a file beside it"
+assert html.count("<table>") >= 3 and "<h2>Metrics against the paper</h2>" in html
+print(f"pipeline outputs: {len(m)} metric groups, {len(tests)} targets, {len(index)} figures, report.md and "
+      f"report.html ({len(html) // 1024} KiB) complete")
 PYEOF
 
 # --- staleness: nothing reruns; a stage's setting reruns that stage and what follows

@@ -22,6 +22,7 @@ class Run:
         except ValueError as e:
             raise InputError(f"{self.path}: no body has one of the roles {list(want)} "
                              f"(bodies {names}, roles {roles}); the scene declares them: [[body]] role") from e
+        self.code_version = str(self.h5.attr("code_version"))  # the engine that made the run
         self.thickness = self.h5.read("bodies/thickness")
         self.diameter = self.h5.read("particles/diameter")
         self.time = self.h5.read("snapshots/time")

@@ -192,8 +192,10 @@ def fmt(value, spec=".1f", unit=" mm"):
     return "n/a" if value is None else f"{value:{spec}}{unit}"
 
 
-def save(fig, outdir, name):
-    """Write the PNG under a temporary name, then rename it."""
+def save(fig, outdir, name, stamp=""):
+    """Write the PNG under a temporary name, then rename it; `stamp` (what made it) in its lower right corner."""
+    if stamp:
+        fig.text(0.995, 0.003, stamp, ha="right", va="bottom", fontsize=6, color="0.45")
     tmp = os.path.join(outdir, f".{name}.tmp")
     fig.savefig(tmp, format="png", dpi=DPI)
     plt.close(fig)

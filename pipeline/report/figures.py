@@ -97,6 +97,7 @@ def placeholder(reason):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("results_dir", help="e.g. results/default")
+    parser.add_argument("--preset", default="", help="the preset, stamped on every figure with the code version")
     args = parser.parse_args(argv)
     start = time.monotonic()
     inp = Inputs(args.results_dir)
@@ -108,6 +109,8 @@ def main(argv=None):
         if os.path.exists(index_path):
             os.remove(index_path)  # index.json exists only for a complete set
         ctx = Context(inp)
+        stamp = " · ".join(x for x in (f"preset {args.preset}" if args.preset else "",
+                                       f"dem2d {ctx.run.code_version}", os.path.normpath(args.results_dir)) if x)
         index = []
         for name, label, title, draw in FIGURES:
             try:
@@ -115,7 +118,7 @@ def main(argv=None):
             except NoData as e:
                 print(f"figures: {label}: {e}", file=sys.stderr)
                 fig, caption = placeholder(str(e))
-            save(fig, outdir, name)
+            save(fig, outdir, name, stamp)
             index.append({"file": name, "figure": label, "title": title, "caption": caption})
         ctx.close()
     except InputError as e:

@@ -9,9 +9,12 @@ our value, the paper's and the verdict as properties), RESULTS_DIR/figures/
 index.json (figures.py) and pipeline/report/deviations.toml; writes
 RESULTS_DIR/report.md.
 """
+import base64
 import re
 import sys
 from pathlib import Path
+
+import markdown
 
 from files import check_rows, fail, read_json, read_toml, stages, write_atomic
 
@@ -102,17 +105,38 @@ def figures(index: list[dict]) -> list[str]:
     return lines
 
 
+# unit suffixes of metric names, as a reader writes them
+UNITS = [("_hz_at_1p2mm_s", " (Hz at 1.2 mm/s)"), ("_N_per_m", " (N/m)"), ("_mm_s", " (mm/s)"), ("_mm", " (mm)"),
+         ("_deg", " (°)"), ("_hz", " (Hz)"), ("_d", " (d)"), ("_s", " (s)"), ("_N", " (N)")]
+
+
+def human(key: str) -> str:
+    """A metric or setting name for people: 'rupture_spacing_d' -> 'rupture spacing (d)'."""
+    for suffix, unit in UNITS:
+        if key.endswith(suffix) and len(key) > len(suffix):
+            return key[: -len(suffix)].replace("_", " ").replace("mu star", "μ*") + unit
+    return key.replace("_", " ").replace("mu star", "μ*").replace("r2", "R²")
+
+
 def sensitivity(metrics: dict) -> list[str]:
-    """Each stage's tables of how its numbers move with its thresholds."""
+    """Each stage's tables of how its numbers move with its thresholds: the threshold's values down
+    the first column, then only the numbers that move; those that stay put are named below the table."""
     lines = []
     for stage in (s.name for s in stages()):
         for name, rows in metrics.get(stage, {}).get("sensitivity", {}).items():
             if not isinstance(rows, list) or not rows or not isinstance(rows[0], dict):
                 continue
             keys = [k for k in rows[0] if not isinstance(rows[0][k], (dict, list))]
-            lines += [f"**{stage}: {name}**", "", "| " + " | ".join(keys) + " |", "|" + "---|" * len(keys)]
+            first, rest = keys[0], keys[1:]
+            moving = [k for k in rest if len({fmt(r.get(k)) for r in rows}) > 1]
+            still = [k for k in rest if k not in moving]
+            header = [human(name) if first == "value" else human(first)] + [human(k) for k in moving]
+            lines += [f"**{stage}: {human(name)}**", "", "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
             for r in rows:
-                lines.append("| " + " | ".join(fmt(r.get(k)) for k in keys) + " |")
+                lines.append("| " + " | ".join(fmt(r.get(k)) for k in [first] + moving) + " |")
+            if still:
+                lines += ["", "Unchanged over these values: " +
+                          "; ".join(f"{human(k)} {fmt(rows[0].get(k))}" for k in still) + "."]
             lines.append("")
     return lines
 
@@ -120,9 +144,28 @@ def sensitivity(metrics: dict) -> list[str]:
 def fmt(v) -> str:
     if v is None:
         return "—"
+    if isinstance(v, bool):
+        return "yes" if v else "no"
     if isinstance(v, float):
-        return f"{v:.4g}"
+        return f"{v:.3g}"
     return str(v)
+
+
+def html_page(markdown_text: str, results: Path, preset: str) -> str:
+    """report.md as one self-contained HTML page: the figures embedded (base64 PNG), nothing to fetch."""
+    body = markdown.markdown(markdown_text, extensions=["tables"])
+
+    def embed(m):
+        png = results / m.group(1)
+        return 'src="data:image/png;base64,' + base64.b64encode(png.read_bytes()).decode("ascii") + '"'
+
+    body = re.sub(r'src="(figures/[^"]+\.png)"', embed, body)
+    style = ("body{font-family:sans-serif;max-width:70em;margin:2em auto;padding:0 1em;line-height:1.4}"
+             "table{border-collapse:collapse;margin:1em 0;font-size:90%}td,th{border:1px solid #ccc;"
+             "padding:.2em .5em;text-align:left}img{max-width:100%}code{background:#f4f4f4}")
+    return (f"<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+            f"<title>Reproduction report, preset {preset}</title><style>{style}</style></head>\n"
+            f"<body>\n{body}\n</body></html>\n")
 
 
 def main() -> None:
@@ -177,6 +220,7 @@ def main() -> None:
         *sensitivity(metrics),
     ]
     write_atomic(results / "report.md", "\n".join(text) + "\n")
+    write_atomic(results / "report.html", html_page("\n".join(text), results, preset))
     print(f"report: {len(rows) - len(failed)}/{len(rows)} targets pass -> {results / 'report.md'}", file=sys.stderr)
 
 
