@@ -106,7 +106,7 @@ expect_msg "quick/fill/metrics.json: no such file: run \`make fill PRESET=quick\
 expect_msg "quick/fill/metrics.json missing: run \`make fill PRESET=quick\`" -- $PY pipeline/report/figures.py "$Q"
 # the registry of stages: an added entry is a make target; a bad one is named
 cp pipeline/stages.toml "$WORK/more.toml"
-printf '[[stage]]\nname = "friction_again"\nprogram = "friction"\nrun = "pulloff"\nout = "dir"\n%s\n' \
+printf '[[stage]]\nname = "friction_again"\nprogram = "friction"\nrun = "pulloff"\n%s\n' \
   'config = "data/friction.toml"
 outputs = ["friction.h5", "metrics.json"]' >>"$WORK/more.toml"
 make --no-print-directory "$R/friction_again/metrics.json" PRESET=quick STAGE_REGISTRY="$WORK/more.toml" \
