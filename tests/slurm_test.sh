@@ -42,7 +42,7 @@ make --no-print-directory ensemble PRESET=quick MEMBERS=$MEMBERS RESULTS="$WORK/
   >"$WORK/slurm.log" 2>&1 || fail "Slurm ensemble: $(tail -20 "$WORK/slurm.log"; tail -5 "$WORK"/slurm/ensemble/slurm/*.log)"
 t3=$(date +%s.%N)
 grep -q "array job" "$WORK/slurm.log" || fail "no array job was submitted: $(cat "$WORK/slurm.log")"
-n_tasks=$(ls "$WORK"/slurm/ensemble/slurm/member_*.log 2>/dev/null | wc -l)
+n_tasks=$(ls "$WORK"/slurm/ensemble/slurm/wave1_*.log 2>/dev/null | wc -l)
 [ "$n_tasks" -eq $MEMBERS ] || fail "$n_tasks array task logs, expected $MEMBERS"
 
 for k in $(seq -f %03g 0 $((MEMBERS - 1))); do
