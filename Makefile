@@ -36,6 +36,8 @@
 #   make ensemble   MEMBERS (default 4) independent realisations of the study (other grain seeds), each
 #                   its whole pipeline, and their aggregate: results/<preset>/ensemble/ (stats.json,
 #                   table.md; docs/ensemble.md). EXECUTOR=local runs JOBS members side by side
+#   make params     the parametric study of the paper's claims (data/params.toml; PLAN=reduced, full, test;
+#                   EXECUTOR=slurm): results/params/report.md (docs/params.md)
 #   make accuracy   the accuracy/cost sweep of data/accuracy.toml (use make -j2): results/accuracy/
 #                   table.md, pareto.png (pipeline/accuracy/README.md)
 #   make clean      remove build/ (results/ stays)
@@ -371,6 +373,31 @@ ensemble: $(DEM2D) $(STAGE_PROGRAMS) $(CHECK)
 else
 ensemble:
 	$(error EXECUTOR=$(EXECUTOR): use local or slurm)
+endif
+
+# --- make params: the parametric study of the paper's claims (docs/params.md) ---
+# PLAN=reduced (default: here, ~2 h on 2 cores), full (with EXECUTOR=slurm) or test,
+# from data/params.toml; every point an ensemble; results/params[_<plan>]/report.md.
+PLAN ?= reduced
+PARAMS := results/params$(if $(filter-out reduced,$(PLAN)),_$(PLAN))
+ifneq ($(filter params $(PARAMS)/%,$(MAKECMDGOALS)),)
+include $(PARAMS)/plan.mk
+endif
+$(PARAMS)/plan.mk: data/params.toml pipeline/params/plan.py pipeline/tomlwrite.py pipeline/fill.toml pipeline/pulloff.toml \
+                   pipeline/params/fill_settle.toml pipeline/intruders/square.toml $(wildcard pipeline/presets/*.toml)
+	$(PYTHON) pipeline/params/plan.py data/params.toml $(PLAN) $(PARAMS)
+
+$(PARAMS)/report.md: $(PARAMS_STATS) data/params.toml pipeline/params/report.py
+	$(PYTHON) pipeline/params/report.py $(PARAMS)
+
+ifeq ($(EXECUTOR),local)
+params: $(PARAMS)/plan.mk
+	+@$(MAKE) --no-print-directory -j$(JOBS) $(PARAMS)/report.md PLAN=$(PLAN)
+	@echo "make params: plan $(PLAN) in $(PARAMS); the report is $(PARAMS)/report.md"
+else ifeq ($(EXECUTOR),slurm)
+params: $(PARAMS)/plan.mk $(DEM2D) $(STAGE_PROGRAMS) $(CHECK)
+	pipeline/slurm/submit_targets.sh $(PARAMS)/slurm "$(SLURM_WAIT)" $(PARAMS)/report.md $(PARAMS)/targets.txt \
+	  PLAN=$(PLAN) $(if $(INSTALLED),INSTALLED=$(INSTALLED)) PYTHON=$(PYTHON)
 endif
 
 reproduce: $(RESULTS)/report.md

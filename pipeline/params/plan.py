@@ -1,0 +1,264 @@
+#!/usr/bin/python3
+"""make params' plan: from data/params.toml, every point's scenes and overlay,
+and the make rules that run its members and aggregate them
+(RESULTS/plan.mk, included by the Makefile for `make params`).
+
+    /usr/bin/python3 pipeline/params/plan.py data/params.toml PLAN RESULTS_DIR
+
+PLAN is a table of data/params.toml ([reduced], [full], ...): the preset,
+the pull speed, the members, the bed. A point changes one knob of the base
+point (docs/params.md):
+
+  cell_width_mm            the cell's width L_c: walls, floor, intruder centred, hopper and
+                           domain moved with it, the grain count scaled to keep the bed height
+  intruder_length_mm       the intruder's length L, tip to tip
+  intruder_shape           "segment" (SPEC's sphero-line) or "square" (square ends)
+  pull_speed_mm_s          V: every pull-off time given in travel scales with 1/V; the point
+                           starts from the base point's beds (only the pull changes)
+  friction                 mu of grains and walls
+  rolling_friction_over_r  mu_r / r of a mean grain (SPEC: mu d 1e-2 / (d/2) = 0.01)
+  bond_number              cohesion: pull-off force f_c = Bo m g of a mean grain, range 0.05 d
+
+The scenes (fill.toml, pulloff.toml: the bed and the pull with the point's
+geometry and speed) are whole scenes; the contact-law knobs are an overlay
+applied after the preset (overlay.toml). Member k of a point is the study with
+the fill's grain seeds moved by k (pipeline/ensemble/member_overlay.py).
+Files are rewritten only when their content changes: make reruns only what a
+changed setting touches.
+"""
+import json
+import math
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))
+sys.path.insert(0, str(HERE.parent / "report"))
+import tomlwrite  # noqa: E402
+from files import fail, read_toml, write_atomic  # noqa: E402
+
+FILLS = {"settle": Path("pipeline/params/fill_settle.toml"), "hopper": Path("pipeline/fill.toml")}
+PULLOFF = Path("pipeline/pulloff.toml")
+SQUARE = Path("pipeline/intruders/square.toml")
+BASE_CELL_MM, BASE_LENGTH_MM = 100.0, 10.0
+KNOBS = {"cell_width_mm": float, "intruder_length_mm": float, "intruder_shape": str, "pull_speed_mm_s": float,
+         "friction": float, "rolling_friction_over_r": float, "bond_number": float}
+PLAN_KEYS = {"preset", "pull_speed_mm_s", "members", "base_members", "fill", "threads", "sweeps"}
+SWEEP_KEYS = {"name", "knob", "values", "claims"}
+G = 9.81  # m/s^2, as the scenes' gravity
+
+
+def write_if_changed(path: Path, text: str) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if not path.exists() or path.read_text() != text:
+        write_atomic(path, text)
+
+
+def mean_grain(scene: dict) -> tuple[float, float]:
+    """Mean diameter (m) and mass per unit depth (kg/m) of the scene's generated grains."""
+    d = scene["generator"][0]["diameter"]
+    mean = 0.5 * (d["min"] + d["max"])
+    return mean, scene["material"]["density"] * math.pi * mean ** 2 / 4
+
+
+def bodies(scene: dict) -> dict:
+    return {b["name"]: b for b in scene["body"]}
+
+
+def shift_x(points, dx):
+    return [[x + dx, y] for x, y in points]
+
+
+def geometry(scene: dict, cell_mm: float, length_mm: float, shape: str, fill: bool) -> dict:
+    """The scene with the cell L_c wide (inner faces x = 0 and L_c), the intruder L long and centred,
+    what sits above the cell (hopper, generator region, domain) moved with its centre; in a fill the
+    grain count scales with L_c (the same bed height) and the region grows to hold them."""
+    s = {k: (v.copy() if isinstance(v, dict) else v) for k, v in scene.items()}
+    s["body"] = [dict(b) for b in scene["body"]]
+    w, old_w = cell_mm * 1e-3, BASE_CELL_MM * 1e-3
+    dx = (w - old_w) / 2  # the cell's centre moves by this
+    by = bodies(s)
+    right, floor, intruder = by["right"], by["floor"], by["intruder"]
+    right["a"], right["b"] = [w + 0.001, right["a"][1]], [w + 0.001, right["b"][1]]
+    floor["b"] = [w + 0.001, floor["b"][1]]
+    t = intruder["thickness"]
+    centre, y = w / 2, intruder["a"][1]
+    if shape == "square":
+        square = bodies(read_toml(SQUARE))["intruder"]
+        for key in ("a", "b"):
+            intruder.pop(key)
+        intruder.update(shape="rectangle", centre=[centre, square["centre"][1]], size=[length_mm * 1e-3, square["size"][1]],
+                        thickness=square["thickness"])
+    else:
+        half = (length_mm * 1e-3 - t) / 2  # a sphero-line's core: L less its caps
+        intruder["a"], intruder["b"] = [centre - half, y], [centre + half, y]
+    hopper = [b for b in s["body"] if b.get("role") == "hopper"]
+    for b in hopper:
+        b["a"], b["b"] = [b["a"][0] + dx, b["a"][1]], [b["b"][0] + dx, b["b"][1]]
+    if hopper and dx < 0:
+        # the hopper is wider than a narrower cell: its walls end below the funnel
+        outlet = min(min(b["a"][1], b["b"][1]) for b in hopper)
+        for wall in (by["left"], by["right"]):
+            wall["b"] = [wall["b"][0], min(wall["b"][1], outlet)]
+    s["domain"] = dict(s["domain"], xmin=s["domain"]["xmin"] + min(dx, 0.0), xmax=s["domain"]["xmax"] + max(2 * dx, 0.0))
+    if fill:
+        g = dict(s["generator"][0])
+        n = g["count"]
+        g["count"] = round(n * cell_mm / BASE_CELL_MM)
+        region = shift_x(g["region"], dx)
+        if any(b.get("role") == "hopper" for b in s["body"]):
+            # the hopper's silo keeps its width: its column of grains grows with their number
+            top = max(y for _, y in region)
+            bottom = min(y for x, y in region if y > min(yy for _, yy in region))
+            new_top = bottom + (top - bottom) * g["count"] / n
+            region = [[x, new_top if yy == top else yy] for x, yy in region]
+            s["domain"]["ymax"] = max(s["domain"]["ymax"], new_top + 0.02)
+        else:
+            # a settled bed: the region is the cell (as many rows: the count scales with the width)
+            region = [[x * w / old_w, y] for x, y in g["region"]]
+        g["region"] = region
+        s["generator"] = [g]
+    return s
+
+
+def speed(scene: dict, v_mm_s: float) -> dict:
+    """The pull-off at V: the intruder's velocity, and every time given in travel scaled with 1/V."""
+    s = {k: (dict(v) if isinstance(v, dict) else v) for k, v in scene.items()}
+    s["body"] = [dict(b) for b in scene["body"]]
+    intruder = bodies(s)["intruder"]
+    old = intruder["velocity"][1]
+    v = v_mm_s * 1e-3
+    f = old / v
+    intruder["velocity"] = [0.0, v]
+    s["time"]["duration"] = scene["time"]["duration"] * f
+    for key in ("free_time", "check_interval"):
+        s["stop"][key] = scene["stop"][key] * f
+    for key in ("series_interval", "snapshot_interval", "displacement_window"):
+        if key in s["output"]:
+            s["output"][key] = scene["output"][key] * f
+    return s
+
+
+def law(knob: str, value, fill: dict, preset: dict) -> dict:
+    """The overlay of a contact-law knob (after the preset)."""
+    d, m = mean_grain(fill)
+    if knob == "friction":
+        return {"contact": {"friction": value, "wall": {"friction": value}}}
+    if knob == "rolling_friction_over_r":
+        return {"contact": {"rolling_friction": value * d / 2}}
+    if knob == "bond_number":
+        if value == 0:
+            return {}
+        return {"effects": {"cohesion": True},
+                "contact": {"cohesion_force": value * m * G, "cohesion_range": 0.05 * d}}
+    return {}
+
+
+def check(config: dict, plan_name: str, where: Path) -> tuple[dict, list]:
+    if plan_name not in config or plan_name == "sweep":
+        fail(f"{where}: no plan [{plan_name}] (plans: {', '.join(k for k in config if k != 'sweep')})")
+    plan = config[plan_name]
+    unknown = set(plan) - PLAN_KEYS
+    if unknown:
+        fail(f"{where}: [{plan_name}]: unknown keys {sorted(unknown)} (allowed: {sorted(PLAN_KEYS)})")
+    if not Path(f"pipeline/presets/{plan.get('preset')}.toml").exists():
+        fail(f"{where}: [{plan_name}] preset = {plan.get('preset')!r}: no pipeline/presets/<preset>.toml")
+    if plan.get("fill") not in FILLS:
+        fail(f"{where}: [{plan_name}] fill = {plan.get('fill')!r}: allowed {sorted(FILLS)}")
+    for key in ("members", "base_members"):
+        if not isinstance(plan.get(key), int) or not 1 <= plan[key] <= 100:
+            fail(f"{where}: [{plan_name}] {key} = {plan.get(key)!r}: an integer from 1 to 100")
+    if not isinstance(plan.get("pull_speed_mm_s"), (int, float)) or not 0.1 <= plan["pull_speed_mm_s"] <= 100:
+        fail(f"{where}: [{plan_name}] pull_speed_mm_s = {plan.get('pull_speed_mm_s')!r}: from 0.1 to 100 mm/s")
+    sweeps = config.get("sweep", [])
+    if "sweeps" in plan:  # the plan runs only these
+        known = {s.get("name") for s in sweeps}
+        if not isinstance(plan["sweeps"], list) or not set(plan["sweeps"]) <= known:
+            fail(f"{where}: [{plan_name}] sweeps = {plan['sweeps']!r}: names of [[sweep]]s ({', '.join(sorted(known))})")
+        sweeps = [s for s in sweeps if s["name"] in plan["sweeps"]]
+    names = set()
+    for i, s in enumerate(sweeps):
+        at = f"{where}: sweep[{i}]"
+        if set(s) - SWEEP_KEYS or not {"name", "knob", "values"} <= set(s):
+            fail(f"{at}: needs name, knob, values (and optionally claims); unknown keys {sorted(set(s) - SWEEP_KEYS)}")
+        if s["knob"] not in KNOBS:
+            fail(f"{at} ({s['name']}): knob = {s['knob']!r}: allowed {sorted(KNOBS)}")
+        if s["name"] in names:
+            fail(f"{at}: name {s['name']!r} is used twice")
+        names.add(s["name"])
+        kind = KNOBS[s["knob"]]
+        for v in s["values"]:
+            ok = (v in ("segment", "square")) if kind is str else (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0)
+            if not ok:
+                fail(f"{at} ({s['name']}): value {v!r}: " + ("segment or square" if kind is str else "a number >= 0"))
+    return plan, sweeps
+
+
+def main() -> None:
+    if len(sys.argv) != 4:
+        fail("usage: plan.py data/params.toml PLAN RESULTS_DIR")
+    config_path, plan_name, out = Path(sys.argv[1]), sys.argv[2], Path(sys.argv[3])
+    config = read_toml(config_path)
+    plan, sweeps = check(config, plan_name, config_path)
+    preset = read_toml(Path(f"pipeline/presets/{plan['preset']}.toml"))
+    fill0, pull0 = read_toml(FILLS[plan["fill"]]), read_toml(PULLOFF)
+    base = {"cell_width_mm": BASE_CELL_MM, "intruder_length_mm": BASE_LENGTH_MM, "intruder_shape": "segment",
+            "pull_speed_mm_s": float(plan["pull_speed_mm_s"]), "friction": preset["contact"]["friction"],
+            "rolling_friction_over_r": preset["contact"]["rolling_friction"] / (mean_grain(fill0)[0] / 2),
+            "bond_number": 0.0}
+    points = [("base", "base", None, base)]
+    for s in sweeps:
+        for v in s["values"]:
+            if v == base[s["knob"]]:
+                continue  # the base point itself
+            label = v if isinstance(v, str) else f"{v:g}"
+            points.append((f"{s['name']}_{label}", s["name"], s["knob"], dict(base, **{s["knob"]: v})))
+    threads = plan.get("threads", 1)
+    rules, stats, index, waves = [], [], [], []
+    for name, sweep, knob, settings in points:
+        d = out / "points" / name
+        fill = geometry(fill0, settings["cell_width_mm"], settings["intruder_length_mm"], settings["intruder_shape"], True)
+        pull = speed(geometry(pull0, settings["cell_width_mm"], settings["intruder_length_mm"],
+                              settings["intruder_shape"], False), settings["pull_speed_mm_s"])
+        fill["name"], pull["name"] = f"fill_{name}", f"pulloff_{name}"
+        head = f"make params point {name} ({plan_name}): written by pipeline/params/plan.py from {config_path}"
+        write_if_changed(d / "fill.toml", tomlwrite.dumps(fill, head))
+        write_if_changed(d / "pulloff.toml", tomlwrite.dumps(pull, head))
+        overlay = {}
+        for k in ("friction", "rolling_friction_over_r", "bond_number"):
+            if knob == k:
+                overlay = law(k, settings[k], fill, preset)
+        write_if_changed(d / "overlay.toml", tomlwrite.dumps(overlay, head + "\nthe contact-law knob, after the preset"))
+        shared_bed = knob == "pull_speed_mm_s"  # only the pull changes: the base point's beds
+        members = plan["base_members"] if name == "base" else plan["members"]
+        member_dirs = []
+        for k in range(members):
+            m = d / f"member_{k:03d}"
+            seeds = m / "seeds.toml"
+            fill_run = out / "points" / "base" / f"member_{k:03d}" / "fill" / "run.h5" if shared_bed else m / "fill" / "run.h5"
+            rules.append(f"{seeds}: {d}/fill.toml pipeline/ensemble/member_overlay.py\n"
+                         f"\t$(PYTHON) pipeline/ensemble/member_overlay.py {d}/fill.toml {k} $@\n")
+            rules.append(f"{m}/metrics.json: {d}/fill.toml {d}/pulloff.toml {d}/overlay.toml {seeds}"
+                         f"{' ' + str(fill_run) if shared_bed else ''} FORCE\n"
+                         f"\t+@$(MAKE) --no-print-directory metrics PRESET={plan['preset']} RESULTS={m} "
+                         f"FILL_SCENE={d}/fill.toml PULLOFF_SCENE={d}/pulloff.toml POINT_OVERLAY={d}/overlay.toml "
+                         f"FILL_OVERLAY={seeds} FILL_RUN={fill_run} THREADS={threads}\n")
+            if shared_bed:
+                rules.append(f"{fill_run}: {out / 'points' / 'base' / f'member_{k:03d}' / 'metrics.json'}\n")
+            member_dirs.append(str(m))
+            waves.append(f"{2 if shared_bed else 1} {m}/metrics.json")  # for Slurm: shared beds first
+        rules.append(f"{d}/stats.json: {' '.join(m + '/metrics.json' for m in member_dirs)} pipeline/ensemble/aggregate.py\n"
+                     f"\t$(PYTHON) pipeline/ensemble/aggregate.py {d} {plan['preset']} {' '.join(member_dirs)}\n")
+        stats.append(f"{d}/stats.json")
+        index.append({"point": name, "sweep": sweep, "knob": knob, "settings": settings, "members": member_dirs,
+                      "shared_bed": shared_bed})
+    write_if_changed(out / "plan.json", json.dumps(
+        {"plan": plan_name, **plan, "base": base, "points": index}, indent=1) + "\n")
+    write_if_changed(out / "targets.txt", "\n".join(waves) + "\n")
+    text = (f"# Written by pipeline/params/plan.py from {config_path} (plan {plan_name}): make params' rules.\n"
+            f"PARAMS_STATS := {' '.join(stats)}\n\n" + "\n".join(rules))
+    write_if_changed(out / "plan.mk", text)
+
+
+if __name__ == "__main__":
+    main()
