@@ -18,7 +18,10 @@ import math
 import sys
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "report"))
+import tomlwrite  # noqa: E402
+from pull_speed import intruder_speed, speed_overlay  # noqa: E402
 from files import fail, read_toml, write_atomic  # noqa: E402
 
 PULLOFF_SCENE = Path("pipeline/pulloff.toml")
@@ -35,21 +38,9 @@ def write_if_changed(path: Path, text: str) -> None:
         write_atomic(path, text)
 
 
-def toml_value(v) -> str:
-    if isinstance(v, list):
-        return "[" + ", ".join(toml_value(x) for x in v) + "]"
-    if isinstance(v, str):
-        return f'"{v}"'
-    return repr(float(v)) if isinstance(v, float) else str(v)
-
-
 def toml_text(header: str, tables: dict) -> str:
-    """tables: {"contact": {...}, "[body]": [{...}]} (a "[name]" key: array of tables)."""
-    lines = [f"# {header}", "# Written by pipeline/accuracy/plan.py from data/accuracy.toml: edit that, not this."]
-    for name, content in tables.items():
-        for table in content if name.startswith("[") else [content]:
-            lines += ["", f"[{name}]"] + [f"{k} = {toml_value(v)}" for k, v in table.items()]
-    return "\n".join(lines) + "\n"
+    """tables: {"contact": {...}, "body": [{...}]}."""
+    return tomlwrite.dumps(tables, f"{header}\nWritten by pipeline/accuracy/plan.py from data/accuracy.toml: edit that, not this.")
 
 
 def stiffness(kn: float, preset: dict) -> dict:
@@ -75,27 +66,17 @@ def check_point(p: dict, where: str) -> None:
 
 def point_overlay(p: dict, preset: dict, pulloff: dict, slice_mm: float) -> dict:
     tables: dict = {}
-    speed = pulloff_speed(pulloff)
+    speed = intruder_speed(pulloff)
     if p["knob"] == "kn":
         tables["contact"] = stiffness(p["kn"], preset)
     if p["knob"] in ("dt", "replica"):
         tables["time"] = {"dt_over_critical": p["dt_over_critical"]}
     if p["knob"] == "V":
-        v = p["V_mm_s"] * 1e-3
-        s = speed / v  # times given in travel scale with 1/V
-        out, stop = pulloff["output"], pulloff["stop"]
-        tables["time"] = {"duration": pulloff["time"]["duration"] * s}
-        tables["stop"] = {"free_time": stop["free_time"] * s, "check_interval": stop["check_interval"] * s}
-        tables["output"] = {k: out[k] * s for k in ("series_interval", "snapshot_interval", "displacement_window")}
-        tables["[body]"] = [{"name": "intruder", "velocity": [0.0, v]}]
-        speed = v
+        speed = p["V_mm_s"] * 1e-3
+        tables.update(speed_overlay(pulloff, speed))
     if p["extent"] == "slice":
         tables.setdefault("time", {})["duration"] = slice_mm * 1e-3 / speed
     return tables
-
-
-def pulloff_speed(pulloff: dict) -> float:
-    return next(b["velocity"][1] for b in pulloff["body"] if b["name"] == "intruder")
 
 
 def kn_label(kn: float) -> str:

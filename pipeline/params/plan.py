@@ -35,6 +35,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 sys.path.insert(0, str(HERE.parent / "report"))
 import tomlwrite  # noqa: E402
+from pull_speed import speed_overlay  # noqa: E402
 from files import fail, read_toml, write_atomic  # noqa: E402
 
 FILLS = {"settle": Path("pipeline/params/fill_settle.toml"), "hopper": Path("pipeline/fill.toml")}
@@ -122,20 +123,10 @@ def geometry(scene: dict, cell_mm: float, length_mm: float, shape: str, fill: bo
 
 
 def speed(scene: dict, v_mm_s: float) -> dict:
-    """The pull-off at V: the intruder's velocity, and every time given in travel scaled with 1/V."""
-    s = {k: (dict(v) if isinstance(v, dict) else v) for k, v in scene.items()}
-    s["body"] = [dict(b) for b in scene["body"]]
-    intruder = bodies(s)["intruder"]
-    old = intruder["velocity"][1]
-    v = v_mm_s * 1e-3
-    f = old / v
-    intruder["velocity"] = [0.0, v]
-    s["time"]["duration"] = scene["time"]["duration"] * f
-    for key in ("free_time", "check_interval"):
-        s["stop"][key] = scene["stop"][key] * f
-    for key in ("series_interval", "snapshot_interval", "displacement_window"):
-        if key in s["output"]:
-            s["output"][key] = scene["output"][key] * f
+    """The pull-off at V (pipeline/pull_speed.py), merged into the scene."""
+    over = speed_overlay(scene, v_mm_s * 1e-3)
+    s = {k: (dict(v, **over[k]) if k in over and k != "body" else v) for k, v in scene.items()}
+    s["body"] = [dict(b, **over["body"][0]) if b["name"] == "intruder" else b for b in scene["body"]]
     return s
 
 
