@@ -101,6 +101,30 @@ def spectrum(member: Path):
         return f["psd/wavenumber_per_d"][...], f["psd/frequency_hz_at_run_v"][...], f["psd/power"][...]
 
 
+BAND_PER_D = (0.2, 5.0)  # wavenumbers (per d of travel) where spectra are compared: wavelengths 0.2 d to 5 d
+
+
+def spectral_shape(p: dict, reference=None):
+    """The drag spectrum's slope d ln P / d ln f over BAND_PER_D, and (with a reference point's) the rms
+    distance of ln(P V) between the two at common wavenumbers: 0 if they collapse when scaled by V."""
+    try:
+        k, f, power = spectrum(Path(p["members"][0]))
+    except (OSError, KeyError):
+        return float("nan"), float("nan")
+    band = (k >= BAND_PER_D[0]) & (k <= BAND_PER_D[1]) & (power > 0)
+    if band.sum() < 5:
+        return float("nan"), float("nan")
+    slope = float(np.polyfit(np.log(f[band]), np.log(power[band]), 1)[0])
+    if reference is None:
+        return slope, float("nan")
+    kr, _, pr = spectrum(Path(reference["members"][0]))
+    grid = np.geomspace(*BAND_PER_D, 40)
+    scaled = np.log(np.interp(grid, k[band], power[band] * p["settings"]["pull_speed_mm_s"]))
+    ok = (kr > 0) & (pr > 0)
+    ref = np.log(np.interp(grid, kr[ok], pr[ok] * reference["settings"]["pull_speed_mm_s"]))
+    return slope, float(np.sqrt(np.mean((scaled - ref) ** 2)))
+
+
 def figures(out: Path, points: list, base: dict) -> list:
     import matplotlib
     matplotlib.use("Agg")
@@ -211,14 +235,22 @@ def claims(points: list) -> list:
         lines.append(f"| {p['point']} | {fmt(b, bh)} | {fmt(pm, ph)} | {fmt(m, h)} | {v} |")
     lines += ["", verdict_line(verdicts, "H_c = ½(L_c − L) tan β"), ""]
     speed = sorted([p for p in points if p["sweep"] in ("base", "pull_speed")], key=lambda p: p["settings"]["pull_speed_mm_s"])
+    base = next(p for p in points if p["point"] == "base")
     lines += ["### 3. Ruptures against the pull speed", "",
-              "| V (mm/s) | inertial number I = V/√(g h) | rupture spacing (d) | rupture frequency (Hz) |", "|---|---|---|---|"]
+              f"Spectra compared over wavelengths of travel from {1 / BAND_PER_D[1]:g} d to {1 / BAND_PER_D[0]:g} d "
+              f"(wavenumbers {BAND_PER_D[0]:g}–{BAND_PER_D[1]:g} per d): the slope of ln P against ln f (−2: ω⁻²), and "
+              "the rms distance of ln(P V) from the base's at the same wavenumbers (0: the spectra collapse when the "
+              "frequency is scaled by V, a constant slip distance; one member each).", "",
+              "| V (mm/s) | inertial number I = V/√(g h) | rupture spacing (d) | rupture frequency (Hz) | PSD slope | "
+              "distance from the base's scaled spectrum |", "|---|---|---|---|---|---|"]
     for p in speed:
         v = p["settings"]["pull_speed_mm_s"]
         inertial = v * 1e-3 / math.sqrt(G * BED_HEIGHT_FOR_I)
         s, sh = p["summary"]["rupture_spacing_d"]
         f, fh = p["summary"]["rupture_frequency_hz"]
-        lines.append(f"| {v:g} | {inertial:.2g} | {fmt(s, sh)} | {fmt(f, fh)} |")
+        slope, distance = spectral_shape(p, None if p is base else base)
+        lines.append(f"| {v:g} | {inertial:.2g} | {fmt(s, sh)} | {fmt(f, fh)} | {slope:.2f} | "
+                     f"{'—' if not math.isfinite(distance) else f'{distance:.2f}'} |")
     pts = [(p["settings"]["pull_speed_mm_s"], p["summary"]["rupture_spacing_d"][0]) for p in speed
            if math.isfinite(p["summary"]["rupture_spacing_d"][0]) and p["summary"]["rupture_spacing_d"][0] > 0]
     if len(pts) >= 3:
