@@ -18,6 +18,8 @@ point (docs/params.md):
   friction                 mu of grains and walls
   rolling_friction_over_r  mu_r / r of a mean grain (SPEC: mu d 1e-2 / (d/2) = 0.01)
   bond_number              cohesion: pull-off force f_c = Bo m g of a mean grain, range 0.05 d
+  cycles                   cyclic loading (pipeline/cyclic.toml) from the base point's beds:
+                           the rise, a rest, then this many up-and-down cycles, at the plan's speed
 
 The scenes (fill.toml, pulloff.toml: the bed and the pull with the point's
 geometry and speed) are whole scenes; the contact-law knobs are an overlay
@@ -40,10 +42,11 @@ from files import fail, read_toml, write_atomic  # noqa: E402
 
 FILLS = {"settle": Path("pipeline/params/fill_settle.toml"), "hopper": Path("pipeline/fill.toml")}
 PULLOFF = Path("pipeline/pulloff.toml")
+CYCLIC = Path("pipeline/cyclic.toml")
 SQUARE = Path("pipeline/intruders/square.toml")
 BASE_CELL_MM, BASE_LENGTH_MM = 100.0, 10.0
 KNOBS = {"cell_width_mm": float, "intruder_length_mm": float, "intruder_shape": str, "pull_speed_mm_s": float,
-         "friction": float, "rolling_friction_over_r": float, "bond_number": float}
+         "friction": float, "rolling_friction_over_r": float, "bond_number": float, "cycles": int}
 PLAN_KEYS = {"preset", "pull_speed_mm_s", "members", "base_members", "fill", "threads", "sweeps"}
 SWEEP_KEYS = {"name", "knob", "values", "claims"}
 G = 9.81  # m/s^2, as the scenes' gravity
@@ -130,6 +133,31 @@ def speed(scene: dict, v_mm_s: float) -> dict:
     return s
 
 
+def cyclic(scene: dict, v_mm_s: float, cycles: int) -> dict:
+    """The cyclic scene at V (its constant rise and triangles at V, the rests as they are) with `cycles` cycles;
+    the duration follows, the output intervals scale with 1/V."""
+    s = {k: (dict(v) if isinstance(v, dict) else v) for k, v in scene.items()}
+    s["body"] = [dict(b) for b in scene["body"]]
+    intruder = bodies(s)["intruder"]
+    rise = next(m for m in intruder["motion"] if m["kind"] == "constant")
+    f = rise["velocity"][1] / (v_mm_s * 1e-3)  # old speed / new
+    motion = []
+    for m in intruder["motion"]:
+        m = dict(m)
+        if m["kind"] == "constant":
+            m["velocity"], m["duration"] = [0.0, v_mm_s * 1e-3], m["duration"] * f
+        elif m["kind"] == "triangle":
+            m["period"], m["cycles"] = m["period"] * f, cycles
+        motion.append(m)
+    intruder["motion"] = motion
+    spans = [m["duration"] if "duration" in m else m["period"] * m.get("cycles", 1) for m in motion]
+    s["time"]["duration"] = sum(spans) + 2.0  # s: and 2 s at rest after the last cycle
+    for key in ("series_interval", "snapshot_interval", "displacement_window"):
+        if key in s["output"]:
+            s["output"][key] = scene["output"][key] * f
+    return s
+
+
 def law(knob: str, value, fill: dict, preset: dict) -> dict:
     """The overlay of a contact-law knob (after the preset)."""
     d, m = mean_grain(fill)
@@ -179,9 +207,14 @@ def check(config: dict, plan_name: str, where: Path) -> tuple[dict, list]:
         names.add(s["name"])
         kind = KNOBS[s["knob"]]
         for v in s["values"]:
-            ok = (v in ("segment", "square")) if kind is str else (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0)
+            if kind is str:
+                ok, allowed = v in ("segment", "square"), "segment or square"
+            elif kind is int:
+                ok, allowed = isinstance(v, int) and 1 <= v <= 100, "an integer from 1 to 100"
+            else:
+                ok, allowed = isinstance(v, (int, float)) and math.isfinite(v) and v >= 0, "a number >= 0"
             if not ok:
-                fail(f"{at} ({s['name']}): value {v!r}: " + ("segment or square" if kind is str else "a number >= 0"))
+                fail(f"{at} ({s['name']}): value {v!r}: {allowed}")
     return plan, sweeps
 
 
@@ -196,7 +229,7 @@ def main() -> None:
     base = {"cell_width_mm": BASE_CELL_MM, "intruder_length_mm": BASE_LENGTH_MM, "intruder_shape": "segment",
             "pull_speed_mm_s": float(plan["pull_speed_mm_s"]), "friction": preset["contact"]["friction"],
             "rolling_friction_over_r": preset["contact"]["rolling_friction"] / (mean_grain(fill0)[0] / 2),
-            "bond_number": 0.0}
+            "bond_number": 0.0, "cycles": 0}
     points = [("base", "base", None, base)]
     for s in sweeps:
         for v in s["values"]:
@@ -220,7 +253,11 @@ def main() -> None:
             if knob == k:
                 overlay = law(k, settings[k], fill, preset)
         write_if_changed(d / "overlay.toml", tomlwrite.dumps(overlay, head + "\nthe contact-law knob, after the preset"))
-        shared_bed = knob == "pull_speed_mm_s"  # only the pull changes: the base point's beds
+        cyc = knob == "cycles"
+        if cyc:
+            write_if_changed(d / "cyclic.toml", tomlwrite.dumps(dict(cyclic(read_toml(CYCLIC), settings["pull_speed_mm_s"],
+                                                                            settings["cycles"]), name=f"cyclic_{name}"), head))
+        shared_bed = knob in ("pull_speed_mm_s", "cycles")  # only the pull changes: the base point's beds
         members = plan["base_members"] if name == "base" else plan["members"]
         member_dirs = []
         for k in range(members):
@@ -229,18 +266,24 @@ def main() -> None:
             fill_run = out / "points" / "base" / f"member_{k:03d}" / "fill" / "run.h5" if shared_bed else m / "fill" / "run.h5"
             rules.append(f"{seeds}: {d}/fill.toml pipeline/ensemble/member_overlay.py\n"
                          f"\t$(PYTHON) pipeline/ensemble/member_overlay.py {d}/fill.toml {k} $@\n")
-            rules.append(f"{m}/metrics.json: {d}/fill.toml {d}/pulloff.toml {d}/overlay.toml {seeds}"
-                         f"{' ' + str(fill_run) if shared_bed else ''} FORCE\n"
-                         f"\t+@$(MAKE) --no-print-directory metrics PRESET={plan['preset']} RESULTS={m} "
+            # a member: the study's own make targets (`metrics`; `cyclic` for cyclic loading) in its folder
+            goal, target = ("cyclic", f"{m}/cyclic/metrics.json") if cyc else ("metrics", f"{m}/metrics.json")
+            rules.append(f"{target}: {d}/fill.toml {d}/pulloff.toml {d}/overlay.toml {seeds}"
+                         f"{' ' + str(d / 'cyclic.toml') if cyc else ''}{' ' + str(fill_run) if shared_bed else ''} FORCE\n"
+                         f"\t+@$(MAKE) --no-print-directory {goal} PRESET={plan['preset']} RESULTS={m} "
                          f"FILL_SCENE={d}/fill.toml PULLOFF_SCENE={d}/pulloff.toml POINT_OVERLAY={d}/overlay.toml "
+                         f"{f'CYCLIC_SCENE={d}/cyclic.toml ' if cyc else ''}"
                          f"FILL_OVERLAY={seeds} FILL_RUN={fill_run} THREADS={threads}\n")
             if shared_bed:
                 rules.append(f"{fill_run}: {out / 'points' / 'base' / f'member_{k:03d}' / 'metrics.json'}\n")
             member_dirs.append(str(m))
-            waves.append(f"{2 if shared_bed else 1} {m}/metrics.json")  # for Slurm: shared beds first
-        rules.append(f"{d}/stats.json: {' '.join(m + '/metrics.json' for m in member_dirs)} pipeline/ensemble/aggregate.py\n"
-                     f"\t$(PYTHON) pipeline/ensemble/aggregate.py {d} {plan['preset']} {' '.join(member_dirs)}\n")
-        stats.append(f"{d}/stats.json")
+            waves.append(f"{2 if shared_bed else 1} {target}")  # for Slurm: shared beds first
+        if cyc:  # read by the report itself (drag per cycle, the bed between cycles)
+            stats += [f"{m}/cyclic/metrics.json" for m in member_dirs]
+        else:
+            rules.append(f"{d}/stats.json: {' '.join(m + '/metrics.json' for m in member_dirs)} pipeline/ensemble/aggregate.py\n"
+                         f"\t$(PYTHON) pipeline/ensemble/aggregate.py {d} {plan['preset']} {' '.join(member_dirs)}\n")
+            stats.append(f"{d}/stats.json")
         index.append({"point": name, "sweep": sweep, "knob": knob, "settings": settings, "members": member_dirs,
                       "shared_bed": shared_bed})
     write_if_changed(out / "plan.json", json.dumps(

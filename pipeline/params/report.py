@@ -261,6 +261,53 @@ def claims(points: list) -> list:
     return lines
 
 
+def cyclic_section(points: list) -> list:
+    """Cyclic loading: the drag of each up and down leg, and the bed between cycles (its mean surface height and
+    solid fraction at the end of the rise's rest and of each cycle: compaction if they fall and rise)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
+    import dem2d
+    from dem2d.measure import surface
+    lines = []
+    for p in points:
+        for member in p["members"]:
+            m = read_json(Path(member) / "cyclic" / "metrics.json", "make params")
+            legs = m["pulloff"]["cycles"]["legs"]
+            lines += [f"### Cyclic loading: {p['point']} ({Path(member).name}), V = {p['settings']['pull_speed_mm_s']:g} mm/s", "",
+                      "| cycle | up: mean drag (N/m) | down: mean drag (N/m) |", "|---|---|---|"]
+            for c in sorted({leg["cycle"] for leg in legs}):
+                up = [leg["drag_mean_N_per_m"] for leg in legs if leg["cycle"] == c and leg["direction"] == "up"]
+                down = [leg["drag_mean_N_per_m"] for leg in legs if leg["cycle"] == c and leg["direction"] == "down"]
+                lines.append(f"| {c} | {fmt(up[0], float('nan')) if up else '—'} | {fmt(down[0], float('nan')) if down else '—'} |")
+            with dem2d.open_run(Path(member) / "cyclic" / "run.h5") as run:
+                motion = next(b for b in run.scene["body"] if b["name"] == "intruder")["motion"]
+                t, ends = 0.0, []
+                for seg in motion:
+                    if seg["kind"] == "triangle":
+                        ends += [t + seg["period"] * (k + 1) for k in range(seg.get("cycles", 1))]
+                        t += seg["period"] * seg.get("cycles", 1)
+                    else:
+                        t += seg["duration"]
+                        ends.append(t)
+                walls = [b for b in run.bodies if b.role in ("left_wall", "right_wall")]
+                rows = []
+                for k, te in enumerate(ends[1:]):  # after the rise's rest, then after each cycle
+                    s = run.snapshot_at(min(te, run.times[-1]))
+                    xy, r = s.position[s.active], run.particles.diameter[s.active] / 2
+                    top = surface(xy, 2 * r.mean())
+                    width = abs(walls[1].core(s.body_vertices)[0, 0] - walls[0].core(s.body_vertices)[0, 0]) - walls[0].thickness
+                    height = float(top[:, 1].mean() - run.floor_top())
+                    rows.append((k, s.time, height, float(np.pi * (r ** 2).sum() / (width * height))))
+            lines += ["", "Cycle 0 is the first rise; the bed, at the end of the rest after it and of each cycle:", "", "| after | t (s) | mean surface height (mm) | bed solid fraction |", "|---|---|---|---|"]
+            for k, time, height, phi in rows:
+                lines.append(f"| {'the rise and rest' if k == 0 else f'cycle {k}'} | {time:.2f} | {height * 1e3:.2f} | {phi:.4f} |")
+            if len(rows) > 1:
+                dh = (rows[-1][2] - rows[0][2]) * 1e3
+                lines += ["", f"Over the cycles the bed's surface moved by {dh:+.2f} mm "
+                          f"({'compaction' if dh < 0 else 'dilation'}; one member: its noise is not measured here)."]
+            lines.append("")
+    return lines
+
+
 def verdict_line(verdicts: list, claim: str) -> str:
     known = [v for v in verdicts if v != "?"]
     n = {k: sum(v == k for v in known) for k in ("holds", "fails", "unsure")}
@@ -280,8 +327,12 @@ def main() -> int:
     out = Path(sys.argv[1])
     plan = read_json(out / "plan.json", "make params")
     # a point whose members are not all done is left out and named (a report of a plan still running)
-    pending = [p["point"] for p in plan["points"] if not all((Path(m) / "metrics.json").exists() for m in p["members"])]
-    points = [p for p in plan["points"] if p["point"] not in pending]
+    def done(p):
+        return all((Path(m) / ("cyclic/metrics.json" if p["knob"] == "cycles" else "metrics.json")).exists()
+                   for m in p["members"])
+    pending = [p["point"] for p in plan["points"] if not done(p)]
+    cyclic = [p for p in plan["points"] if p["knob"] == "cycles" and p["point"] not in pending]
+    points = [p for p in plan["points"] if p["point"] not in pending and p["knob"] != "cycles"]
     if not any(p["point"] == "base" for p in points):
         fail(f"{out}: the base point is not done yet: run `make params PLAN={plan['plan']}`")
     for p in points:
@@ -310,6 +361,8 @@ def main() -> int:
              "Verdicts: **holds** where the 95 % interval lies inside the claim's tolerance band, **fails** where it lies "
              "wholly outside, **unsure** where it straddles an edge (more members would decide).", "", "## The claims", ""]
     lines += claims(points)
+    if cyclic:
+        lines += ["", "## Cyclic loading", ""] + cyclic_section(cyclic)
     lines += ["", "## Every point", ""]
     sweeps = []
     for p in points:

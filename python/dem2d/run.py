@@ -172,7 +172,9 @@ class Run:
     def bodies(self) -> list[Body]:
         b = self.file["bodies"]
         names = b["name"].asstr()[...]
-        roles = b["role"].asstr()[...] if "role" in b else [""] * len(names)
+        # files written before roles: the study's scenes named the bodies after them
+        legacy = {"intruder": "intruder", "floor": "floor", "left": "left_wall", "right": "right_wall"}
+        roles = b["role"].asstr()[...] if "role" in b else [legacy.get(str(n), "") for n in names]
         shapes = b["shape"].asstr()[...] if "shape" in b else ["segment"] * len(names)
         counts = b["vertex_count"][...] if "vertex_count" in b else [2] * len(names)
         return [Body(k, str(names[k]), str(roles[k]), str(shapes[k]), float(b["thickness"][k]), int(counts[k]))
