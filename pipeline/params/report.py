@@ -19,7 +19,7 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "report"))
-from files import fail, read_json, read_toml, write_atomic  # noqa: E402
+from files import fail, read_json, write_atomic  # noqa: E402
 
 G = 9.81
 BED_HEIGHT_FOR_I = 0.1  # m: P ~ rho g h at the intruder's mid-travel (docs/accuracy.md's inertial number)
