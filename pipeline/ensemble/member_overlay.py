@@ -15,26 +15,15 @@ import sys
 import tomllib
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from tomlwrite import value as toml_value  # noqa: E402
+
 SEED_STEP = 1000003
 
 
 def fail(message: str) -> None:
     print(f"member_overlay: {message}", file=sys.stderr)
     sys.exit(2)
-
-
-def toml_value(v) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, (int, float)):
-        return repr(v)
-    if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    if isinstance(v, list):
-        return "[" + ", ".join(toml_value(x) for x in v) + "]"
-    if isinstance(v, dict):
-        return "{ " + ", ".join(f"{k} = {toml_value(x)}" for k, x in v.items()) + " }"
-    fail(f"cannot write the value {v!r}")
 
 
 def main(argv: list) -> int:
@@ -68,9 +57,12 @@ def main(argv: list) -> int:
             if key == "seed":
                 value = value + k * SEED_STEP
             lines.append(f"{key} = {toml_value(value)}")
+    text = "\n".join(lines) + "\n"
+    if out.exists() and out.read_text() == text:
+        return 0  # unchanged: what depends on it stays up to date
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = out.with_suffix(".tmp")
-    tmp.write_text("\n".join(lines) + "\n")
+    tmp.write_text(text)
     tmp.replace(out)
     return 0
 
