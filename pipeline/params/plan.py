@@ -50,6 +50,13 @@ KNOBS = {"cell_width_mm": float, "intruder_length_mm": float, "intruder_shape": 
 PLAN_KEYS = {"preset", "pull_speed_mm_s", "members", "base_members", "fill", "threads", "sweeps"}
 SWEEP_KEYS = {"name", "knob", "values", "claims"}
 G = 9.81  # m/s^2, as the scenes' gravity
+# The cost model of the plan's estimate: single-thread ns per particle-step measured on this machine's
+# pull-offs (preset fast: 36 ns with two runs side by side, 17 ns alone; docs/params.md), and the
+# analyses' time per run (cg ~70 s of the ~100 s)
+NS_PER_PARTICLE_STEP = 25.0
+ANALYSIS_S = 100.0
+SETTLE_S = 1.0     # simulated seconds a settled bed takes (0.6 s measured on the base)
+HOPPER_S = 20.0    # simulated seconds the hopper's pour takes (the fast ensemble's fills: 19.98 s)
 
 
 def write_if_changed(path: Path, text: str) -> None:
@@ -158,6 +165,23 @@ def cyclic(scene: dict, v_mm_s: float, cycles: int) -> dict:
     return s
 
 
+def time_step(fill: dict, preset: dict) -> float:
+    """The run's time step (s): dt_over_critical x dt_c, dt_c = sqrt(m_min / k_n) for the smallest grain."""
+    d_min = fill["generator"][0]["diameter"]["min"]
+    m_min = fill["material"]["density"] * math.pi * d_min ** 2 / 4
+    return preset["time"]["dt_over_critical"] * math.sqrt(m_min / preset["contact"]["kn"])
+
+
+def run_cost(fill: dict, pull: dict, cyclic_scene, settings: dict, plan: dict, preset: dict, own_bed: bool) -> float:
+    """Estimated single-core seconds of one member: its bed (unless shared), the pull-off (its travel: the bed
+    and 10 mm more at V, then the free time) or the cyclic run, and the analyses."""
+    dt, n = time_step(fill, preset), fill["generator"][0]["count"]
+    bed = (HOPPER_S if plan["fill"] == "hopper" else SETTLE_S) if own_bed else 0.0
+    v = settings["pull_speed_mm_s"] * 1e-3
+    run = cyclic_scene["time"]["duration"] if cyclic_scene else 0.16 / v + pull["stop"]["free_time"]
+    return n * (bed + run) / dt * NS_PER_PARTICLE_STEP * 1e-9 + ANALYSIS_S
+
+
 def law(knob: str, value, fill: dict, preset: dict) -> dict:
     """The overlay of a contact-law knob (after the preset)."""
     d, m = mean_grain(fill)
@@ -239,6 +263,7 @@ def main() -> None:
             points.append((f"{s['name']}_{label}", s["name"], s["knob"], dict(base, **{s["knob"]: v})))
     threads = plan.get("threads", 1)
     rules, stats, index, waves = [], [], [], []
+    cost = 0.0
     for name, sweep, knob, settings in points:
         d = out / "points" / name
         fill = geometry(fill0, settings["cell_width_mm"], settings["intruder_length_mm"], settings["intruder_shape"], True)
@@ -254,11 +279,12 @@ def main() -> None:
                 overlay = law(k, settings[k], fill, preset)
         write_if_changed(d / "overlay.toml", tomlwrite.dumps(overlay, head + "\nthe contact-law knob, after the preset"))
         cyc = knob == "cycles"
+        cyclic_scene = cyclic(read_toml(CYCLIC), settings["pull_speed_mm_s"], settings["cycles"]) if cyc else None
         if cyc:
-            write_if_changed(d / "cyclic.toml", tomlwrite.dumps(dict(cyclic(read_toml(CYCLIC), settings["pull_speed_mm_s"],
-                                                                            settings["cycles"]), name=f"cyclic_{name}"), head))
+            write_if_changed(d / "cyclic.toml", tomlwrite.dumps(dict(cyclic_scene, name=f"cyclic_{name}"), head))
         shared_bed = knob in ("pull_speed_mm_s", "cycles")  # only the pull changes: the base point's beds
         members = plan["base_members"] if name == "base" else plan["members"]
+        cost += members * run_cost(fill, pull, cyclic_scene, settings, plan, preset, not shared_bed)
         member_dirs = []
         for k in range(members):
             m = d / f"member_{k:03d}"
@@ -287,7 +313,11 @@ def main() -> None:
         index.append({"point": name, "sweep": sweep, "knob": knob, "settings": settings, "members": member_dirs,
                       "shared_bed": shared_bed})
     write_if_changed(out / "plan.json", json.dumps(
-        {"plan": plan_name, **plan, "base": base, "points": index}, indent=1) + "\n")
+        {"plan": plan_name, **plan, "base": base, "estimated_core_hours": round(cost / 3600, 2), "points": index},
+        indent=1) + "\n")
+    runs = sum(len(p["members"]) for p in index)
+    print(f"params plan {plan_name}: {len(index)} points, {runs} runs, about {cost / 3600:.1f} h on one core "
+          f"({cost / 3600 / 2:.1f} h on 2 cores side by side) -> {out}/plan.mk", file=sys.stderr)
     write_if_changed(out / "targets.txt", "\n".join(waves) + "\n")
     text = (f"# Written by pipeline/params/plan.py from {config_path} (plan {plan_name}): make params' rules.\n"
             f"PARAMS_STATS := {' '.join(stats)}\n\n" + "\n".join(rules))
