@@ -220,7 +220,14 @@ def claims(points: list) -> list:
         v = within(m, h, x, 10.0)
         verdicts.append(v)
         lines.append(f"| {p['point']} | {x:g} | {fmt(m, h)} | {v} |")
-    lines += ["", verdict_line(verdicts, "the top layer's depth follows (L_c − L)/2"), ""]
+    lines += ["", verdict_line(verdicts, "the top layer's depth follows (L_c − L)/2")]
+    xy = [(0.5 * (p["settings"]["cell_width_mm"] - p["settings"]["intruder_length_mm"]), p["summary"]["top_layer_depth_mm"][0])
+          for p in geo if math.isfinite(p["summary"]["top_layer_depth_mm"][0])]
+    if len({x for x, _ in xy}) >= 3:
+        (b, a), cov = np.polyfit([x for x, _ in xy], [y for _, y in xy], 1, cov=True)
+        lines += ["", f"A line through the points: depth = {a:.1f} mm + {b:.2f} × (L_c − L)/2 (slope ± {1.96 * math.sqrt(cov[0][0]):.2f}, "
+                  f"95 %); the claim is a slope of 1 through 0."]
+    lines.append("")
     lines += ["### 2. The wall-mobility length: H_c = ½(L_c − L) tan β", "",
               "| point | β (°) | ½(L_c − L) tan β (mm) | H_c measured (mm) | verdict (±10 mm, R6's tolerance) |",
               "|---|---|---|---|---|"]
@@ -233,7 +240,14 @@ def claims(points: list) -> list:
         v = within(m - pm, half, 0.0, 10.0) if math.isfinite(pm) else "?"
         verdicts.append(v)
         lines.append(f"| {p['point']} | {fmt(b, bh)} | {fmt(pm, ph)} | {fmt(m, h)} | {v} |")
-    lines += ["", verdict_line(verdicts, "H_c = ½(L_c − L) tan β"), ""]
+    lines += ["", verdict_line(verdicts, "H_c = ½(L_c − L) tan β")]
+    ratios = [p["summary"]["wall_mobility_length_mm"][0] / p["summary"]["H_c_predicted_mm"][0] for p in geo
+              if math.isfinite(p["summary"]["wall_mobility_length_mm"][0]) and p["summary"]["H_c_predicted_mm"][0] > 0]
+    if len(ratios) >= 2:
+        mean, half = summarise(ratios, float("nan"))
+        lines += ["", f"H_c measured / ½(L_c − L) tan β over the {len(ratios)} points: {mean:.2f} ± {half:.2f} (95 %, "
+                  "the points' spread); the claim is 1."]
+    lines.append("")
     speed = sorted([p for p in points if p["sweep"] in ("base", "pull_speed")], key=lambda p: p["settings"]["pull_speed_mm_s"])
     base = next(p for p in points if p["point"] == "base")
     lines += ["### 3. Ruptures against the pull speed", "",
