@@ -107,12 +107,13 @@ SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 
 # $(call missing,PACKAGES): those of the Debian PACKAGES not installed (none off Debian)
 missing = $$(command -v dpkg >/dev/null && for p in $(1); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done)
-# make deps: what a user asks for: installs the missing packages with apt-get (through sudo unless root)
+# $(call apt_install,SUDO): installs the packages in $$m with apt-get
+apt_install = echo "make: installing Debian packages:" $$m; \
+  $(1) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(1) apt-get install -y -qq --no-install-recommends $$m
+# make deps: what a user asks for: installs the missing packages (through sudo unless root)
 deps:
 	@m="$(call missing,$(DEBIAN_PACKAGES) $(TEST_PACKAGES))"; \
-	if [ -n "$$m" ]; then echo "make deps: installing" $$m; \
-	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$m; \
-	else echo "make deps: nothing missing"; fi
+	if [ -n "$$m" ]; then $(call apt_install,$(SUDO)); else echo "make deps: nothing missing"; fi
 # Before a first configure: the missing packages are installed when we are root
 # on Debian (a fresh machine, CI); otherwise named, with how to get them (docs/install.md).
 # Off Debian nothing is checked: CMake names what it cannot find. NO_DEPS=1 skips the check.
@@ -120,8 +121,7 @@ NO_DEPS ?=
 needs needs-test: PACKAGES = $(DEBIAN_PACKAGES) $(if $(filter needs-test,$@),$(TEST_PACKAGES))
 needs needs-test:
 	@[ -n "$(NO_DEPS)" ] || { m="$(call missing,$(PACKAGES))"; [ -z "$$m" ] || \
-	  if [ "$$(id -u)" -eq 0 ]; then echo "make: installing missing Debian packages:" $$m; \
-	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$m; \
+	  if [ "$$(id -u)" -eq 0 ]; then $(call apt_install,); \
 	  else echo "make: missing Debian packages:" $$m; \
 	    echo "  install them with \`make deps\` (apt-get through sudo) or as docs/install.md says; NO_DEPS=1 skips this check"; exit 2; fi; }
 
@@ -225,6 +225,8 @@ endif
 # $(call started,WHAT): a line saying which stage starts, where, and when
 started = echo "make: $(1) $(@D) started $$(date +%T)"
 simulating = $(call started,simulation) && echo "  (a progress line every $(PROGRESS) s of wall time, also in $(@D)/run.log)"
+# every simulation's: its threads, its progress lines
+RUN_OPTIONS = --threads $(THREADS) --progress $(PROGRESS)
 timed = $(call started,stage) && echo '  $(strip $(1))' && t0=$$(date +%s.%N) && \
   { $(1) || { echo "make: $(@D) failed. If the message above names a missing or corrupt input file, delete it and run \`make reproduce PRESET=$(PRESET)\`, which remakes it." >&2; exit 1; }; } && awk -v t0=$$t0 -v t1=$$(date +%s.%N) \
   'BEGIN { printf "{\"wall_seconds\": %.3f}\n", t1 - t0 }' > $(@D)/timing.json.tmp && \
@@ -233,12 +235,12 @@ timed = $(call started,stage) && echo '  $(strip $(1))' && t0=$$(date +%s.%N) &&
 ifeq ($(FILL_RUN),$(RESULTS)/fill/run.h5)
 $(RESULTS)/fill/run.h5: $(FILL_SCENE) $(OVERLAY_FILES) $(FILL_OVERLAY) $(DEM2D)
 	@$(simulating)
-	$(DEM2D) run $(FILL_SCENE) $(OVERLAY) $(if $(FILL_OVERLAY),--overlay $(FILL_OVERLAY)) --out $(@D) --threads $(THREADS) --progress $(PROGRESS)
+	$(DEM2D) run $(FILL_SCENE) $(OVERLAY) $(if $(FILL_OVERLAY),--overlay $(FILL_OVERLAY)) --out $(@D) $(RUN_OPTIONS)
 endif
 
 $(RESULTS)/pulloff/run.h5: $(PULLOFF_SCENE) $(OVERLAY_FILES) $(FILL_RUN) $(DEM2D)
 	@$(simulating)
-	$(DEM2D) run $(PULLOFF_SCENE) $(OVERLAY) --initial $(FILL_RUN) --out $(@D) --threads $(THREADS) --progress $(PROGRESS)
+	$(DEM2D) run $(PULLOFF_SCENE) $(OVERLAY) --initial $(FILL_RUN) --out $(@D) $(RUN_OPTIONS)
 
 # The slice starts from the bed of preset BED_FROM (default: the same preset):
 # `make pulloff-slice PRESET=paper BED_FROM=default` measures the paper's cost
@@ -248,14 +250,14 @@ SLICE_DIR := $(RESULTS)/pulloff_5mm$(if $(filter-out $(PRESET),$(BED_FROM)),_on_
 $(SLICE_DIR)/run.h5: $(PULLOFF_SCENE) $(PRESET_FILE) pipeline/slice_5mm.toml results/$(BED_FROM)/fill/run.h5 $(DEM2D)
 	@$(simulating)
 	$(DEM2D) run $(PULLOFF_SCENE) $(OVERLAY) --overlay pipeline/slice_5mm.toml \
-	  --initial results/$(BED_FROM)/fill/run.h5 --out $(@D) --threads $(THREADS) --progress $(PROGRESS)
+	  --initial results/$(BED_FROM)/fill/run.h5 --out $(@D) $(RUN_OPTIONS)
 
 $(SLICE_DIR)/metrics.json: $(SLICE_DIR)/run.h5 data/study.toml $(PULLOFF_METRICS)
 	$(PULLOFF_METRICS) $< --out $(@D)
 
 $(RESULTS)/cyclic/run.h5: $(CYCLIC_SCENE) $(OVERLAY_FILES) $(FILL_RUN) $(DEM2D)
 	@$(simulating)
-	$(DEM2D) run $(CYCLIC_SCENE) $(OVERLAY) --initial $(FILL_RUN) --out $(@D) --threads $(THREADS) --progress $(PROGRESS)
+	$(DEM2D) run $(CYCLIC_SCENE) $(OVERLAY) --initial $(FILL_RUN) --out $(@D) $(RUN_OPTIONS)
 
 $(RESULTS)/cyclic/metrics.json: $(RESULTS)/cyclic/run.h5 data/study.toml $(PULLOFF_METRICS)
 	$(PULLOFF_METRICS) $< --out $(@D) --cycles

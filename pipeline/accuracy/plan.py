@@ -22,7 +22,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "report"))
 import tomlwrite  # noqa: E402
 from pull_speed import intruder_speed, speed_overlay  # noqa: E402
-from files import fail, read_toml, write_atomic  # noqa: E402
+from files import fail, read_toml, write_if_changed  # noqa: E402
 
 PULLOFF_SCENE = Path("pipeline/pulloff.toml")
 RESETTLE_SCENE = Path("pipeline/accuracy/resettle.toml")
@@ -30,12 +30,6 @@ KNOBS = {"reference": [], "default": [], "replica": ["dt_over_critical"], "kn": 
          "V": ["V_mm_s"]}
 POINT_KEYS = {"name", "knob", "preset", "extent", "full_reference", "kn", "dt_over_critical", "V_mm_s"}
 CG_KEYS = {"name", "spacing_mm", "w_over_d", "reference"}
-
-
-def write_if_changed(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    if not path.exists() or path.read_text() != text:
-        write_atomic(path, text)
 
 
 def toml_text(header: str, tables: dict) -> str:

@@ -16,6 +16,8 @@ import tomllib
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "report"))
+from files import write_if_changed  # noqa: E402
 from tomlwrite import value as toml_value  # noqa: E402
 
 SEED_STEP = 1000003
@@ -57,13 +59,7 @@ def main(argv: list) -> int:
             if key == "seed":
                 value = value + k * SEED_STEP
             lines.append(f"{key} = {toml_value(value)}")
-    text = "\n".join(lines) + "\n"
-    if out.exists() and out.read_text() == text:
-        return 0  # unchanged: what depends on it stays up to date
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_suffix(".tmp")
-    tmp.write_text(text)
-    tmp.replace(out)
+    write_if_changed(out, "\n".join(lines) + "\n")  # unchanged: what depends on it stays up to date
     return 0
 
 

@@ -38,7 +38,7 @@ sys.path.insert(0, str(HERE.parent))
 sys.path.insert(0, str(HERE.parent / "report"))
 import tomlwrite  # noqa: E402
 from pull_speed import speed_overlay  # noqa: E402
-from files import fail, read_toml, write_atomic  # noqa: E402
+from files import fail, read_toml, write_if_changed  # noqa: E402
 
 FILLS = {"settle": Path("pipeline/params/fill_settle.toml"), "hopper": Path("pipeline/fill.toml")}
 PULLOFF = Path("pipeline/pulloff.toml")
@@ -57,12 +57,6 @@ NS_PER_PARTICLE_STEP = 25.0
 ANALYSIS_S = 100.0
 SETTLE_S = 1.0     # simulated seconds a settled bed takes (0.6 s measured on the base)
 HOPPER_S = 20.0    # simulated seconds the hopper's pour takes (the fast ensemble's fills: 19.98 s)
-
-
-def write_if_changed(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    if not path.exists() or path.read_text() != text:
-        write_atomic(path, text)
 
 
 def mean_grain(scene: dict) -> tuple[float, float]:

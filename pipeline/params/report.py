@@ -19,6 +19,7 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "report"))
+from common import save  # noqa: E402
 from files import fail, read_json, write_atomic  # noqa: E402
 
 G = 9.81
@@ -125,12 +126,15 @@ def spectral_shape(p: dict, reference=None):
     return slope, float(np.sqrt(np.mean((scaled - ref) ** 2)))
 
 
-def figures(out: Path, points: list, base: dict) -> list:
-    import matplotlib
-    matplotlib.use("Agg")
+def geometry_points(points: list) -> list:
+    """The base and the points that change the cell's or the intruder's size: the geometric claims' points."""
+    return [p for p in points if p["sweep"] in ("base", "cell_width", "intruder_length")]
+
+
+def figures(out: Path, points: list, stamp: str) -> list:
     import matplotlib.pyplot as plt
     made = []
-    geo = [p for p in points if p["sweep"] in ("base", "cell_width", "intruder_length")]
+    geo = geometry_points(points)
     if geo:
         fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.5), constrained_layout=True)
         for p in geo:
@@ -139,7 +143,8 @@ def figures(out: Path, points: list, base: dict) -> list:
             a.errorbar([x], [m], yerr=[h if math.isfinite(h) else 0], fmt="o", capsize=3, label=p["point"])
             m2, h2 = p["summary"]["wall_mobility_length_mm"]
             pm, _ = p["summary"]["H_c_predicted_mm"]
-            b.errorbar([pm], [m2], yerr=[h2 if math.isfinite(h2) else 0], fmt="o", capsize=3, label=p["point"])
+            if math.isfinite(m2) and math.isfinite(pm):  # (the 5 mm intruder's H_c: not measured)
+                b.errorbar([pm], [m2], yerr=[h2 if math.isfinite(h2) else 0], fmt="o", capsize=3, label=p["point"])
         lim = [0, max(80, max(0.5 * (p["settings"]["cell_width_mm"] - p["settings"]["intruder_length_mm"]) for p in geo) + 10)]
         a.plot(lim, lim, "k--", lw=1, label="depth = (L_c − L)/2")
         a.set_xlabel("(L_c − L)/2 (mm)")
@@ -150,8 +155,7 @@ def figures(out: Path, points: list, base: dict) -> list:
         b.set_xlabel("½(L_c − L) tan β (mm, β measured)")
         b.set_ylabel("H_c measured (mm)")
         b.legend(fontsize=7)
-        fig.savefig(out / "geometry.png", dpi=110)
-        plt.close(fig)
+        save(fig, out, "geometry.png", stamp)
         made.append(("geometry.png", "Top-layer depth against (L_c − L)/2, and H_c against ½(L_c − L) tan β"))
     speed = sorted([p for p in points if p["sweep"] in ("base", "pull_speed")], key=lambda p: p["settings"]["pull_speed_mm_s"])
     if len(speed) > 1:
@@ -173,8 +177,7 @@ def figures(out: Path, points: list, base: dict) -> list:
         b.set_ylabel("PSD × V (collapses if the slip distance is constant)")
         for ax in (a, b):
             ax.legend(fontsize=7)
-        fig.savefig(out / "spectra_by_speed.png", dpi=110)
-        plt.close(fig)
+        save(fig, out, "spectra_by_speed.png", stamp)
         made.append(("spectra_by_speed.png", "Drag spectra at each pull speed, against frequency and scaled by V"))
     coh = sorted([p for p in points if p["sweep"] in ("base", "cohesion")], key=lambda p: p["settings"]["bond_number"])
     if len(coh) > 1:
@@ -187,8 +190,7 @@ def figures(out: Path, points: list, base: dict) -> list:
         ax.set_xlabel("Bond number f_c / (m g)")
         ax.set_ylabel("drag (N/m)")
         ax.legend()
-        fig.savefig(out / "cohesion.png", dpi=110)
-        plt.close(fig)
+        save(fig, out, "cohesion.png", stamp)
         made.append(("cohesion.png", "Drag against the Bond number"))
     return made
 
@@ -210,7 +212,7 @@ def within(mean, half, target, tol):
 
 def claims(points: list) -> list:
     lines = []
-    geo = [p for p in points if p["sweep"] in ("base", "cell_width", "intruder_length")]
+    geo = geometry_points(points)
     lines += ["### 1. The top layer: depth ≈ (L_c − L)/2", "",
               "| point | (L_c − L)/2 (mm) | top-layer depth (mm) | verdict (±10 mm, R4's tolerance) |", "|---|---|---|---|"]
     verdicts = []
@@ -395,7 +397,8 @@ def main() -> int:
     for p in points:
         p["summary"] = {k: summarise([v[k] for v in p["values"]], sd_base[k]) for k in names}
         p["wall_s"] = sum(v["wall_s"] for v in p["values"] if math.isfinite(v["wall_s"]))
-    made = figures(out, points, base)
+    version = read_json(Path(base["members"][0]) / "metrics.json", "make params").get("code_version", "unknown")
+    made = figures(out, points, f"params plan {plan['plan']} · preset {plan['preset']} · dem2d {version} · {out}")
     total = sum(p["wall_s"] for p in points)
     lines = [f"# Parametric study ({plan['plan']} plan)", "",
              f"Preset `{plan['preset']}`, pull speed {plan['pull_speed_mm_s']:g} mm/s, beds `{plan['fill']}`, "

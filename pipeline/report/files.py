@@ -39,6 +39,17 @@ def write_atomic(path: Path, text: str) -> None:
     os.replace(tmp, path)
 
 
+def write_if_changed(path: Path, text: str) -> bool:
+    """Writes `text` to `path` (atomically, creating its folder) unless the file already holds it, so that
+    make's rules depending on it stay up to date; True if it wrote."""
+    path = Path(path)
+    if path.exists() and path.read_text() == text:
+        return False
+    path.parent.mkdir(parents=True, exist_ok=True)
+    write_atomic(path, text)
+    return True
+
+
 def stages() -> list:
     """The analysis stages of the registry, pipeline/stages.toml (pipeline/stages.py)."""
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))

@@ -81,10 +81,7 @@ double highest_grain(const System& sys) {
 
 double bed_surface_beside(const System& sys, std::size_t b) {
   const Bounds core = core_bounds(sys.bodies.shape[b]);
-  double d_max = 0.0;
-  for (std::size_t i = 0; i < sys.p.size(); ++i)
-    if (sys.p.active[i]) d_max = std::max(d_max, 2.0 * sys.p.radius[i]);
-  const double margin = sys.bodies.radius[b] + d_max;
+  const double margin = sys.bodies.radius[b] + 2.0 * sys.lists.r_max();
   double top = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < sys.p.size(); ++i)
     if (sys.p.active[i] && (sys.p.x[i] < core.xmin - margin || sys.p.x[i] > core.xmax + margin))

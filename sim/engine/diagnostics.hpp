@@ -29,7 +29,7 @@ double highest_grain(const System& sys);
 
 // Top of the bed beside body b (m): the highest top (y + radius) of the
 // active grains whose centre lies outside the body's horizontal extent
-// widened by its rounding and the largest grain's diameter (grains it carries
+// widened by its rounding and the largest grain diameter (grains it carries
 // are not the bed); -inf without such grains.
 double bed_surface_beside(const System& sys, std::size_t b);
 

@@ -63,13 +63,6 @@ constexpr DatasetMeaning kEnergy{"series/energy/", "J/m", "energy ledger term (d
 
 }  // namespace
 
-const DatasetMeaning* dataset_meaning(std::string_view path) {
-  for (const DatasetMeaning& m : kMeanings)
-    if (m.path == path) return &m;
-  if (path.starts_with(kEnergy.path)) return &kEnergy;
-  return nullptr;
-}
-
 void describe_run_file(const h5::File& f) {
   const auto describe = [&](const std::string& path, const DatasetMeaning& m) {
     if (!h5::exists(f, path)) return;

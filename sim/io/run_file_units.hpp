@@ -16,9 +16,6 @@ struct DatasetMeaning {
   std::string_view path, units, description;
 };
 
-// The meaning of a run file's dataset (the energy terms' by their group); nullptr if unknown.
-const DatasetMeaning* dataset_meaning(std::string_view path);
-
 // Writes `units` and `description` on every dataset of the table that f holds.
 void describe_run_file(const h5::File& f);
 

@@ -1,7 +1,7 @@
 // ParaView's view of a run file (docs/run_file.md, "ParaView"): run.xdmf, a
 // domain of three temporal collections, one grid per snapshot each:
 //   particles  N points (polyvertex), point arrays diameter, velocity, omega, theta, active;
-//   bodies     one closed polyline per body through its core's vertices, cell arrays body, thickness;
+//   bodies     one polyline per body through its core's vertices (closed for polygons), cell array thickness;
 //   contacts   one line per acting contact, grain centre to grain centre or to the contact point
 //              on a body, cell arrays fn, ft, mu_star, sliding, overlap.
 // Every array is a selection of the run file's datasets: the XDMF file holds no data.

@@ -98,6 +98,7 @@ class NeighbourLists {
                  double range = 0.0);
   // The grid's cell width for these (m): a candidate pair is within one cell.
   static double cell_width(double r_max, double skin, double range) { return 2.0 * r_max + skin + range; }
+  double r_max() const { return r_max_; }  // the largest grain radius the lists were configured for (m)
   double skin() const { return skin_; }
 
   void rebuild_pairs(const Particles& p);
