@@ -271,7 +271,7 @@ $(RESULTS)/metrics.json: $(STAGE_METRICS) pipeline/stages.toml $(REPORT_SCRIPTS)
 # $(call check_into,ARGS): the tolerance tests of ARGS (metrics [--ensemble stats])
 # into $@ (GoogleTest JSON) and $(@D)/check.log; says the counts and each failed test (value, target, source)
 check_into = $(CHECK) $(1) data/paper_targets.toml $(2) --gtest_output=json:$@.tmp > $(@D)/check.log 2>&1; rc=$$?; \
-  if [ $$rc -le 1 ] && [ -s $@.tmp ]; then mv $@.tmp $@; grep -E '^\[  (PASSED|FAILED)  \] [0-9]+ test|: FAIL \[' $(@D)/check.log | sed 's/^R[0-9]/  &/'; \
+  if [ $$rc -le 1 ] && [ -s $@.tmp ]; then mv $@.tmp $@; grep -E '^\[  (PASSED|FAILED)  \] [0-9]+ test|^\[  VERDICTS \]|: (FAIL|fails|undetermined)( \(about [0-9]+ members would decide\))? \[' $(@D)/check.log | sed 's/^R[0-9]/  &/'; \
   else cat $(@D)/check.log; exit 1; fi
 $(RESULTS)/check.json: $(RESULTS)/metrics.json data/paper_targets.toml $(CHECK)
 	@$(call check_into,$<)

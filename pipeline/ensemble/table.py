@@ -6,7 +6,8 @@
 Reads ENSEMBLE_DIR/stats.json (pipeline/ensemble/aggregate.py) and
 ENSEMBLE_DIR/check.json (check_paper_targets --ensemble) and writes
 ENSEMBLE_DIR/table.md: for each paper target the members' values, their
-mean, sd and 95 % interval of the mean, the paper's value and the verdict.
+mean, sd and 95 % t-interval of the mean, the paper's value, the verdict
+(holds, fails, undetermined) and, when undetermined, the members that would decide.
 """
 import sys
 from pathlib import Path
@@ -27,27 +28,31 @@ def main(argv: list) -> int:
     check = read_json(d / "check.json", "make ensemble")
     tests = check_rows(check)
     n = len(stats["members"])
-    passed = sum(t.get("verdict") == "pass" for t in tests)
+    count = {k: sum(t.get("verdict") == k for t in tests) for k in ("holds", "fails", "undetermined")}
     lines = [f"# Ensemble of {n} members, preset `{stats['preset']}`", "",
              f"Members: {', '.join(stats['members'])}; code: {', '.join(stats['code_versions'])}.",
-             "Interval: 95 % bootstrap interval of the members' mean "
-             f"({stats['bootstrap']['resamples']} resamples). Verdict: a paper value ± tolerance passes when it lies "
-             "within that interval widened by the tolerance; a bound is judged on the mean (docs/ensemble.md).", "",
-             f"**{passed} of {len(tests)} targets pass.**", "",
-             "| result | metric | members | mean | sd | 95 % interval | paper | verdict |",
-             "|---|---|---|---|---|---|---|---|"]
+             "Verdict on the members' 95 % Student-t interval of the mean: **holds** where the interval lies inside the "
+             "paper's band (paper ± tolerance, or beyond a bound), **fails** where it lies wholly outside, "
+             "**undetermined** where it straddles an edge: more members would decide, about as many as the last column "
+             "says if the spread stays the same. A shape (ours above another metric) is judged on the members' "
+             "differences. More noise can only make a verdict undetermined, never make it hold (docs/ensemble.md).", "",
+             f"**{count['holds']} hold, {count['fails']} fail, {count['undetermined']} undetermined** "
+             f"(of {len(tests)} targets).", "",
+             "| result | metric | members | mean | sd | 95 % t-interval | paper | verdict | members to decide |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for t in tests:
         s = stats["metrics"].get(t.get("metric", ""), {})
         values = ", ".join(g(v) for v in s.get("values", []))
-        ci = s.get("ci95")
-        interval = f"[{g(ci[0])}, {g(ci[1])}]" if ci else "—"
+        interval = f"[{t['interval']}]" if t.get("interval") else "—"
         paper = t.get("paper", "")
         tol = t.get("tolerance", "")
-        paper_cell = f"{paper} {tol.split(' around')[0]}" if tol.startswith("±") else paper
+        paper_cell = f"{paper} {tol.split(';')[0]}" if tol.startswith("±") else paper
         lines.append(f"| {t.get('result', '')} | `{t.get('metric', '')}` | {values} | {g(s.get('mean'))} | "
-                     f"{g(s.get('sd'))} | {interval} | {paper_cell} | {t.get('verdict', '')} |")
+                     f"{g(s.get('sd'))} | {interval} | {paper_cell} | {t.get('verdict', '')} | "
+                     f"{t.get('members_needed', '')} |")
     write_atomic(d / "table.md", "\n".join(lines) + "\n")
-    print(f"table: {passed}/{len(tests)} targets pass -> {d / 'table.md'}", file=sys.stderr)
+    print(f"table: {count['holds']} hold, {count['fails']} fail, {count['undetermined']} undetermined of "
+          f"{len(tests)} targets -> {d / 'table.md'}", file=sys.stderr)
     return 0
 
 

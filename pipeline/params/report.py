@@ -197,7 +197,7 @@ def figures(out: Path, points: list, stamp: str) -> list:
 
 def within(mean, half, target, tol):
     """The 95 % interval mean +- half against the claim's band target +- tol: 'holds' if the interval
-    lies inside the band, 'fails' if wholly outside it, 'unsure' if it straddles an edge (more members
+    lies inside the band, 'fails' if wholly outside it, 'undetermined' if it straddles an edge (more members
     would decide), '?' without a value."""
     if not math.isfinite(mean):
         return "?"
@@ -207,7 +207,7 @@ def within(mean, half, target, tol):
         return "holds"
     if hi < target - tol or lo > target + tol:
         return "fails"
-    return "unsure"
+    return "undetermined"
 
 
 def claims(points: list) -> list:
@@ -363,13 +363,13 @@ def settled_against_poured(plan: dict, base: dict) -> list:
 
 def verdict_line(verdicts: list, claim: str) -> str:
     known = [v for v in verdicts if v != "?"]
-    n = {k: sum(v == k for v in known) for k in ("holds", "fails", "unsure")}
-    tally = f"holds at {n['holds']}, fails at {n['fails']}, unsure at {n['unsure']} of {len(known)} points"
+    n = {k: sum(v == k for v in known) for k in ("holds", "fails", "undetermined")}
+    tally = f"holds at {n['holds']}, fails at {n['fails']}, undetermined at {n['undetermined']} of {len(known)} points"
     if not known:
         return f"**Cannot say** whether {claim}: no point measured it."
     if n["fails"]:
         return f"**Does not hold**: {claim} fails beyond the 95 % interval somewhere ({tally})."
-    if n["unsure"]:
+    if n["undetermined"]:
         return f"**Not decided**: no point contradicts {claim}, but the intervals are too wide to confirm it ({tally})."
     return f"**Holds**: {claim}, at every point, intervals inside the tolerance ({tally})."
 
@@ -413,7 +413,7 @@ def main() -> int:
                        f"{max(1, math.ceil((1.96 * sd_base[k] / TOLERANCE[k]) ** 2)) if math.isfinite(sd_base[k]) else '?'}"
                        for k, label, unit, _ in HEADLINE if k in TOLERANCE) + ".", "",
              "Verdicts: **holds** where the 95 % interval lies inside the claim's tolerance band, **fails** where it lies "
-             "wholly outside, **unsure** where it straddles an edge (more members would decide).", "", "## The claims", ""]
+             "wholly outside, **undetermined** where it straddles an edge (more members would decide).", "", "## The claims", ""]
     lines += claims(points)
     lines += [""] + settled_against_poured(plan, base)
     if cyclic:

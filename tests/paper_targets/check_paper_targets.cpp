@@ -35,7 +35,12 @@ class TargetTest : public testing::Test {
     RecordProperty("tolerance", v.tolerance);
     RecordProperty("source", t_.source);
     RecordProperty("why", t_.why);
-    RecordProperty("verdict", v.pass ? "pass" : "fail");
+    RecordProperty("verdict", v.outcome);
+    if (v.interval)
+      RecordProperty("interval", dem2d::analysis::format_number(v.interval->first) + ", " +
+                                     dem2d::analysis::format_number(v.interval->second));
+    if (ensemble_) RecordProperty("members", v.members);
+    if (v.members_needed) RecordProperty("members_needed", std::to_string(*v.members_needed));
     EXPECT_TRUE(v.pass) << v.message;
   }
 
@@ -79,5 +84,14 @@ int main(int argc, char** argv) {
                             return new TargetTest(t, &metrics, with_ensemble ? &ensemble : nullptr);
                           });
   }
-  return RUN_ALL_TESTS() == 0 ? 0 : 1;
+  const int rc = RUN_ALL_TESTS();
+  if (with_ensemble) {  // the three verdicts counted
+    int n[3] = {0, 0, 0};
+    for (const Target& t : targets) {
+      const std::string o = dem2d::check::evaluate(t, metrics, &ensemble).outcome;
+      ++n[o == "holds" ? 0 : o == "fails" ? 1 : 2];
+    }
+    std::printf("[  VERDICTS ] %d hold, %d fail, %d undetermined (of %zu targets)\n", n[0], n[1], n[2], targets.size());
+  }
+  return rc == 0 ? 0 : 1;
 }

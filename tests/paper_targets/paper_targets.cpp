@@ -92,56 +92,137 @@ std::optional<double> lookup(const nlohmann::json& metrics, const std::string& d
   return std::isfinite(v) ? std::optional<double>(v) : std::nullopt;
 }
 
-std::optional<std::pair<double, double>> ensemble_interval(const nlohmann::json& stats, const std::string& metric) {
+std::vector<double> member_values(const nlohmann::json& stats, const std::string& metric) {
+  std::vector<double> out;
   const auto m = stats.find("metrics");
-  if (m == stats.end() || !m->is_object() || !m->contains(metric)) return std::nullopt;
-  const nlohmann::json& ci = (*m)[metric]["ci95"];
-  if (!ci.is_array() || ci.size() != 2 || !ci[0].is_number() || !ci[1].is_number()) return std::nullopt;
-  return std::pair<double, double>{ci[0].get<double>(), ci[1].get<double>()};
+  if (m == stats.end() || !m->is_object() || !m->contains(metric)) return out;
+  const nlohmann::json& v = (*m)[metric]["values"];
+  if (!v.is_array()) return out;
+  for (const auto& x : v)
+    out.push_back(x.is_number() && std::isfinite(x.get<double>()) ? x.get<double>() : std::nan(""));
+  return out;
+}
+
+namespace {
+
+// Student's t quantile of probability 0.975 with `dof` degrees of freedom:
+// tabulated to 30, then the Cornish-Fisher expansion (error < 1e-4).
+double t975(int dof) {
+  static const double table[] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
+                                 2.201,  2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
+                                 2.080,  2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042};
+  if (dof <= 30) return table[dof - 1];
+  const double z = 1.959964, v = dof;
+  return z + (z * z * z + z) / (4 * v) + (5 * std::pow(z, 5) + 16 * z * z * z + 3 * z) / (96 * v * v);
+}
+
+std::vector<double> finite(const std::vector<double>& v) {
+  std::vector<double> out;
+  for (const double x : v)
+    if (std::isfinite(x)) out.push_back(x);
+  return out;
+}
+
+// The ensemble's three-valued verdict: the interval [lo, hi] against the
+// region where the claim holds, (lo_ok, hi_ok) (infinite ends for a bound).
+void judge(Verdict& v, const std::vector<double>& values, double lo_ok, double hi_ok, bool open_ends) {
+  const std::vector<double> x = finite(values);
+  v.members = static_cast<int>(x.size());
+  v.members_total = static_cast<int>(values.size());
+  if (x.empty()) return;
+  double mean = 0.0;
+  for (const double a : x) mean += a;
+  mean /= static_cast<double>(x.size());
+  v.ours = mean;
+  v.interval = t_interval(x);
+  if (!v.interval) {
+    v.outcome = "undetermined";
+    return;
+  }
+  const auto [lo, hi] = *v.interval;
+  const bool inside = open_ends ? lo > lo_ok && hi < hi_ok : lo >= lo_ok && hi <= hi_ok;
+  const bool outside = open_ends ? hi <= lo_ok || lo >= hi_ok : hi < lo_ok || lo > hi_ok;
+  v.outcome = inside ? "holds" : outside ? "fails" : "undetermined";
+  // a member without a value (a detector that found nothing) is a result too:
+  // the others alone cannot make the claim hold
+  if (inside && x.size() < values.size()) v.outcome = "undetermined";
+  v.pass = v.outcome == "holds";
+  if (v.outcome == "undetermined") {
+    // the half-width that would decide: the mean's distance to the nearer edge of the region
+    const double edge = std::min(std::abs(mean - lo_ok), std::abs(mean - hi_ok));
+    const double half = 0.5 * (hi - lo);
+    if (edge > 0.0)
+      v.members_needed = static_cast<long>(std::ceil(static_cast<double>(x.size()) * (half / edge) * (half / edge)));
+  }
+}
+
+}  // namespace
+
+std::optional<std::pair<double, double>> t_interval(const std::vector<double>& values) {
+  const std::vector<double> x = finite(values);
+  if (x.size() < 2) return std::nullopt;
+  const double n = static_cast<double>(x.size());
+  double mean = 0.0, ss = 0.0;
+  for (const double a : x) mean += a;
+  mean /= n;
+  for (const double a : x) ss += (a - mean) * (a - mean);
+  const double half = t975(static_cast<int>(x.size()) - 1) * std::sqrt(ss / (n - 1.0) / n);
+  return std::pair<double, double>{mean - half, mean + half};
 }
 
 Verdict evaluate(const Target& t, const nlohmann::json& metrics, const nlohmann::json* ensemble) {
   Verdict v;
   v.ours = lookup(metrics, t.metric);
   std::optional<double> other;
-  std::optional<std::pair<double, double>> ci;
   switch (t.kind) {
     case Target::Kind::Within:
       v.paper = format_number(t.value);
       v.tolerance = "± " + format_number(t.tolerance);
       v.expected = v.paper + " " + v.tolerance;
-      if (!ensemble) {
-        v.pass = v.ours && std::abs(*v.ours - t.value) <= t.tolerance;
-        break;
-      }
-      ci = ensemble_interval(*ensemble, t.metric);
-      if (!ci) v.ours.reset();  // no member gave it
-      if (ci) v.tolerance += " around the members' 95 % interval [" + format_number(ci->first) + ", " +
-                              format_number(ci->second) + "]";
-      v.pass = ci && t.value >= ci->first - t.tolerance && t.value <= ci->second + t.tolerance;
+      if (ensemble) judge(v, member_values(*ensemble, t.metric), t.value - t.tolerance, t.value + t.tolerance, false);
+      else v.pass = v.ours && std::abs(*v.ours - t.value) <= t.tolerance;
       break;
     case Target::Kind::Below:
       v.expected = v.paper = "< " + format_number(t.value);
       v.tolerance = "a bound";
-      v.pass = v.ours && *v.ours < t.value;
+      if (ensemble) judge(v, member_values(*ensemble, t.metric), -kInf, t.value, true);
+      else v.pass = v.ours && *v.ours < t.value;
       break;
     case Target::Kind::Above:
       v.expected = v.paper = "> " + format_number(t.value);
       v.tolerance = "a bound";
-      v.pass = v.ours && *v.ours > t.value;
+      if (ensemble) judge(v, member_values(*ensemble, t.metric), t.value, kInf, true);
+      else v.pass = v.ours && *v.ours > t.value;
       break;
     case Target::Kind::AboveMetric:
       other = lookup(metrics, t.other_metric);
       v.expected = v.paper = "> " + t.other_metric + (other ? " (= " + format_number(*other) + ")" : " (missing)");
       v.tolerance = "a shape";
-      v.pass = v.ours && other && *v.ours > *other;
+      if (ensemble) {  // the members' differences, ours - the other
+        const std::vector<double> a = member_values(*ensemble, t.metric), b = member_values(*ensemble, t.other_metric);
+        std::vector<double> diff;
+        for (std::size_t k = 0; k < a.size() && k < b.size(); ++k) diff.push_back(a[k] - b[k]);
+        judge(v, diff, 0.0, kInf, true);
+        v.ours = lookup(metrics, t.metric);  // report our mean, the verdict is on the differences
+      } else {
+        v.pass = v.ours && other && *v.ours > *other;
+      }
       break;
   }
+  if (!ensemble) v.outcome = v.pass ? "pass" : "fail";
+  else if (v.outcome.empty()) v.outcome = "fails";  // no member gave it
+  if (ensemble && v.interval)
+    v.tolerance += std::string(t.kind == Target::Kind::AboveMetric ? "; the differences' " : "; the members' ") +
+                   "95 % t-interval [" + format_number(v.interval->first) + ", " + format_number(v.interval->second) +
+                   "], " + std::to_string(v.members) + " members" +
+                   (v.members < v.members_total ? " of " + std::to_string(v.members_total) + " (the others gave none)" : "");
   const std::string head = t.result + " " + t.metric + " (" + t.what + "): ";
   if (!v.ours)
     v.message = head + "missing, null or not a number in the metrics";
   else
-    v.message = head + format_number(*v.ours) + ", paper " + v.expected + (v.pass ? ": pass" : ": FAIL") +
+    v.message = head + format_number(*v.ours) + ", paper " + v.expected + ": " +
+                (ensemble ? v.outcome : v.pass ? std::string("pass") : std::string("FAIL")) +
+                (v.members_needed ? " (about " + std::to_string(*v.members_needed) + " members would decide)" : "") +
                 " [" + t.source + "; tolerance: " + t.why + "]";
   return v;
 }

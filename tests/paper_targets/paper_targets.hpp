@@ -35,20 +35,39 @@ std::optional<double> lookup(const nlohmann::json& metrics, const std::string& d
 
 struct Verdict {
   bool pass = false;
+  // one run: "pass" or "fail"; an ensemble: "holds" (the members' 95 % interval
+  // lies wholly on the paper's side), "fails" (wholly on the other side) or
+  // "undetermined" (it straddles the edge: more members would decide)
+  std::string outcome;
   std::optional<double> ours;   // absent: the metric is missing, null or not a number
   std::string expected;         // "0.82 ± 0.02", "< 0.2", "> spectrum.x (= 3.1)"
   std::string paper, tolerance; // expected in two parts: ("0.82", "± 0.02"), ("< 0.2", "a bound"), ("> spectrum.x (= 3.1)", "a shape")
   std::string message;          // one line for the failure report
+  // an ensemble: the members that gave the metric, the t-interval of their mean
+  // (of the differences for a shape), and for an undetermined verdict the
+  // members that would shrink it to decide if the spread stays the same
+  int members = 0, members_total = 0;  // members that gave the metric, of all members
+  std::optional<std::pair<double, double>> interval;
+  std::optional<long> members_needed;
 };
 // `metrics`: one run's, or an ensemble's member means (pipeline/ensemble/aggregate.py).
-// With `ensemble` (that ensemble's stats.json) a paper value with a tolerance
-// passes when it lies within the 95 % interval of the members' mean widened
-// by the tolerance on both sides, [lo - tol, hi + tol]; bounds and shapes are
-// judged on the mean (docs/ensemble.md).
+// With `ensemble` (that ensemble's stats.json, whose "values" are each
+// member's) the verdict is three-valued, on the 95 % Student-t interval of
+// the members' mean (n >= 2; one member gives no interval: undetermined):
+// a paper value +- tolerance holds when the interval lies inside
+// [paper - tol, paper + tol] and fails when it lies wholly outside it; a bound
+// holds when the interval lies wholly beyond it; a shape (ours > another
+// metric) is judged on the interval of the members' differences. A member
+// without a value keeps the others from making it hold. A wider
+// interval (fewer members, more noise) can only make a verdict undetermined,
+// never make it hold (docs/ensemble.md).
 Verdict evaluate(const Target& t, const nlohmann::json& metrics, const nlohmann::json* ensemble = nullptr);
 
-// The 95 % interval [lo, hi] of the members' mean of a metric in an
-// ensemble's stats.json, if the members gave it.
-std::optional<std::pair<double, double>> ensemble_interval(const nlohmann::json& stats, const std::string& metric);
+// The members' finite values of a metric in an ensemble's stats.json, in
+// member order (NaN where a member gave none).
+std::vector<double> member_values(const nlohmann::json& stats, const std::string& metric);
+
+// The two-sided 95 % Student-t interval of the mean of values (n >= 2).
+std::optional<std::pair<double, double>> t_interval(const std::vector<double>& values);
 
 }  // namespace dem2d::check

@@ -69,28 +69,82 @@ TEST(PaperTargets, WithinToleranceIsInclusiveAndMissingFails) {
   EXPECT_NE(missing.message.find("missing"), std::string::npos) << missing.message;
 }
 
-// An ensemble: the paper's value must lie within the members' 95 % interval
-// of the mean widened by the tolerance; bounds are judged on the mean.
-TEST(PaperTargets, EnsembleJudgesThePaperAgainstTheIntervalWidenedByTheTolerance) {
-  const auto means = nlohmann::json::parse(R"({"a": {"x": 1.0, "b": 0.9, "gone": null}})");
-  const auto stats = nlohmann::json::parse(
-      R"({"metrics": {"a.x": {"mean": 1.0, "ci95": [0.75, 1.25]}, "a.b": {"mean": 0.9, "ci95": [0.5, 1.5]},
-                      "a.gone": {"mean": null, "ci95": null}}})");
-  // interval [0.75, 1.25], tolerance 0.25: paper values in [0.5, 1.5] pass (edges exact in binary)
-  EXPECT_TRUE(evaluate(within("a.x", 0.5, 0.25), means, &stats).pass);
-  EXPECT_TRUE(evaluate(within("a.x", 1.5, 0.25), means, &stats).pass);
-  EXPECT_FALSE(evaluate(within("a.x", 0.4375, 0.25), means, &stats).pass);
-  EXPECT_FALSE(evaluate(within("a.x", 1.5625, 0.25), means, &stats).pass);
-  // the single-run rule on the mean would fail 0.5 (|1.0 - 0.5| > 0.25): the interval is what passes it
-  EXPECT_FALSE(evaluate(within("a.x", 0.5, 0.25), means).pass);
-  const Verdict v = evaluate(within("a.x", 0.5, 0.25), means, &stats);
-  EXPECT_NE(v.tolerance.find("[0.75, 1.25]"), std::string::npos) << v.tolerance;
-  EXPECT_FALSE(evaluate(within("a.gone", 1.0, 1.0), means, &stats).pass);
-  // a bound on the mean (0.9), not on the interval's end (1.5)
-  Target below = within("a.b", 0.0, 0.0);
+// An ensemble's stats.json with the members' values of metric "a.x" (and "a.y").
+nlohmann::json members(const std::vector<double>& x, const std::vector<double>& y = {}) {
+  nlohmann::json s;
+  s["metrics"]["a.x"]["values"] = x;
+  s["metrics"]["a.y"]["values"] = y;
+  return s;
+}
+const nlohmann::json kMeans = nlohmann::json::parse(R"({"a": {"x": 1.0, "y": 0.0}})");
+Verdict judged(const Target& t, const nlohmann::json& stats) { return evaluate(t, kMeans, &stats); }
+
+// An ensemble: the members' 95 % t-interval against the paper's band.
+TEST(PaperTargets, EnsembleHoldsInsideFailsOutsideAndIsUndeterminedAcross) {
+  const Target t = within("a.x", 1.0, 0.1);
+  // mean 1.0, sd 0.01: interval 1 +- 0.025 inside [0.9, 1.1]
+  Verdict v = judged(t, members({0.99, 1.0, 1.01}));
+  EXPECT_EQ(v.outcome, "holds");
+  EXPECT_TRUE(v.pass);
+  ASSERT_TRUE(v.interval);
+  EXPECT_NEAR(v.interval->first, 1.0 - 4.303 * 0.01 / std::sqrt(3.0), 1e-9);
+  EXPECT_EQ(v.members, 3);
+  // mean 1.5, tight: wholly outside
+  v = judged(t, members({1.49, 1.5, 1.51}));
+  EXPECT_EQ(v.outcome, "fails");
+  EXPECT_FALSE(v.pass);
+  // mean 1.0 but a wide spread: straddles both edges; the members that would decide are named
+  v = judged(t, members({0.5, 1.0, 1.5}));
+  EXPECT_EQ(v.outcome, "undetermined");
+  EXPECT_FALSE(v.pass);
+  ASSERT_TRUE(v.members_needed);
+  EXPECT_GT(*v.members_needed, 3);
+  EXPECT_NE(v.message.find("members would decide"), std::string::npos) << v.message;
+  // one member gives no interval; none gives nothing
+  EXPECT_EQ(judged(t, members({1.0})).outcome, "undetermined");
+  EXPECT_EQ(judged(t, members({})).outcome, "fails");
+  EXPECT_EQ(judged(t, members({std::nan("")})).outcome, "fails");
+  // a member that found nothing keeps the others from making it hold
+  v = judged(t, members({0.99, 1.0, 1.01, std::nan("")}));
+  EXPECT_EQ(v.outcome, "undetermined");
+  EXPECT_NE(v.tolerance.find("3 members of 4"), std::string::npos) << v.tolerance;
+}
+
+// A verdict never becomes easier to pass as noise grows: the same mean with a
+// growing spread goes from holds (or fails) to undetermined, never to holds.
+TEST(PaperTargets, MoreNoiseNeverMakesAnEnsembleHold) {
+  for (const double mean : {1.05, 1.2}) {  // inside the band, outside it
+    const Target t = within("a.x", 1.0, 0.1);
+    std::string first;
+    for (const double sd : {0.001, 0.01, 0.05, 0.2, 1.0}) {
+      const Verdict v = judged(t, members({mean - sd, mean, mean + sd}));
+      if (first.empty()) first = v.outcome;
+      EXPECT_TRUE(v.outcome == first || v.outcome == "undetermined") << mean << " " << sd << " " << v.outcome;
+      if (mean > 1.1) {
+        EXPECT_NE(v.outcome, "holds");
+      }
+    }
+    EXPECT_EQ(first, mean < 1.1 ? "holds" : "fails");
+  }
+}
+
+TEST(PaperTargets, EnsembleBoundsAndShapesAreJudgedOnTheirIntervals) {
+  Target below = within("a.x", 0.0, 0.0);
   below.kind = Target::Kind::Below;
-  below.value = 1.0;
-  EXPECT_TRUE(evaluate(below, means, &stats).pass);
+  below.value = 2.0;
+  EXPECT_EQ(judged(below, members({0.9, 1.0, 1.1})).outcome, "holds");
+  EXPECT_EQ(judged(below, members({2.9, 3.0, 3.1})).outcome, "fails");
+  EXPECT_EQ(judged(below, members({0.0, 1.0, 3.0})).outcome, "undetermined");
+  Target above = below;
+  above.kind = Target::Kind::Above;
+  EXPECT_EQ(judged(above, members({2.9, 3.0, 3.1})).outcome, "holds");
+  // a shape on the members' differences: x - y > 0 member by member
+  Target shape = within("a.x", 0.0, 0.0);
+  shape.kind = Target::Kind::AboveMetric;
+  shape.other_metric = "a.y";
+  EXPECT_EQ(judged(shape, members({1.0, 2.0, 3.0}, {0.5, 1.5, 2.5})).outcome, "holds");
+  EXPECT_EQ(judged(shape, members({1.0, 2.0, 3.0}, {1.5, 2.5, 3.5})).outcome, "fails");
+  EXPECT_EQ(judged(shape, members({1.0, 2.0, 3.0}, {0.5, 2.5, 2.5})).outcome, "undetermined");
 }
 
 TEST(PaperTargets, BoundsAreStrictAndAMetricCanBeTheBound) {
