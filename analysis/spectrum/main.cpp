@@ -36,14 +36,19 @@ int main(int argc, char** argv) {
         if (m["ringing_frequency_hz"].is_number())
           std::snprintf(ringing, sizeof ringing, "%.3g Hz (%s)", num("ringing_frequency_hz"),
                         m["ringing_significant"].get<bool>() ? "significant" : "not significant");
-        char line[400];
+        char top[96];
+        if (m["top_layer_found"].get<bool>())
+          std::snprintf(top, sizeof top, "top layer from %.1f mm", num("top_layer_height_mm"));
+        else
+          std::snprintf(top, sizeof top, "no top layer (%s)", m["top_layer_outcome"].get<std::string>().c_str());
+        char line[480];
         std::snprintf(line, sizeof line,
-                      "%zu events, rupture spacing %.3g d (%.3g Hz at 1.2 mm/s), dominant period %.3g d%s (searched "
-                      "from %.3g d), ringing %s, top layer from %.1f mm",
-                      m["event_count"].get<std::size_t>(), num("rupture_spacing_d"),
+                      "%zu events, %zu ruptures, rupture spacing %.3g d (%.3g Hz at 1.2 mm/s), dominant period %.3g d%s "
+                      "(searched from %.3g d), ringing %s, %s",
+                      m["event_count"].get<std::size_t>(), m["rupture_count"].get<std::size_t>(), num("rupture_spacing_d"),
                       num("rupture_frequency_hz_at_1p2mm_s"), num("dominant_period_d"),
                       m["dominant_period_significant"].get<bool>() ? " (significant)" : " (not significant)",
-                      m["dominant_period_search_range_d"][0].get<double>(), ringing, num("top_layer_height_mm"));
+                      m["dominant_period_search_range_d"][0].get<double>(), ringing, top);
         return std::string(line);
       });
 }

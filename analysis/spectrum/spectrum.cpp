@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <numeric>
 #include <sstream>
 
@@ -35,16 +36,28 @@ std::string num(double v, const char* unit = "") {
 }
 std::string mm(double m) { return num(1e3 * m, " mm"); }
 
+// FFTW's planner is not thread-safe (fftw_execute is): plans are made and
+// destroyed one at a time, so that analyses may run side by side.
+std::mutex& fftw_planner() {
+  static std::mutex m;
+  return m;
+}
+
 // A real-to-complex FFTW plan of size n with its own aligned buffers.
 class RealFft {
  public:
-  explicit RealFft(std::size_t n)
-      : n_(n), in_(fftw_alloc_real(n)), out_(fftw_alloc_complex(n / 2 + 1)),
-        plan_(fftw_plan_dft_r2c_1d(static_cast<int>(n), in_, out_, FFTW_ESTIMATE)) {
+  explicit RealFft(std::size_t n) : n_(n), in_(fftw_alloc_real(n)), out_(fftw_alloc_complex(n / 2 + 1)) {
+    {
+      const std::lock_guard<std::mutex> lock(fftw_planner());
+      plan_ = fftw_plan_dft_r2c_1d(static_cast<int>(n), in_, out_, FFTW_ESTIMATE);
+    }
     if (!in_ || !out_ || !plan_) throw std::runtime_error("FFTW: cannot plan a transform of size " + std::to_string(n));
   }
   ~RealFft() {
-    fftw_destroy_plan(plan_);
+    {
+      const std::lock_guard<std::mutex> lock(fftw_planner());
+      fftw_destroy_plan(plan_);
+    }
     fftw_free(in_);
     fftw_free(out_);
   }
@@ -61,7 +74,7 @@ class RealFft {
   std::size_t n_;
   double* in_;
   fftw_complex* out_;
-  fftw_plan plan_;
+  fftw_plan plan_ = nullptr;
 };
 
 // Periodic (DFT-even) windows.
@@ -106,10 +119,12 @@ std::pair<std::size_t, std::size_t> rows_between(const std::vector<double>& h, d
 }
 
 // f falls by more than delta within `window` samples somewhere in [p, t].
-bool falls_fast(const std::vector<double>& f, std::size_t p, std::size_t t, double delta, std::size_t window) {
+// f falls by more than delta[j] within `window` samples from some j in [p, t].
+bool falls_fast(const std::vector<double>& f, std::size_t p, std::size_t t, const std::vector<double>& delta,
+                std::size_t window) {
   for (std::size_t j = p; j < t; ++j) {
     const auto last = f.begin() + static_cast<std::ptrdiff_t>(std::min(j + window, t)) + 1;
-    if (f[j] - *std::min_element(f.begin() + static_cast<std::ptrdiff_t>(j) + 1, last) > delta) return true;
+    if (f[j] - *std::min_element(f.begin() + static_cast<std::ptrdiff_t>(j) + 1, last) > delta[j]) return true;
   }
   return false;
 }
@@ -337,18 +352,18 @@ Ringing find_ringing(const std::vector<double>& x, double time_step, const Spect
   return g;
 }
 
-std::vector<Pivot> zigzag(const std::vector<double>& x, double delta, std::size_t begin) {
+std::vector<Pivot> zigzag(const std::vector<double>& x, const std::vector<double>& delta, std::size_t begin) {
   std::vector<Pivot> out;
   enum class Dir { unknown, rising, falling } dir = Dir::unknown;
   std::size_t hi = begin, lo = begin;
   for (std::size_t k = begin + 1; k < x.size(); ++k) {
     if (dir != Dir::falling && x[k] > x[hi]) hi = k;
     if (dir != Dir::rising && x[k] < x[lo]) lo = k;
-    if (dir != Dir::falling && x[hi] - x[k] > delta) {
+    if (dir != Dir::falling && x[hi] - x[k] > delta[hi]) {
       out.push_back({hi, true});
       dir = Dir::falling;
       lo = k;
-    } else if (dir != Dir::rising && x[k] - x[lo] > delta) {
+    } else if (dir != Dir::rising && x[k] - x[lo] > delta[lo]) {
       out.push_back({lo, false});
       dir = Dir::rising;
       hi = k;
@@ -358,13 +373,53 @@ std::vector<Pivot> zigzag(const std::vector<double>& x, double delta, std::size_
   return out;
 }
 
-std::vector<Event> detect_events(const std::vector<double>& f, double delta, std::size_t window) {
+std::vector<Pivot> zigzag(const std::vector<double>& x, double delta, std::size_t begin) {
+  return zigzag(x, std::vector<double>(x.size(), delta), begin);
+}
+
+std::vector<Event> detect_events(const std::vector<double>& f, const std::vector<double>& delta, std::size_t window) {
   const std::vector<Pivot> pivots = zigzag(f, delta);
   std::vector<Event> out;
   for (std::size_t i = 0; i + 1 < pivots.size(); ++i) {
     const std::size_t p = pivots[i].index, t = pivots[i + 1].index;
     if (!pivots[i].peak || !falls_fast(f, p, t, delta, window)) continue;
     out.push_back({i > 0 ? pivots[i - 1].index : argmin(f, 0, p + 1), p, t});
+  }
+  return out;
+}
+
+std::vector<Event> detect_events(const std::vector<double>& f, double delta, std::size_t window) {
+  return detect_events(f, std::vector<double>(f.size(), delta), window);
+}
+
+std::vector<double> local_noise_level(const std::vector<double>& x, std::size_t half_width) {
+  const std::size_t n = x.size(), step = std::max<std::size_t>(1, half_width / 4);
+  std::vector<double> at, level;  // at rows 0, step, 2 step, ... and the last
+  for (std::size_t k = 0;; k = std::min(n - 1, k + step)) {
+    const std::size_t a = k > half_width ? k - half_width : 0, b = std::min(n, k + half_width + 1);
+    at.push_back(static_cast<double>(k));
+    level.push_back(noise_level(x, a, b));
+    if (k == n - 1) break;
+  }
+  std::vector<double> out(n);
+  for (std::size_t k = 0, q = 0; k < n; ++k) {
+    while (q + 2 < at.size() && at[q + 1] < static_cast<double>(k)) ++q;
+    const double u = at.size() < 2 ? 0.0 : std::clamp((static_cast<double>(k) - at[q]) / (at[q + 1] - at[q]), 0.0, 1.0);
+    out[k] = at.size() < 2 ? level[0] : level[q] + u * (level[q + 1] - level[q]);
+  }
+  return out;
+}
+
+std::vector<double> spacings(const SpectrumResult& r, double low, double high, double d,
+                             const std::vector<std::uint8_t>& keep) {
+  const auto& h = r.profile.height;
+  std::vector<double> out;
+  std::size_t last = SpectrumResult::npos;
+  for (std::size_t i = 0; i < r.events.size(); ++i) {
+    const double y = h[r.events[i].peak];
+    if (!keep[i] || y < low || y >= high) continue;
+    if (last != SpectrumResult::npos) out.push_back((y - h[r.events[last].peak]) / d);
+    last = i;
   }
   return out;
 }
@@ -412,24 +467,40 @@ SpectrumResult analyse(const DragProfile& profile, const SpectrumScales& s, cons
   if (!(r.noise > 0.0))
     bad_profile(source, "the fluctuations have no measurable noise (MAD of first differences = 0): "
                         "the noise-relative thresholds are undefined");
+  // the noise follows the load (the bed's ringing grows with it: ~2 % of it in
+  // the study's runs), so a drop is judged against the noise where it happens
+  r.local_noise = local_noise_level(r.fluctuation, samples(0.5 * c.trend_window_d, fs));
+  for (double& v : r.local_noise) v = std::max(v, 1e-3 * r.noise);
   r.drop_delta = c.drop_threshold * r.noise;
   const double edges[] = {0.0, c.bottom_top * hb, c.middle_top * hb, c.upper_top * hb, hb};
   const char* names[] = {"bottom", "middle", "upper", "top_layer"};
   for (std::size_t b = 0; b < 4; ++b) r.bands.push_back(make_band(names[b], edges[b], edges[b + 1], r, fs, c));
 
   // Events, their spacing in the second part, and their amplitude in the upper part.
-  r.events = detect_events(r.fluctuation, r.drop_delta, samples(c.drop_window_d, fs));
+  std::vector<double> delta(n);
+  for (std::size_t k = 0; k < n; ++k) delta[k] = c.drop_threshold * r.local_noise[k];
+  r.events = detect_events(r.fluctuation, delta, samples(c.drop_window_d, fs));
   const auto inside = [&h](const Event& e, double low, double high) { return h[e.peak] >= low && h[e.peak] < high; };
-  std::vector<double> amp_x, amp_y;
-  for (std::size_t i = 0; i < r.events.size(); ++i) {
-    const Event& e = r.events[i];
-    if (i > 0 && inside(e, edges[1], edges[3]) && inside(r.events[i - 1], edges[1], edges[3]))
-      r.spacing_d.push_back((h[e.peak] - h[r.events[i - 1].peak]) / s.d);
+  // the rupture catalogue: the load each event carried, and which the paper counts
+  std::vector<double> amp_x, amp_y, drops, relative;
+  for (const Event& e : r.events) {
+    const double load = r.trend[e.peak], drop = p.drag[e.peak] - p.drag[e.drop_end];
+    r.event_load.push_back(load);
+    r.counted.push_back(load > 0.0 && drop >= c.min_relative_drop * load ? 1 : 0);
+    if (inside(e, edges[1], edges[3])) {
+      drops.push_back(drop);
+      if (load > 0.0) relative.push_back(drop / load);
+    }
     if (inside(e, edges[2], edges[3])) {
       amp_x.push_back(1e3 * h[e.peak]);
-      amp_y.push_back(p.drag[e.peak] - p.drag[e.drop_end]);
+      amp_y.push_back(drop);
     }
   }
+  r.spacing_d = spacings(r, edges[1], edges[3], s.d, std::vector<std::uint8_t>(r.events.size(), 1));
+  r.rupture_spacing_d = spacings(r, edges[1], edges[3], s.d, r.counted);
+  const SizeFitSettings sizes{static_cast<std::size_t>(c.size_min_tail), c.size_bootstrap, c.size_significance, 1};
+  r.sizes = fit_sizes(drops, sizes);
+  r.relative_sizes = fit_sizes(relative, sizes);
   r.amplitude_fit = linear_fit(amp_x, amp_y);
   const Band& upper = r.bands[2];
   std::vector<double> env_x, env_y;
@@ -448,21 +519,28 @@ SpectrumResult analyse(const DragProfile& profile, const SpectrumScales& s, cons
     }
   }
 
-  // Top layer: above the last height where the envelope reaches the noise floor.
-  const double floor = c.floor_factor * r.noise;
-  std::size_t above = 0;  // rows up to the last one at or above the floor
-  for (std::size_t k = n; k-- > 0 && above == 0;)
-    if (r.envelope[k] >= floor) above = k + 1;
-  r.top_found = above < n;
+  // Top layer: the change point of the fluctuations' variance, with its interval.
+  const TopLayerSearch search{c.search_from_fraction * hb, hb - c.search_margin_d * s.d, samples(c.block_d, fs),
+                              c.top_bootstrap, c.top_confidence, c.top_false_alarm, 1};
+  r.top = find_top_layer(h, r.fluctuation, r.trend, search);
+  r.top_found = r.top.found;
   if (r.top_found) {
-    // the window centred on the last row above the floor just reaches the
-    // fluctuating part: that part ends half a window lower
-    r.top_height = above == 0 ? h.front() : std::max(h.front(), h[above - 1] - dbl(env_half) * r.height_step);
+    r.top_height = r.top.best.height;
     std::tie(r.top_begin, r.top_end) = rows_between(h, r.top_height, hb - c.fit_margin_d * s.d);
     std::vector<double> depth, drag;
     for (std::size_t k = r.top_begin; k < r.top_end; ++k) depth.push_back(1e3 * (hb - h[k])), drag.push_back(p.drag[k]);
     r.top_fit = linear_fit(depth, drag);
   }
+  // The envelope's definition: above the last height where it reaches the noise floor.
+  const double floor = c.floor_factor * r.noise;
+  std::size_t above = 0;  // rows up to the last one at or above the floor
+  for (std::size_t k = n; k-- > 0 && above == 0;)
+    if (r.envelope[k] >= floor) above = k + 1;
+  r.envelope_top_found = above < n;
+  // the window centred on the last row above the floor just reaches the
+  // fluctuating part: that part ends half a window lower
+  if (r.envelope_top_found)
+    r.envelope_top_height = above == 0 ? h.front() : std::max(h.front(), h[above - 1] - dbl(env_half) * r.height_step);
   return r;
 }
 
@@ -534,15 +612,86 @@ Json stats_json(const std::vector<double>& v) {
   return {{"count", v.size()}, {"mean", mean}, {"median", median(v)}, {"q1", quantile(v, 0.25)}, {"q3", quantile(v, 0.75)}};
 }
 
+
+Json sizes_json(const SizeDistribution& z) {
+  auto family = [](const FamilyFit& f) -> Json {
+    Json j = {{"log_likelihood", f.log_likelihood}, {"ks", f.ks}};
+    if (f.family == "power_law") j["alpha"] = f.alpha;
+    if (f.family == "lognormal") j["mu"] = f.mu, j["sigma"] = f.sigma;
+    if (f.family == "exponential") j["lambda"] = f.lambda;
+    return j;
+  };
+  Json j = {{"sizes", z.n}, {"fitted", z.fitted}};
+  if (!z.fitted) return j;
+  j["x_min"] = z.x_min;
+  j["tail"] = z.tail;
+  j["power_law"] = family(z.power_law);
+  j["power_law"]["p_value"] = z.power_law_p;
+  j["lognormal"] = family(z.lognormal);
+  j["exponential"] = family(z.exponential);
+  for (const Comparison& c : z.comparisons)
+    j["likelihood_ratios"].push_back({{"a", c.a}, {"b", c.b}, {"ratio", c.ratio}, {"normalised", c.normalised},
+                                      {"p", c.p}, {"favoured", c.favoured}});
+  j["best"] = z.best;
+  return j;
+}
+
+Json top_layer_json(const TopLayerFit& t, const SpectrumScales& s) {
+  auto mm_or_nan = [](double m) { return 1e3 * m; };
+  auto model = [&](const TopLayerModelFit& f) -> Json {
+    return {{"height_mm", mm_or_nan(f.height)}, {"background_N_per_m", std::sqrt(f.background)},
+            {"amplitude_at_top", f.c0}, {"slope_per_mm_of_depth", 1e-3 * f.c1},
+            {"noise_over_load", std::sqrt(f.noise)}, {"residual", f.residual}};
+  };
+  return {{"outcome", t.outcome},
+          {"p_value", t.p_value},
+          {"model", t.model},
+          {"height_mm", mm_or_nan(t.best.height)},
+          {"interval_mm", {mm_or_nan(t.low), mm_or_nan(t.high)}},
+          {"depth_interval_mm", {1e3 * (s.bed_height - t.high), 1e3 * (s.bed_height - t.low)}},
+          {"blocks", t.block_height.size()},
+          {"relative", model(t.relative)},
+          {"absolute", model(t.absolute)}};
+}
+
+Json spacing_by_threshold(const SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& c) {
+  const double low = c.bottom_top * s.bed_height, high = c.upper_top * s.bed_height;
+  const auto& drag = r.profile.drag;
+  auto row = [&](double value, const std::vector<std::uint8_t>& keep) -> Json {
+    const std::vector<double> sp = spacings(r, low, high, s.d, keep);
+    return {{"threshold", value},
+            {"events", std::count(keep.begin(), keep.end(), std::uint8_t{1})},
+            {"median_spacing_d", median(sp)},
+            {"mean_spacing_d", sp.empty() ? kNaN : std::accumulate(sp.begin(), sp.end(), 0.0) / dbl(sp.size())}};
+  };
+  Json relative = Json::array(), sigma = Json::array();
+  for (const double f : c.min_relative_drops) {
+    std::vector<std::uint8_t> keep;
+    for (std::size_t i = 0; i < r.events.size(); ++i) {
+      const double load = r.event_load[i], drop = drag[r.events[i].peak] - drag[r.events[i].drop_end];
+      keep.push_back(load > 0.0 && drop >= f * load ? 1 : 0);
+    }
+    relative.push_back(row(f, keep));
+  }
+  for (const double k : c.drop_thresholds) {
+    std::vector<std::uint8_t> keep;
+    for (const Event& e : r.events) keep.push_back(drag[e.peak] - drag[e.drop_end] >= k * r.local_noise[e.peak] ? 1 : 0);
+    sigma.push_back(row(k, keep));
+  }
+  return {{"relative_drop", relative}, {"drop_over_noise", sigma},
+          {"note", "events of the catalogue (drops above events.drop_threshold x sigma) kept by size; spacing of "
+                   "consecutive kept events in the loading/rupture part"}};
+}
 }  // namespace
 
 nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& c,
                                         double intruder_depth) {
   const auto& h = r.profile.height;
   const auto& drag = r.profile.drag;
-  const double spacing = median(r.spacing_d);
-  const Json spacing_stats = stats_json(r.spacing_d);
+  const double spacing = median(r.rupture_spacing_d);
+  const Json spacing_stats = stats_json(r.rupture_spacing_d);
   const double mean_spacing = spacing_stats["mean"].is_number() ? spacing_stats["mean"].get<double>() : kNaN;
+  const double event_spacing = median(r.spacing_d);
   std::vector<double> drops;
   for (const Event& e : r.events) drops.push_back(drag[e.peak] - drag[e.drop_end]);
   auto point = [&](std::size_t k) -> Json {
@@ -575,8 +724,13 @@ nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumS
   m["paper_speed_mm_s"] = 1e3 * s.paper_speed;
   m["bed_height_mm"] = 1e3 * s.bed_height;
   m["noise_level_N_per_m"] = r.noise;
+  m["noise_over_load"] = r.noise / median({r.trend.begin() + static_cast<std::ptrdiff_t>(r.second_part.begin),
+                                           r.trend.begin() + static_cast<std::ptrdiff_t>(r.second_part.end)});
   m["noise_level_N"] = r.noise * intruder_depth;
   m["drop_delta_N_per_m"] = r.drop_delta;
+  m["drop_threshold_note"] = "each drop must exceed events.drop_threshold x the noise level around it (half the "
+                             "trend window each side: the noise follows the load); drop_delta_N_per_m is that "
+                             "threshold at the loading/rupture part's noise level";
   // spectrum
   m["dominant_period_d"] = r.second_part.peak.period;
   m["dominant_frequency_hz_at_1p2mm_s"] = at_speed(r.second_part.peak.period, s.d, s.paper_speed);
@@ -591,12 +745,20 @@ nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumS
   m["ringing_significant"] = r.ringing.peak.significant;
   m["ringing_period_d_at_run_speed"] = r.speed / (ringing_hz * s.d);  // its wavelength in travel
   m["ringing"] = ringing_json(r, c);
-  // events
+  // events and the ruptures the paper counts
   m["event_count"] = r.events.size();
+  m["rupture_rule"] = "a rupture: an event whose drop is at least " + num(c.min_relative_drop) +
+                      " x the load it carried (the drag's trend at its peak)";
+  m["rupture_count"] = std::count(r.counted.begin(), r.counted.end(), std::uint8_t{1});
   m["rupture_spacing"] = {{"unit", "d"}, {"stats", spacing_stats}};
   m["rupture_spacing_mean_d"] = mean_spacing;
   m["rupture_rate_hz_at_1p2mm_s"] = at_speed(mean_spacing, s.d, s.paper_speed);
   m["rupture_frequency_hz_at_run_v"] = at_speed(spacing, s.d, r.speed);
+  m["event_spacing_d"] = event_spacing;
+  m["event_frequency_hz_at_1p2mm_s"] = at_speed(event_spacing, s.d, s.paper_speed);
+  m["event_spacing"] = {{"unit", "d"}, {"stats", stats_json(r.spacing_d)}};
+  m["spacing_by_threshold"] = spacing_by_threshold(r, s, c);
+  m["size_distribution"] = {{"drop_N_per_m", sizes_json(r.sizes)}, {"relative_drop", sizes_json(r.relative_sizes)}};
   m["drop_N_per_m"] = stats_json(drops);
   m["amplitude_fit_upper"] = fit(r.amplitude_fit, "N/m per mm");
   m["amplitude_slope_upper_N_per_mm"] = r.amplitude_fit.slope * intruder_depth;
@@ -607,7 +769,11 @@ nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumS
                  {"next_loading", point(r.bottom_reload)}};
   // top layer
   m["top_layer_found"] = r.top_found;
+  m["top_layer_outcome"] = r.top.outcome;
   m["top_layer_depth_mm"] = r.top_found ? 1e3 * top_depth : kNaN;
+  m["top_layer"] = top_layer_json(r.top, s);
+  m["top_layer_envelope_height_mm"] = r.envelope_top_found ? 1e3 * r.envelope_top_height : kNaN;
+  m["top_layer_envelope_found"] = r.envelope_top_found;
   m["top_layer_floor_N_per_m"] = c.floor_factor * r.noise;
   m["top_layer_depth_fit"] = fit(r.top_fit, "N/m per mm of depth");
   m["top_layer_depth_fit_slope_N_per_mm"] = r.top_fit.slope * intruder_depth;
@@ -623,6 +789,7 @@ nlohmann::ordered_json sensitivity_table(const DragProfile& profile, const Spect
     for (const double v : values) {
       SpectrumConfig cv = c;
       cv.*field = v;
+      cv.size_bootstrap = 0;  // the rows do not report the size distribution's goodness of fit
       const SpectrumResult r = analyse(profile, s, cv, source);
       const Json m = spectrum_metrics(r, s, cv, 1.0);
       t[name].push_back({{"value", v},
@@ -635,7 +802,10 @@ nlohmann::ordered_json sensitivity_table(const DragProfile& profile, const Spect
                          {"dominant_period_d", m["dominant_period_d"]},
                          {"dominant_period_significant", m["dominant_period_significant"]},
                          {"dominant_period_search_min_d", m["dominant_period_search_range_d"][0]},
+                         {"event_spacing_d", m["event_spacing_d"]},
                          {"top_layer_height_mm", m["top_layer_height_mm"]},
+                         {"top_layer_interval_mm", m["top_layer"]["interval_mm"]},
+                         {"top_layer_envelope_height_mm", m["top_layer_envelope_height_mm"]},
                          {"top_layer_depth_fit_r2", m["top_layer_depth_fit_r2"]}});
     }
   };
@@ -643,6 +813,9 @@ nlohmann::ordered_json sensitivity_table(const DragProfile& profile, const Spect
   vary("floor_factor", c.floor_factors, &SpectrumConfig::floor_factor);
   vary("trend_window_d", c.trend_windows_d, &SpectrumConfig::trend_window_d);
   vary("ringing_cutoff_fraction", c.ringing_cutoff_fractions, &SpectrumConfig::ringing_cutoff_fraction);
+  vary("min_relative_drop", c.min_relative_drops, &SpectrumConfig::min_relative_drop);
+  vary("block_d", c.blocks_d, &SpectrumConfig::block_d);
+  vary("search_from_fraction", c.search_from_fractions, &SpectrumConfig::search_from_fraction);
   return t;
 }
 

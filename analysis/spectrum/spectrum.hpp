@@ -15,12 +15,15 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "pulloff/drag_profile.hpp"
+#include "spectrum/size_distribution.hpp"
 #include "spectrum/spectrum_config.hpp"
+#include "spectrum/top_layer.hpp"
 
 namespace dem2d::analysis {
 
@@ -103,6 +106,8 @@ struct Pivot {
   bool peak;
 };
 std::vector<Pivot> zigzag(const std::vector<double>& x, double delta, std::size_t begin = 0);
+// The same with a hysteresis per sample (that of the candidate extremum).
+std::vector<Pivot> zigzag(const std::vector<double>& x, const std::vector<double>& delta, std::size_t begin = 0);
 
 // Loading/rupture events of the fluctuation f: every zigzag peak -> trough
 // leg (hysteresis delta) in which f falls by more than delta within `window`
@@ -111,6 +116,13 @@ struct Event {
   std::size_t load_start, peak, drop_end;
 };
 std::vector<Event> detect_events(const std::vector<double>& f, double delta, std::size_t window);
+// The same with a threshold per sample (the local noise level x drop_threshold).
+std::vector<Event> detect_events(const std::vector<double>& f, const std::vector<double>& delta, std::size_t window);
+
+// The noise level of x at every sample: noise_level over [k - half_width,
+// k + half_width] (shrunk at the ends), evaluated every quarter half-width
+// and interpolated linearly.
+std::vector<double> local_noise_level(const std::vector<double>& x, std::size_t half_width);
 
 // ---- the analysis of one pull-off ----------------------------------------
 
@@ -136,7 +148,9 @@ struct SpectrumResult {
   double speed = 0.0;            // m/s, dH/dt
   std::vector<double> trend, fluctuation, envelope;  // N/m
   double noise = 0.0;            // N/m, sigma of the fluctuation in the second part
-  double drop_delta = 0.0;       // N/m, drop_threshold x sigma
+  std::vector<double> local_noise;  // N/m, sigma around each row (half the trend window each side): events' scale
+  double drop_delta = 0.0;       // N/m, drop_threshold x sigma (the second part's; each drop is judged on
+                                 // drop_threshold x local_noise)
   Ringing ringing;               // the bed's ringing, found in the second part's time spectrum
   double geometric_cutoff = kNaN;  // Hz: cutoff_fraction x a significant ringing's frequency (NaN: no cutoff)
   double min_period_d = kNaN;    // d: the dominant-period search's lower bound: psd.min_period_d, raised to
@@ -144,14 +158,26 @@ struct SpectrumResult {
   Band second_part;              // [bottom_top, upper_top) H_bed: the loading/rupture regime
   std::vector<Band> bands;       // bottom, middle, upper, top_layer
   std::vector<Event> events;     // over the whole profile
-  std::vector<double> spacing_d; // consecutive peaks both in the second part (d)
+  std::vector<double> spacing_d; // consecutive event peaks both in the second part (d)
+  // the rupture catalogue: per event, the load it carried (the trend at its peak,
+  // N/m) and whether the paper would count it (drop >= min_relative_drop x load)
+  std::vector<double> event_load;
+  std::vector<std::uint8_t> counted;
+  std::vector<double> rupture_spacing_d;  // consecutive counted ruptures both in the second part (d)
+  SizeDistribution sizes;           // drops (N/m) of the events in the second part
+  SizeDistribution relative_sizes;  // their drop / load
   LinearFit amplitude_fit;       // event drop (N/m) against peak height (mm), upper part
   LinearFit envelope_fit;        // envelope (N/m) against height (mm), upper part
   // bottom zone: rows of the first high peak, the collapse and the next peak (npos if none)
   std::size_t bottom_peak = npos, bottom_collapse = npos, bottom_reload = npos;
-  // top layer
-  bool top_found = false;        // false when the envelope is still above the floor at the end
-  double top_height = kNaN;      // m
+  // top layer: the change point of the fluctuations' variance (top_layer.hpp)
+  TopLayerFit top;
+  bool top_found = false;        // top.found
+  double top_height = kNaN;      // m, top.best.height when found
+  // the envelope's definition (before the change point): the last height where
+  // the envelope reaches floor_factor x sigma, less half a window
+  bool envelope_top_found = false;  // false when the envelope is still above the floor at the end
+  double envelope_top_height = kNaN;  // m
   std::size_t top_begin = 0, top_end = 0;  // rows of the depth fit
   LinearFit top_fit;             // drag (N/m) against depth H_bed - H (mm)
   static constexpr std::size_t npos = static_cast<std::size_t>(-1);
@@ -165,6 +191,11 @@ SpectrumResult analyse(const DragProfile& profile, const SpectrumScales& scales,
 // The "spectrum" metrics (without the sensitivity table). Lengths in mm, travel in d.
 nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& c,
                                         double intruder_depth);
+
+// Median spacing (d) of consecutive events both in [low, high) and both
+// kept by `keep`; NaN below two such events.
+std::vector<double> spacings(const SpectrumResult& r, double low, double high, double d,
+                             const std::vector<std::uint8_t>& keep);
 
 // The key numbers again with one setting changed at a time (config.sensitivity).
 nlohmann::ordered_json sensitivity_table(const DragProfile& profile, const SpectrumScales& scales,

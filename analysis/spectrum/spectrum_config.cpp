@@ -31,7 +31,21 @@ SpectrumConfig load_spectrum_config(const std::string& path) {
     events.number("drop_threshold", c.drop_threshold, 0.0, 1e6, "multiple of the noise level", E::open_low);
     events.number("drop_window_d", c.drop_window_d, 0.0, kD, "d of travel", E::open_low);
     events.reject_unknown();
+    StageConfig ruptures = file.table("ruptures");
+    ruptures.number("min_relative_drop", c.min_relative_drop, 0.0, 1e6, "fraction of the load");
+    ruptures.reject_unknown();
+    StageConfig sizes = file.table("size_distribution");
+    sizes.integer("min_tail", c.size_min_tail, 3, 1000000, "sizes");
+    sizes.integer("bootstrap", c.size_bootstrap, 0, 1000000, "synthetic sets");
+    sizes.number("significance", c.size_significance, 0.0, 1.0, "probability", E::open);
+    sizes.reject_unknown();
     StageConfig top = file.table("top_layer");
+    top.number("block_d", c.block_d, 0.0, kD, "d of travel", E::open_low);
+    top.number("search_from_fraction", c.search_from_fraction, 0.0, 1.0, "fraction of the bed height", E::open_high);
+    top.number("search_margin_d", c.search_margin_d, 0.0, kD, "d of travel");
+    top.integer("bootstrap", c.top_bootstrap, 0, 1000000, "resamples");
+    top.number("confidence", c.top_confidence, 0.0, 1.0, "probability", E::open);
+    top.number("false_alarm", c.top_false_alarm, 0.0, 1.0, "probability", E::open);
     top.number("envelope_window_d", c.envelope_window_d, 0.0, kD, "d of travel", E::open_low);
     top.number("floor_factor", c.floor_factor, 0.0, 1e6, "multiple of the noise level", E::open_low);
     top.number("fit_margin_d", c.fit_margin_d, 0.0, kD, "d of travel");
@@ -50,6 +64,10 @@ SpectrumConfig load_spectrum_config(const std::string& path) {
     sensitivity.numbers("trend_windows_d", c.trend_windows_d, 0.0, kD, "d of travel", E::open_low);
     sensitivity.numbers("ringing_cutoff_fractions", c.ringing_cutoff_fractions, 0.0, 1.0,
                         "fraction of the ringing frequency", E::open);
+    sensitivity.numbers("min_relative_drops", c.min_relative_drops, 0.0, 1e6, "fraction of the load");
+    sensitivity.numbers("blocks_d", c.blocks_d, 0.0, kD, "d of travel", E::open_low);
+    sensitivity.numbers("search_from_fractions", c.search_from_fractions, 0.0, 1.0, "fraction of the bed height",
+                        E::open_high);
     sensitivity.reject_unknown();
     file.reject_unknown();
   } catch (const StageError& e) {

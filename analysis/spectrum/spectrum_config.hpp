@@ -30,7 +30,19 @@ struct SpectrumConfig {
   // [events]
   double drop_threshold = 7.0;  // x sigma
   double drop_window_d = 0.1;   // d
-  // [top_layer]
+  // [ruptures]: the events the paper counts
+  double min_relative_drop = 0.1;  // drop >= this x the load (the drag's trend at the peak)
+  // [size_distribution]
+  int size_min_tail = 10;          // fewest sizes above x_min
+  int size_bootstrap = 200;        // synthetic sets for the power law's p-value
+  double size_significance = 0.05; // a likelihood ratio decides below this p
+  // [top_layer]: the change point (top_layer.hpp) and the envelope's old definition
+  double block_d = 1.0;               // d: variance blocks
+  double search_from_fraction = 0.3;  // of the bed height: where the search starts
+  double search_margin_d = 2.0;       // d: the search ends this far below the bed surface
+  int top_bootstrap = 200;            // resamples for the interval
+  double top_confidence = 0.95;       // of the interval
+  double top_false_alarm = 0.01;      // significance of the change point
   double envelope_window_d = 1.0;  // d
   double floor_factor = 2.0;       // x sigma
   double fit_margin_d = 1.0;       // d
@@ -43,6 +55,9 @@ struct SpectrumConfig {
   std::vector<double> floor_factors{1.5, 2.0, 3.0};
   std::vector<double> trend_windows_d{3.0, 4.0, 6.0};
   std::vector<double> ringing_cutoff_fractions{0.35, 0.5, 0.7};
+  std::vector<double> min_relative_drops{0.03, 0.05, 0.1, 0.2, 0.3};
+  std::vector<double> blocks_d{0.5, 1.0, 2.0};
+  std::vector<double> search_from_fractions{0.2, 0.3, 0.4};
 };
 
 // Reads a config file; keys not given keep their defaults. Unknown keys, wrong

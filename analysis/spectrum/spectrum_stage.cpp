@@ -102,6 +102,7 @@ void write_h5(const h5::File& f, const SpectrumStage& st) {
   put(f, "profile/trend", r.trend, "N/m");
   put(f, "profile/fluctuation", r.fluctuation, "N/m");
   put(f, "profile/envelope", r.envelope, "N/m");
+  put(f, "profile/local_noise", r.local_noise, "N/m");
   write_psd(f, "psd", r.second_part, st.scales, r.speed);
   h5::write_attr(f, "psd", "search_min_period_d", r.min_period_d);  // the bands' search too
   for (const Band& b : r.bands) write_psd(f, "psd/bands/" + b.name, b, st.scales, r.speed);
@@ -121,6 +122,24 @@ void write_h5(const h5::File& f, const SpectrumStage& st) {
                       p.time[e.drop_end], p.height[e.drop_end], p.drag[e.peak] - p.drag[e.drop_end]});
   write_events(f, events);
   h5::write_attr(f, "events", "drop_delta_N_per_m", r.drop_delta);
+  // the rupture catalogue's further columns (extras of the events schema)
+  std::vector<double> drop_duration, rise, stiffness, relative, counted;
+  for (std::size_t i = 0; i < r.events.size(); ++i) {
+    const Event& e = r.events[i];
+    drop_duration.push_back(p.time[e.drop_end] - p.time[e.peak]);
+    rise.push_back(p.drag[e.peak] - p.drag[e.load_start]);
+    const double travel = p.height[e.peak] - p.height[e.load_start];
+    stiffness.push_back(travel > 0.0 ? 1e-3 * rise.back() / travel : kNaN);
+    relative.push_back(r.event_load[i] > 0.0 ? (p.drag[e.peak] - p.drag[e.drop_end]) / r.event_load[i] : kNaN);
+    counted.push_back(r.counted[i]);
+  }
+  put(f, "events/drop_duration", drop_duration, "s");
+  put(f, "events/loading_rise", rise, "N/m");
+  put(f, "events/loading_stiffness", stiffness, "N/m per mm of travel");
+  put(f, "events/load", r.event_load, "N/m");
+  put(f, "events/relative_drop", relative, "1");
+  put(f, "events/counted", counted, "1");
+  h5::write_attr(f, "events", "rupture_rule", st.metrics["spectrum"]["rupture_rule"].get<std::string>());
   // /top_layer: drag against depth and its linear fit
   std::vector<double> depth, height, drag, fit;
   for (std::size_t k = r.top_begin; k < r.top_end; ++k) {
@@ -134,6 +153,16 @@ void write_h5(const h5::File& f, const SpectrumStage& st) {
   put(f, "top_layer/drag", drag, "N/m");
   put(f, "top_layer/fit_drag", fit, "N/m");
   h5::write_attr(f, "top_layer", "top_layer_height_m", r.top_height);
+  h5::write_attr(f, "top_layer", "outcome", r.top.outcome);
+  h5::write_attr(f, "top_layer", "model", r.top.model);
+  h5::write_attr(f, "top_layer", "change_point_m", r.top.best.height);
+  h5::write_attr(f, "top_layer", "interval_low_m", r.top.low);
+  h5::write_attr(f, "top_layer", "interval_high_m", r.top.high);
+  h5::write_attr(f, "top_layer", "envelope_height_m", r.envelope_top_height);
+  put(f, "top_layer/block_height", r.top.block_height, "m");
+  put(f, "top_layer/block_variance", r.top.block_variance, "(N/m)^2");
+  put(f, "top_layer/block_model", r.top.block_model, "(N/m)^2");
+  put(f, "top_layer/block_load", r.top.block_load, "N/m");
   h5::write_attr(f, "top_layer", "slope_N_per_m_per_mm", r.top_fit.slope);
   h5::write_attr(f, "top_layer", "intercept_N_per_m", r.top_fit.intercept);
   h5::write_attr(f, "top_layer", "r2", r.top_fit.r2);

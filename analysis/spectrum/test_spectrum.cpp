@@ -156,10 +156,50 @@ TEST(Spectrum, TopLayerStartsWhereTheFluctuationsStop) {
   const double period = 0.5 * kD, stop = 0.105;
   const SpectrumResult r = analyse(synthetic(sawtooth(period, 10.0, stop), 0.2), kScales, {}, "synthetic");
   ASSERT_TRUE(r.top_found);
-  EXPECT_NEAR(r.top_height, stop, period);
+  EXPECT_EQ(r.top.outcome, "found");
+  // within a variance block (1 d): the change point's resolution
+  EXPECT_NEAR(r.top_height, stop, kD);
+  EXPECT_LE(r.top.low, r.top_height);
+  EXPECT_GE(r.top.high, r.top_height);
+  // the envelope's definition finds it too, within a period
+  ASSERT_TRUE(r.envelope_top_found);
+  EXPECT_NEAR(r.envelope_top_height, stop, period + 1e-9);
   // there the drag follows the (nearly linear) trend
   EXPECT_GT(r.top_fit.r2, 0.9);
   EXPECT_GT(r.top_fit.slope, 0.0);  // grows with depth
+}
+
+// Events that shrink with the load all the way to the surface: no top layer
+// (the envelope's definition found one where they sink below 2 sigma).
+TEST(Spectrum, NoTopLayerWhenTheEventsFollowTheLoadToTheSurface) {
+  const double period = 0.5 * kD;
+  const auto shape = [=](double h) { return trend(h) * (1.0 + 0.3 * std::fmod(h, period) / period); };
+  const SpectrumResult r = analyse(synthetic(shape, 0.2), kScales, {}, "synthetic");
+  EXPECT_FALSE(r.top_found) << r.top.outcome << " at " << r.top.best.height << " p " << r.top.p_value;
+  EXPECT_TRUE(std::isnan(r.top_height));
+  EXPECT_NE(r.top.outcome, "found");
+  // the load and noise alone: nothing either
+  const SpectrumResult q = analyse(synthetic(trend, 0.2), kScales, {}, "synthetic");
+  EXPECT_FALSE(q.top_found) << q.top.outcome;
+}
+
+// Sizes drawn from a power law (alpha 2.5) and from an exponential: the
+// maximum-likelihood fits recover the exponent and tell the two apart.
+TEST(SpectrumSizes, PowerLawAndExponentialAreToldApart) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<double> pl, ex;
+  for (int i = 0; i < 400; ++i) pl.push_back(std::pow(1.0 - u(rng), -1.0 / 1.5)), ex.push_back(1.0 - std::log(1.0 - u(rng)));
+  const SizeFitSettings s{10, 100, 0.1, 1};
+  const SizeDistribution a = fit_sizes(pl, s), b = fit_sizes(ex, s);
+  ASSERT_TRUE(a.fitted);
+  EXPECT_NEAR(a.power_law.alpha, 2.5, 0.25);
+  EXPECT_GT(a.power_law_p, 0.1);                 // plausible
+  EXPECT_NE(a.best, "exponential");
+  EXPECT_NE(b.best, "power_law");
+  EXPECT_NEAR(1.0 / b.exponential.lambda, 1.0, 0.2);  // the mean excess over x_min
+  // too few sizes: no fit
+  EXPECT_FALSE(fit_sizes({1.0, 2.0, 3.0}, s).fitted);
 }
 
 TEST(Spectrum, BottomZoneFindsPeakCollapseAndReload) {
@@ -322,6 +362,19 @@ TEST(SpectrumConfigFile, TheShippedConfigHoldsTheDefaults) {
   EXPECT_EQ(c.ringing_segment_s, d.ringing_segment_s);
   EXPECT_EQ(c.ringing_cutoff_fraction, d.ringing_cutoff_fraction);
   EXPECT_EQ(c.ringing_cutoff_fractions, d.ringing_cutoff_fractions);
+  EXPECT_EQ(c.min_relative_drop, d.min_relative_drop);
+  EXPECT_EQ(c.size_min_tail, d.size_min_tail);
+  EXPECT_EQ(c.size_bootstrap, d.size_bootstrap);
+  EXPECT_EQ(c.size_significance, d.size_significance);
+  EXPECT_EQ(c.block_d, d.block_d);
+  EXPECT_EQ(c.search_from_fraction, d.search_from_fraction);
+  EXPECT_EQ(c.search_margin_d, d.search_margin_d);
+  EXPECT_EQ(c.top_bootstrap, d.top_bootstrap);
+  EXPECT_EQ(c.top_false_alarm, d.top_false_alarm);
+  EXPECT_EQ(c.top_confidence, d.top_confidence);
+  EXPECT_EQ(c.min_relative_drops, d.min_relative_drops);
+  EXPECT_EQ(c.blocks_d, d.blocks_d);
+  EXPECT_EQ(c.search_from_fractions, d.search_from_fractions);
 }
 
 TEST(SpectrumConfigFile, UnknownKeysAndBadValuesNameFileKeyAndValue) {

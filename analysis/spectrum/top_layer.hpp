@@ -1,0 +1,73 @@
+// The top layer (SPEC R4): the height above which the loading/rupture
+// fluctuations of the drag vanish, found as a change point with an interval.
+// Definitions and reasons: analysis/spectrum/README.md, "Top layer".
+//
+// The drag fluctuation's variance is measured in blocks of travel and fitted
+// by what is left where no ruptures occur, a stationary background B (any
+// correlated part) and a noise that follows the load L (the bed's ringing
+// grows with its load: ~2 % of it in the study's runs), plus the ruptures'
+// amplitude, which falls linearly to zero at the change point H_top and is
+// zero above it:
+//
+//   var_b = B + e L_b^2 + a(H_b)^2,   a(H) = g(H) (c0 + c1 (H_top - H))  for H < H_top,  0 above,
+//
+// with c0 >= 0 (an abrupt end) and c1 >= 0 (a linear fade; the amplitude
+// does not grow towards the change point), and g = 1 (the
+// amplitude itself is linear: "absolute") or g = the local load, the drag's
+// trend (the amplitude relative to the load is linear: "relative"; events whose
+// size follows the load to the surface then have no change point). Fitted by
+// least squares on ln var_b (a variance's error is relative), H_top on a fine
+// grid, the model with the smaller residual kept. The interval is a wild
+// bootstrap of the residuals (Rademacher signs: each block keeps its own
+// spread). A change point is reported only when it is significant: the
+// residual it saves is compared with what it saves on data made of the fit
+// without one (the fluctuations reaching the surface, or none at all) plus
+// that fit's residuals in shuffled order (a permutation test).
+// Pure functions of arrays: no files.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace dem2d::analysis {
+
+struct TopLayerSearch {
+  double low = 0.0, high = 0.0;  // m: the heights searched, [low, high)
+  std::size_t block_rows = 0;    // rows per block
+  int bootstrap = 200;           // resamples for the interval (0: none)
+  double confidence = 0.95;      // of the interval
+  double false_alarm = 0.01;     // a change point is significant when its p-value is below this
+  std::uint64_t seed = 1;        // of the bootstrap: the same input gives the same interval
+};
+
+struct TopLayerModelFit {
+  double height = std::numeric_limits<double>::quiet_NaN();  // H_top (m)
+  double background = 0.0;  // B, (N/m)^2
+  double c0 = 0.0, c1 = 0.0;  // amplitude at H_top (x g) and its slope per m of depth (x g)
+  double noise = 0.0;         // e: the noise's variance over the load's square
+  double residual = std::numeric_limits<double>::infinity();  // sum of squared ln residuals
+};
+
+struct TopLayerFit {
+  bool searched = false;   // at least 4 blocks in the range
+  // found: the change point lowers the residual more than it does on data
+  // without one (p < false_alarm, a bootstrap under the null of no change
+  // point in the range), and its interval ends below the range's end
+  bool found = false;
+  std::string outcome;     // "found", "no significant vanishing", "reaches the surface", "not searched"
+  double p_value = std::numeric_limits<double>::quiet_NaN();
+  std::string model;       // "relative" or "absolute": the one kept
+  TopLayerModelFit best, relative, absolute;
+  double low = std::numeric_limits<double>::quiet_NaN(), high = std::numeric_limits<double>::quiet_NaN();  // interval (m)
+  // the blocks, for the figure: centre height (m), variance and model ((N/m)^2), mean load (N/m)
+  std::vector<double> block_height, block_variance, block_model, block_load;
+};
+
+// heights h (increasing, m), fluctuation f and trend (N/m), all [n].
+TopLayerFit find_top_layer(const std::vector<double>& h, const std::vector<double>& f, const std::vector<double>& trend,
+                           const TopLayerSearch& s);
+
+}  // namespace dem2d::analysis
