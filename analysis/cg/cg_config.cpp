@@ -98,7 +98,17 @@ CgConfig load_cg_config(const std::string& path) {
     StageConfig wall = file->table("wall");
     wall.number("band_d", c.wall_band_d, 0.0, kBig, "in d", E::open_low);
     wall.number("min_mobile_d", c.wall_min_mobile_d, 0.0, kBig, "in d");
+    wall.number("kernel_w", c.wall_kernel_w, 0.0, kBig, "in w", E::open_low);
+    wall.number("pool_d", c.wall_pool_d, 0.0, kBig, "in d of intruder travel");
+    wall.number("loss_false_alarm", c.wall_loss_false_alarm, 0.0, 1.0, "probability", E::open);
+    wall.integer("permutations", c.wall_permutations, 0, 1000000, "permutations of the mobile flags");
     wall.reject_unknown();
+    StageConfig noise = file->table("noise");
+    noise.number("rest_margin_w", c.rest_margin_w, 0.0, kBig, "in w");
+    noise.number("cone_false_alarm", c.cone_false_alarm, 0.0, 1.0, "probability", E::open);
+    noise.number("wall_false_alarm", c.wall_false_alarm, 0.0, 1.0, "probability", E::open);
+    noise.integer("snapshots", c.noise_snapshots, 1, 1000000, "snapshots of the noise pre-pass");
+    noise.reject_unknown();
     StageConfig dilatancy = file->table("dilatancy");
     dilatancy.number("region_width_L", c.region_width_L, 0.0, kBig, "in L", E::open_low);
     dilatancy.number("region_offset_w", c.region_offset_w, 0.0, kBig, "in w");
@@ -119,6 +129,8 @@ CgConfig load_cg_config(const std::string& path) {
     sensitivity.numbers("max_edge_angles_deg", c.max_edge_angles_deg, 0.0, 180.0,
                         "degrees from the horizontal; 180: every edge", E::open_low);
     sensitivity.numbers("wall_bands_d", c.wall_bands_d, 0.0, kBig, "in d", E::open_low);
+    sensitivity.numbers("cone_false_alarms", c.cone_false_alarms, 0.0, 1.0, "probability", E::open);
+    sensitivity.numbers("wall_false_alarms", c.wall_false_alarms, 0.0, 1.0, "probability", E::open);
     sensitivity.numbers("after_travels_d", c.after_travels_d, 0.0, kBig, "in d", E::open_low);
     sensitivity.numbers("region_heights_d", c.region_heights_d, 0.0, kBig, "in d", E::open_low);
     sensitivity.reject_unknown();

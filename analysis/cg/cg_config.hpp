@@ -37,7 +37,16 @@ struct CgConfig {
   double seed_depth_d = 1.0;     // the mobilised zone grows from the nodes this deep above the intruder's top
   // [wall]
   double wall_band_d = 1.0;          // nodes closer than this to a wall's face form its band
-  double wall_min_mobile_d = 1.0;    // a wall is mobile if its band moves over at least this length
+  double wall_min_mobile_d = 1.0;    // a wall is mobile if its band's v*, averaged over this length, reaches the level
+  double wall_kernel_w = 2.0;        // the walls' local-linear profiles use a kernel this many w wide
+  double wall_pool_d = 2.0;          // ... averaged over the snapshots within this much intruder travel (d, full width)
+  double wall_loss_false_alarm = 0.01;  // the loss height is reported when its permutation p-value is below this
+  int wall_permutations = 200;       // of the mobile flags, for that p-value
+  // [noise]: the PIV noise measured where the bed is at rest, and the levels it sets
+  double rest_margin_w = 4.0;        // at rest: rows this many w below the intruder's centre and above the floor
+  double cone_false_alarm = 0.001;   // the cone level is at least the (1 - this) quantile of single nodes' v* at rest
+  double wall_false_alarm = 0.05;    // per snapshot, the chance that noise alone makes the walls mobile
+  int noise_snapshots = 50;          // snapshots of the pre-pass that measures the nodes' noise
   // [dilatancy]
   double region_width_L = 1.0;       // region width / intruder length L, centred on the intruder
   double region_offset_w = 2.0;      // region bottom: the intruder's top face + this * w
@@ -55,6 +64,8 @@ struct CgConfig {
   std::vector<double> fit_starts_w = {0.0, 1.0};
   std::vector<double> max_edge_angles_deg = {180.0, 90.0, 85.0, 80.0};  // beta cut-off for the cone's edges (180: all)
   std::vector<double> wall_bands_d = {1.0, 2.0};
+  std::vector<double> cone_false_alarms = {1e-4, 1e-3, 1e-2};
+  std::vector<double> wall_false_alarms = {0.01, 0.05, 0.2};
   std::vector<double> after_travels_d = {0.5, 1.0, 2.0};
   std::vector<double> region_heights_d = {5.0, 10.0, 20.0};
 

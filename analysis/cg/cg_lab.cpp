@@ -64,7 +64,7 @@ LabMeasure measure(const Setup& su, const Fields& f, std::size_t set, const Snap
 
 }  // namespace
 
-CgResult compute_cg_lab(const RunReader& run, const CgInput& in) {
+CgResult compute_cg_lab(const SnapshotSource& run, const CgInput& in) {
   const CgConfig& c = in.config;
   const std::string& path = run.path();
   const auto t_start = std::chrono::steady_clock::now();
@@ -84,7 +84,7 @@ CgResult compute_cg_lab(const RunReader& run, const CgInput& in) {
   su.v_ref = c.reference_speed_mm_s / kMm;
   su.levels = {c.immobile_below, c.dragged_above};
   su.window = run.displacement_window();
-  const bool has_piv = su.window > 0.0 && h5::exists(run.file(), "snapshots/displacement");
+  const bool has_piv = run.has_displacements();
   const std::size_t set = c.velocity == "piv" && has_piv ? kPiv : kInst;
 
   // Full fields for at most field_max_snapshots snapshots, evenly spaced (and the last).

@@ -160,6 +160,62 @@ std::vector<double> wall_profile(const Grid& g, const std::vector<double>& vstar
   return out;
 }
 
+std::vector<double> local_linear_profile(const Grid& g, const Kernel& k, const Grains& grains, std::size_t set,
+                                         double x, double v_ref, const std::vector<std::uint8_t>& valid,
+                                         LocalLinearExtras* extras) {
+  std::vector<double> out(g.ny, kNaN);
+  if (extras) extras->vx.assign(g.ny, kNaN), extras->vy = extras->vx, extras->gain = extras->vx;
+  const double R = k.radius();
+  std::vector<std::size_t> near;  // grains within the cut-off of the column
+  for (std::size_t i = 0; i < grains.position.size(); ++i)
+    if (grains.active[i] && std::abs(grains.position[i].x - x) <= R) near.push_back(i);
+  const auto& v = grains.velocities[set];
+  for (std::size_t j = 0; j < g.ny; ++j) {
+    if (!valid[j]) continue;
+    const double y = g.y(j);
+    // weighted normal equations of v ~ a + b dx + c dy, both components at once
+    double A[3][3] = {}, bx[3] = {}, by[3] = {};
+    for (const std::size_t i : near) {
+      const double dx = grains.position[i].x - x, dy = grains.position[i].y - y, r = std::hypot(dx, dy);
+      if (r > R) continue;
+      const double w = grains.mass[i] * k(r), f[3] = {1.0, dx, dy};
+      for (int a = 0; a < 3; ++a) {
+        bx[a] += w * f[a] * v[i].x, by[a] += w * f[a] * v[i].y;
+        for (int b = 0; b < 3; ++b) A[a][b] += w * f[a] * f[b];
+      }
+    }
+    // Cramer's rule for the intercept; singular (or nearly) -> NaN
+    auto det3 = [](const double m[3][3]) {
+      return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+             m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    };
+    const double D = det3(A);
+    if (!(std::abs(D) > 1e-12 * A[0][0] * A[1][1] * A[2][2]) || !(A[0][0] > 0.0)) continue;
+    auto intercept = [&](const double b[3]) {
+      double M[3][3];
+      for (int a = 0; a < 3; ++a) M[a][0] = b[a], M[a][1] = A[a][1], M[a][2] = A[a][2];
+      return det3(M) / D;
+    };
+    const double vx = intercept(bx) / v_ref, vy = intercept(by) / v_ref;
+    out[j] = std::hypot(vx, vy);
+    if (!extras) continue;
+    extras->vx[j] = vx, extras->vy[j] = vy;
+    // the intercept is sum_i l_i v_i with l_i = w_i (first row of A^-1) . f_i:
+    // its noise per component, for unit independent noise per grain, is |l|
+    const double r[3] = {(A[1][1] * A[2][2] - A[1][2] * A[2][1]) / D, (A[0][2] * A[2][1] - A[0][1] * A[2][2]) / D,
+                         (A[0][1] * A[1][2] - A[0][2] * A[1][1]) / D};
+    double ll = 0.0;
+    for (const std::size_t i : near) {
+      const double dx = grains.position[i].x - x, dy = grains.position[i].y - y, rr = std::hypot(dx, dy);
+      if (rr > R) continue;
+      const double l = grains.mass[i] * k(rr) * (r[0] + r[1] * dx + r[2] * dy);
+      ll += l * l;
+    }
+    extras->gain[j] = std::sqrt(ll);
+  }
+  return out;
+}
+
 double mobile_length(const Grid& g, const std::vector<double>& profile, double y_from, double level) {
   double length = 0.0;
   for (std::size_t j = 0; j < g.ny; ++j)

@@ -82,6 +82,24 @@ ConeFit fit_cone(const Grid& g, const std::vector<std::uint8_t>& zone, const Int
 // Mean v* over each row's nodes closer than `band` to the wall face x_face
 // (NaN nodes skipped; NaN for a row without any): [ny].
 std::vector<double> wall_profile(const Grid& g, const std::vector<double>& vstar, double x_face, double band);
+// v* = |V| / v_ref along the node column at x, row by row, with V the
+// local-linear kernel regression of the grains' velocities (weights m_i
+// G(|r_i - node|), a plane fitted, its value at the node). Near a wall or the
+// free surface the kernel's mean (V = p / rho) is the velocity of the grains'
+// weighted centroid, ~0.8 w inside the boundary; the plane removes that shift
+// for a field varying linearly across the kernel. NaN where `valid[j]` is 0 or
+// the fit is singular (fewer than three grains spread in both directions).
+// `extras` (if given): per row, the plane's velocity components (x v_ref)
+// and its noise per component for unit independent noise on each grain's,
+// sqrt(sum_i l_i^2) with l_i the fit's weight of grain i: ~1/sqrt(grains) in
+// the bulk, larger where the kernel is cut by the free surface and the plane
+// is extrapolated.
+struct LocalLinearExtras {
+  std::vector<double> vx, vy, gain;
+};
+std::vector<double> local_linear_profile(const Grid& g, const Kernel& k, const Grains& grains, std::size_t set,
+                                         double x, double v_ref, const std::vector<std::uint8_t>& valid,
+                                         LocalLinearExtras* extras = nullptr);
 // Total height (m) of the rows at y >= y_from whose profile value is >= level.
 double mobile_length(const Grid& g, const std::vector<double>& profile, double y_from, double level);
 

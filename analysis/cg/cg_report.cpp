@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <numbers>
+#include <random>
 
 #include "core/number_text.hpp"
 
@@ -11,6 +14,7 @@ namespace dem2d::analysis {
 namespace {
 
 constexpr double kMm = 1e3;
+constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kDeg = 180.0 / std::numbers::pi;
 using json = nlohmann::ordered_json;
 
@@ -60,14 +64,21 @@ struct BetaStats {
   std::size_t with_excluded = 0, all_excluded = 0;  // one excluded edge or more, and with every edge excluded
 };
 
+// `gate`: an edge counts only where the cone fitted at that index (the
+// noise-calibrated level) has that side's edge too (SIZE_MAX: no gate).
+constexpr std::size_t kNoGate = static_cast<std::size_t>(-1);
 BetaStats beta_stats(const std::vector<SnapshotMeasure>& ms, const std::vector<std::size_t>& sel, std::size_t src,
-                     std::size_t cone, double half_gap, double max_deg) {
+                     std::size_t cone, double half_gap, double max_deg, std::size_t gate = kNoGate) {
   std::vector<double> b, l, r, meet, chord, offset, out;
   BetaStats st;
   for (const std::size_t k : sel) {
     const SourceMeasure& s = ms[k].src[src];
     if (!s.valid) continue;
-    const ConeFit& c = s.cone[cone];
+    ConeFit c = s.cone[cone];
+    if (gate != kNoGate) {  // a side the calibrated zone does not show is noise
+      if (std::isnan(s.cone[gate].left.beta_deg)) c.left = EdgeFit{};
+      if (std::isnan(s.cone[gate].right.beta_deg)) c.right = EdgeFit{};
+    }
     const Intruder& in = ms[k].intruder;
     const auto kept = [&](const EdgeFit& e, double v) { return e.excluded(max_deg) ? kNaN : v; };
     b.push_back(c.beta_deg(max_deg));
@@ -105,23 +116,51 @@ struct WallLoss {
   StepFit fit;
   double depth = kNaN, surface = kNaN;  // surface - height at the loss (m)
   std::size_t mobile = 0;
+  std::vector<double> heights;  // of the snapshots used
+  std::vector<bool> flags;      // mobile or not
 };
 
+// How much the step fit beats calling every snapshot the majority class, and
+// the permutation p-value of that gain: the fraction of shuffles of the flags
+// over the heights (fixed seed) whose step fit gains as much (+1 smoothing).
+double step_gain(const std::vector<double>& h, const std::vector<bool>& f) {
+  const auto mobile = static_cast<int>(std::count(f.begin(), f.end(), true));
+  return std::min(mobile, static_cast<int>(f.size()) - mobile) - step_down(h, f).misclassified;
+}
+double loss_p_value(const WallLoss& w, int permutations) {
+  const double gain = step_gain(w.heights, w.flags);
+  if (permutations <= 0 || w.flags.empty()) return kNaN;
+  std::mt19937_64 rng(1);
+  std::vector<bool> f = w.flags;
+  int as_large = 0;
+  for (int p = 0; p < permutations; ++p) {
+    for (std::size_t i = f.size(); i-- > 1;) {
+      const std::size_t j = static_cast<std::size_t>(rng() % (i + 1));
+      const bool t = f[i];
+      f[i] = f[j], f[j] = t;
+    }
+    as_large += step_gain(w.heights, f) >= gain;
+  }
+  return (as_large + 1.0) / (permutations + 1.0);
+}
+
+// `length(m)`: the mean mobile length of snapshot m's two walls (m).
 WallLoss wall_loss(const std::vector<SnapshotMeasure>& ms, const std::vector<std::size_t>& sel, std::size_t src,
-                   std::size_t wall_index, double min_length) {
+                   const std::function<double(const SnapshotMeasure&)>& length, double min_length) {
   std::vector<double> h;
   std::vector<bool> mob;
   std::vector<std::size_t> used;
   for (const std::size_t k : sel) {
     const SnapshotMeasure& m = ms[k];
     if (!m.src[src].valid || m.intruder.top - m.intruder.yc + m.height >= m.surface) continue;  // out of the bed
-    const double len = 0.5 * (m.src[src].wall_left[wall_index] + m.src[src].wall_right[wall_index]);
+    const double len = length(m);
     h.push_back(m.height);
     mob.push_back(len >= min_length && len > 0.0);
     used.push_back(k);
   }
   WallLoss w;
   w.fit = step_down(h, mob);
+  w.heights = h, w.flags = mob;
   w.mobile = static_cast<std::size_t>(std::count(mob.begin(), mob.end(), true));
   if (!std::isnan(w.fit.height)) {
     // the free surface of the loading snapshot nearest in height
@@ -132,6 +171,132 @@ WallLoss wall_loss(const std::vector<SnapshotMeasure>& ms, const std::vector<std
     w.depth = w.surface - w.fit.height;
   }
   return w;
+}
+WallLoss wall_loss(const std::vector<SnapshotMeasure>& ms, const std::vector<std::size_t>& sel, std::size_t src,
+                   std::size_t wall_index, double min_length) {
+  return wall_loss(ms, sel, src, [&](const SnapshotMeasure& m) {
+    return 0.5 * (m.src[src].wall_left[wall_index] + m.src[src].wall_right[wall_index]);
+  }, min_length);
+}
+
+// A wall column pooled over a group of snapshots: per row, v* = |mean of the
+// plane's velocities| over the snapshots with a value there, and that mean's
+// noise gain sqrt(sum g^2) / n (independent noise from snapshot to snapshot).
+struct Pooled {
+  std::vector<double> vstar, gain;
+};
+Pooled pooled(const std::vector<SnapshotMeasure>& ms, const std::vector<std::size_t>& group, int w, std::size_t ny) {
+  std::vector<double> sx(ny, 0.0), sy(ny, 0.0), sg(ny, 0.0);
+  std::vector<int> n(ny, 0);
+  for (const std::size_t k : group) {
+    const SnapshotMeasure& m = ms[k];
+    if (m.wall_vx[w].size() != ny) continue;  // no profile (a source without velocities)
+    for (std::size_t j = 0; j < ny; ++j)
+      if (std::isfinite(m.wall_vx[w][j]) && std::isfinite(m.wall_vy[w][j]) && m.wall_gain[w][j] > 0.0f)
+        sx[j] += m.wall_vx[w][j], sy[j] += m.wall_vy[w][j], sg[j] += double(m.wall_gain[w][j]) * m.wall_gain[w][j], ++n[j];
+  }
+  Pooled p{std::vector<double>(ny, kNaN), std::vector<double>(ny, kNaN)};
+  for (std::size_t j = 0; j < ny; ++j)
+    if (n[j] > 0) p.vstar[j] = std::hypot(sx[j], sy[j]) / n[j], p.gain[j] = std::sqrt(sg[j]) / n[j];
+  return p;
+}
+
+// The snapshots of `among` whose intruder height lies within `half` of snapshot k's.
+std::vector<std::size_t> pool_of(const std::vector<SnapshotMeasure>& ms, const std::vector<std::size_t>& among,
+                                 std::size_t k, double half) {
+  std::vector<std::size_t> group;
+  for (const std::size_t q : among)
+    if (std::abs(ms[q].height - ms[k].height) <= half) group.push_back(q);
+  return group;
+}
+
+// The windows of `rows` rows of a pooled wall column between heights low and
+// high: the mean v* and the mean noise gain of each (windows with a gap are skipped).
+struct Window {
+  double vstar, gain;
+};
+std::vector<Window> windows(const Grid& g, const Pooled& p, double low, double high, std::size_t rows) {
+  std::vector<Window> out;
+  for (std::size_t j = 0; j + rows <= g.ny; ++j) {
+    if (g.y(j) < low || g.y(j + rows - 1) >= high) continue;
+    Window w{0.0, 0.0};
+    bool ok = true;
+    for (std::size_t q = j; q < j + rows && ok; ++q) ok = std::isfinite(p.vstar[q]), w.vstar += p.vstar[q], w.gain += p.gain[q];
+    if (ok) out.push_back({w.vstar / static_cast<double>(rows), w.gain / static_cast<double>(rows)});
+  }
+  return out;
+}
+
+// The walls' PIV noise: the wall columns' pooled v* (over wall.pool_d of
+// travel) averaged over windows of min_mobile_d x d in the rows at rest
+// (rest_rows, below every pooled snapshot's intruder), both walls, every
+// snapshot with the primary velocities, each over the window's noise gain
+// (sorted: v* per unit gain, what the noise alone gives); and the grains' own
+// noise there (add_rest_grain_noise).
+struct WallNoise {
+  std::size_t window_rows = 1;
+  std::vector<double> rest;               // window v* / window gain at rest, sorted
+  double grain_rms = kNaN;                // per grain, rms per component, x V_ref
+  std::size_t grains = 0;
+  double level_min = kNaN, level_max = kNaN;  // the snapshots' mobility levels (set by calibrated_wall_loss)
+};
+
+WallNoise wall_noise(const StageRecord& r) {
+  WallNoise n;
+  n.window_rows = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(r.config.wall_min_mobile_d * r.setup.d / r.setup.grid.dx)));
+  const double half = 0.5 * r.config.wall_pool_d * r.setup.d;
+  std::vector<std::size_t> valid;
+  double ss = 0.0;
+  for (std::size_t k = 0; k < r.ms.size(); ++k) {
+    if (!r.ms[k].src[r.primary].valid) continue;
+    valid.push_back(k);
+    ss += r.ms[k].rest_grain_ss;
+    n.grains += r.ms[k].rest_grains;
+  }
+  for (const std::size_t k : valid) {
+    const std::vector<std::size_t> group = pool_of(r.ms, valid, k, half);
+    RestRows rows = rest_rows(r.setup, r.config, r.ms[k].intruder);
+    for (const std::size_t q : group) rows.high = std::min(rows.high, rest_rows(r.setup, r.config, r.ms[q].intruder).high);
+    for (int w = 0; w < 2; ++w)
+      for (const Window& x : windows(r.setup.grid, pooled(r.ms, group, w, r.setup.grid.ny), rows.low, rows.high, n.window_rows))
+        n.rest.push_back(x.vstar / x.gain);
+  }
+  std::sort(n.rest.begin(), n.rest.end());
+  if (n.grains > 0) n.grain_rms = std::sqrt(ss / (2.0 * static_cast<double>(n.grains)));
+  return n;
+}
+
+// A snapshot's walls move when a wall window of its pooled columns above the
+// intruder's centre reaches max(cone.level, q x its noise gain), q the
+// (1 - false_alarm / M) quantile of v* per unit gain at rest, M = 2 walls x
+// the independent windows above the centre: where the fit is noisier (at the
+// free surface, where the kernel is cut and the plane extrapolated) the level
+// rises with it.
+WallLoss calibrated_wall_loss(const StageRecord& r, const std::vector<std::size_t>& sel, WallNoise& n,
+                              double false_alarm) {
+  const Grid& g = r.setup.grid;
+  const double window = static_cast<double>(n.window_rows) * g.dx, correlation = 2.0 * r.setup.kernel.w;
+  const double half = 0.5 * r.config.wall_pool_d * r.setup.d;
+  n.level_min = kInf, n.level_max = -kInf;
+  std::vector<std::size_t> usable;
+  for (const std::size_t k : sel)
+    if (r.ms[k].src[r.primary].valid) usable.push_back(k);
+  return wall_loss(r.ms, sel, r.primary, [&](const SnapshotMeasure& m) {
+    const std::vector<std::size_t> group = pool_of(r.ms, usable, static_cast<std::size_t>(&m - r.ms.data()), half);
+    std::vector<Window> scan[2];
+    for (int w = 0; w < 2; ++w) scan[w] = windows(g, pooled(r.ms, group, w, g.ny), m.intruder.yc, kInf, n.window_rows);
+    const double scanned = 0.5 * static_cast<double>(scan[0].size() + scan[1].size()) * g.dx;  // per wall
+    const double independent = std::max(1.0, 2.0 * scanned / std::max(window, correlation));
+    const double q = upper_quantile(n.rest, 1.0 - false_alarm / independent);
+    bool mobile = false;
+    for (const auto& side : scan)
+      for (const Window& x : side) {
+        const double level = std::isfinite(q) ? std::max(r.config.level, q * x.gain) : r.config.level;
+        n.level_min = std::min(n.level_min, level), n.level_max = std::max(n.level_max, level);
+        mobile = mobile || x.vstar >= level;
+      }
+    return mobile ? 2.0 * r.config.wall_min_mobile_d * r.setup.d : 0.0;  // "mobile": a length >= min_length
+  }, r.config.wall_min_mobile_d * r.setup.d);
 }
 
 nlohmann::ordered_json nullable(double v) { return std::isnan(v) ? nlohmann::ordered_json() : nlohmann::ordered_json(v); }
@@ -167,12 +332,17 @@ json cg_metrics(const StageRecord& r) {
   const std::size_t S = ms.size(), primary = r.primary;
   const std::vector<std::size_t> all = selection(r, true), sel = selection(r, false);
   const std::size_t nstart = su.starts.size(), nband = su.bands.size();
-  const std::size_t cone0 = su.cone0(), wall0 = su.wall0();
+  const std::size_t cone0 = su.cone0(), gate = su.cone_gate();
   const double gap = half_gap(su), dx = su.grid.dx;
-  const BetaStats beta = beta_stats(ms, sel, primary, cone0, gap, kVerticalEdgeDeg);
-  const BetaStats every_edge = beta_stats(ms, sel, primary, cone0, gap, kEveryEdgeDeg);
+  const BetaStats beta = beta_stats(ms, sel, primary, cone0, gap, kVerticalEdgeDeg, gate);
+  const BetaStats every_edge = beta_stats(ms, sel, primary, cone0, gap, kEveryEdgeDeg, gate);
   const double hc_beta = gap * std::tan(beta.mean / kDeg);
-  const WallLoss wall = wall_loss(ms, sel, primary, wall0, c.wall_min_mobile_d * su.d);
+  const WallLoss fixed_wall = wall_loss(ms, sel, primary, su.wall_fixed(), c.wall_min_mobile_d * su.d);
+  WallNoise noise = wall_noise(r);
+  WallLoss wall = calibrated_wall_loss(r, sel, noise, c.wall_false_alarm);
+  const double loss_p = loss_p_value(wall, c.wall_permutations);
+  const bool loss_significant = std::isfinite(wall.fit.height) && loss_p < c.wall_loss_false_alarm;
+  if (!loss_significant) wall.depth = kNaN;
 
   // dilatancy: the region following the intruder, before (snapshot 0) and after `after_travel`
   const auto dphi = [&](std::int64_t k, std::size_t h, bool follow) {
@@ -205,7 +375,7 @@ json cg_metrics(const StageRecord& r) {
   m["cone_angle_left_deg"] = nullable(beta.left);
   m["cone_angle_right_deg"] = nullable(beta.right);
   m["cone_opening_angle_deg"] = nullable(180.0 - 2.0 * beta.mean);
-  m["cone_angle_all_snapshots_deg"] = nullable(beta_stats(ms, all, primary, cone0, gap, kVerticalEdgeDeg).mean);
+  m["cone_angle_all_snapshots_deg"] = nullable(beta_stats(ms, all, primary, cone0, gap, kVerticalEdgeDeg, gate).mean);
   m["cone_edge_note"] = "every cone number (angle, sides, bands, wall meeting, chord, offset, H_c from beta) uses "
                         "the fitted edges that do not narrow upwards (beta <= 90 deg; vertical kept); the narrowing "
                         "ones (beta > 90) are left out, counted and described by the metrics named *narrowing*";
@@ -231,6 +401,34 @@ json cg_metrics(const StageRecord& r) {
   m["wall_mobility_snapshots"] = wall.fit.count;
   m["wall_mobility_mobile_snapshots"] = wall.mobile;
   m["wall_mobility_misclassified"] = wall.fit.misclassified;
+  m["wall_mobility_loss_p_value"] = nullable(loss_p);
+  m["wall_mobility_outcome"] =
+      loss_significant ? "found"
+      : std::isfinite(wall.fit.height) ? "no significant loss: the split of mobile from immobile snapshots is not "
+                                         "better than the same flags shuffled over the heights"
+                                       : "no loss: the walls are mobile in every loading snapshot or in none";
+  m["wall_mobility_level_range"] = {nullable(noise.level_min), nullable(noise.level_max)};
+  m["wall_mobility_level_note"] = "per snapshot: max(cone.level, the (1 - noise.wall_false_alarm / M) quantile of "
+                                  "the wall bands' windowed v* at rest), M the independent windows scanned";
+  m["wall_mobility_length_fixed_level_mm"] = nullable(fixed_wall.depth * kMm);
+  m["wall_mobility_fixed_level_note"] =
+      "the definition before the noise calibration: mobile where the mean of the two walls' lengths with v* >= "
+      "cone.level is at least wall.min_mobile_d; no significance test";
+  m["cone_level"] = su.levels[su.level0];
+  m["cone_level_note"] = "max(cone.level, the (1 - noise.cone_false_alarm) quantile of v* at single nodes at rest)";
+  m["piv_noise"] = {{"region", "rows from noise.rest_margin_w x w above the floor to as far below the intruder's "
+                               "centre; nodes outside the intruder's column by 4 w, wall-band windows, grains "
+                               "within wall.band_d of a wall"},
+                    {"rest_nodes", su.rest_nodes.size()},
+                    {"node_vstar_median", nullable(upper_quantile(su.rest_nodes, 0.5))},
+                    {"node_vstar_q99", nullable(upper_quantile(su.rest_nodes, 0.99))},
+                    {"node_vstar_q999", nullable(upper_quantile(su.rest_nodes, 0.999))},
+                    {"rest_wall_windows", noise.rest.size()},
+                    {"wall_window_vstar_median", nullable(upper_quantile(noise.rest, 0.5))},
+                    {"wall_window_vstar_q99", nullable(upper_quantile(noise.rest, 0.99))},
+                    {"grain_rms_over_v", nullable(noise.grain_rms)},
+                    {"grain_samples", noise.grains},
+                    {"unit", "x V_ref (the intruder's speed)"}};
   m["half_gap_mm"] = gap * kMm;
   {
     const std::size_t h0 = su.height0;
@@ -279,7 +477,7 @@ json cg_metrics(const StageRecord& r) {
           if (ms[k].src[primary].valid)
             red.push_back(ms[k].src[primary].red.height), cone_area.push_back(ms[k].src[primary].zones.cone);
         }
-      const BetaStats bs = beta_stats(ms, in_band, primary, cone0, gap, kVerticalEdgeDeg);
+      const BetaStats bs = beta_stats(ms, in_band, primary, cone0, gap, kVerticalEdgeDeg, gate);
       bands.push_back({{"height_mm", {c.bands_mm[b], c.bands_mm[b + 1]}},
                        {"snapshots", in_band.size()},
                        {"cone_angle_deg", nullable(bs.mean)},
@@ -302,7 +500,7 @@ json cg_metrics(const StageRecord& r) {
   {
     json beta_rows = json::array(), cut_rows = json::array(), wall_rows = json::array(), dil_rows = json::array();
     for (const double max_deg : c.max_edge_angles_deg) {
-      const BetaStats a = beta_stats(ms, sel, primary, cone0, gap, max_deg);
+      const BetaStats a = beta_stats(ms, sel, primary, cone0, gap, max_deg, gate);
       cut_rows.push_back({{"max_edge_angle_deg", max_deg},
                           {"excluded_edge_fraction", nullable(fraction(a.excluded, a.edges))},
                           {"cone_angle_deg", nullable(a.mean)},
@@ -354,9 +552,24 @@ json cg_metrics(const StageRecord& r) {
                               {"region", follow ? "following the intruder" : "fixed at its start position"},
                               {"delta_phi", nullable(dphi(first_after_travel(heights, t * su.d), h, follow))}});
         }
+    json noise_rows = json::array();
+    for (const double a : c.wall_false_alarms) {
+      WallNoise nq = noise;
+      WallLoss w = calibrated_wall_loss(r, sel, nq, a);
+      const double p = loss_p_value(w, c.wall_permutations);
+      const bool sig = std::isfinite(w.fit.height) && p < c.wall_loss_false_alarm;
+      noise_rows.push_back({{"wall_false_alarm", a},
+                            {"level_range", {nullable(nq.level_min), nullable(nq.level_max)}},
+                            {"wall_mobility_length_mm", sig ? nullable(w.depth * kMm) : json()},
+                            {"loss_height_mm", nullable(w.fit.height * kMm)},
+                            {"loss_p_value", nullable(p)},
+                            {"misclassified", w.fit.misclassified},
+                            {"snapshots", w.fit.count}});
+    }
     m["sensitivity"] = {{"cone_angle", beta_rows},
                         {"cone_angle_edge_cutoff", cut_rows},
                         {"wall_mobility", wall_rows},
+                        {"wall_mobility_false_alarm", noise_rows},
                         {"dilatancy", dil_rows}};
   }
   m["grid"] = {{"nx", su.grid.nx},
@@ -394,7 +607,7 @@ std::vector<Dataset> cg_datasets(const StageRecord& r) {
   const std::vector<SnapshotMeasure>& ms = r.ms;
   const std::size_t S = ms.size();
   const double dx = su.grid.dx;
-  const std::size_t cone0 = su.cone0(), wall0 = su.wall0();
+  const std::size_t cone0 = su.cone0(), wall0 = su.wall_fixed();
   DatasetList D;
   const auto per = [&](auto get) {
     std::vector<double> v(S);
@@ -436,7 +649,8 @@ std::vector<Dataset> cg_datasets(const StageRecord& r) {
     D.f64(p + "beta_right", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].right.beta_deg; }));
     D.f64(p + "wall_meet_y", "m", src([&](const SourceMeasure& s) { return s.cone[cone0].wall_y(kVerticalEdgeDeg); }), {},
         "y where the cone's edge reaches the wall column (mean of the sides that do, narrowing edges left out)");
-    D.f64(p + "wall_mobile_left", "m", src([&](const SourceMeasure& s) { return s.wall_left[wall0]; }));
+    D.f64(p + "wall_mobile_left", "m", src([&](const SourceMeasure& s) { return s.wall_left[wall0]; }), {},
+          "height above the intruder's centre where the left wall band's v* >= cone.level (the fixed level)");
     D.f64(p + "wall_mobile_right", "m", src([&](const SourceMeasure& s) { return s.wall_right[wall0]; }));
     D.f64(p + "median_vstar", "-", src([](const SourceMeasure& s) { return s.median_vstar; }));
   }
@@ -456,6 +670,10 @@ std::vector<Dataset> cg_datasets(const StageRecord& r) {
   D.f32("profiles/wall_vstar_left", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_vstar[0]; }), {S_, NY},
       "mean v* of the nodes within wall.band_d of the left wall, per row (velocity_source)");
   D.f32("profiles/wall_vstar_right", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_vstar[1]; }), {S_, NY});
+  D.f32("profiles/wall_local_left", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_local[0]; }), {S_, NY},
+      "v* along the column wall.band_d / 2 from the left wall by local-linear regression of the grains' velocities "
+      "(kernel wall.kernel_w x w; velocity_source): what the walls' mobility is judged on");
+  D.f32("profiles/wall_local_right", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_local[1]; }), {S_, NY});
   {
     std::vector<double> tx(su.tip_nx), ty(su.tip_ny);
     for (std::size_t a = 0; a < su.tip_nx; ++a) tx[a] = (static_cast<double>(a) - static_cast<double>(su.tip_nx / 2)) * dx;

@@ -103,9 +103,57 @@ SnapshotMeasure measure_snapshot(const Setup& su, const CgConfig& c, const Field
     m.tip[set][1] = tip_window(su, v, m.intruder, true);
     if (full_fields) m.v_field[set][0] = to_f32(v.vx), m.v_field[set][1] = to_f32(v.vy);
   }
-  for (int w = 0; w < 2; ++w)
+  for (int w = 0; w < 2; ++w) {
     if (m.wall_vstar[w].empty()) m.wall_vstar[w].assign(g.ny, std::numeric_limits<float>::quiet_NaN());
+    m.wall_local[w].assign(g.ny, std::numeric_limits<float>::quiet_NaN());  // add_wall_profiles
+    m.wall_gain[w] = m.wall_vx[w] = m.wall_vy[w] = m.wall_local[w];
+  }
   return m;
+}
+
+double upper_quantile(const std::vector<double>& sorted, double q) {
+  if (sorted.empty()) return kNaN;
+  const double pos = std::ceil(q * static_cast<double>(sorted.size())) - 1.0;
+  return sorted[static_cast<std::size_t>(std::clamp(pos, 0.0, static_cast<double>(sorted.size() - 1)))];
+}
+
+double cone_level(const Setup& su, const CgConfig& c, double false_alarm) {
+  const double q = upper_quantile(su.rest_nodes, 1.0 - false_alarm);
+  return std::isfinite(q) ? std::max(c.level, q) : c.level;
+}
+
+void add_wall_profiles(const Setup& su, const CgConfig& c, const Fields& f, const Grains& grains, std::size_t set,
+                       SnapshotMeasure& m) {
+  const Grid& g = su.grid;
+  const double half = 0.5 * c.wall_band_d * su.d;
+  const double xs[2] = {su.cell.left + half, su.cell.right - half};
+  for (int w = 0; w < 2; ++w) {
+    const auto i = static_cast<std::size_t>(std::clamp(std::round((xs[w] - g.x0) / g.dx), 0.0, static_cast<double>(g.nx - 1)));
+    std::vector<std::uint8_t> valid(g.ny);
+    for (std::size_t j = 0; j < g.ny; ++j) valid[j] = f.phi[g.at(i, j)] >= su.min_phi ? 1 : 0;
+    const Kernel wide = make_kernel(c.wall_kernel_w * su.kernel.w, su.kernel.cutoff);
+    LocalLinearExtras x;
+    m.wall_local[w] = to_f32(local_linear_profile(g, wide, grains, set, xs[w], su.v_ref, valid, &x));
+    m.wall_vx[w] = to_f32(x.vx), m.wall_vy[w] = to_f32(x.vy), m.wall_gain[w] = to_f32(x.gain);
+  }
+}
+
+RestRows rest_rows(const Setup& su, const CgConfig& c, const Intruder& in) {
+  const double margin = c.rest_margin_w * su.kernel.w;
+  return {su.cell.floor + margin, in.yc - margin};
+}
+
+void add_rest_grain_noise(const Setup& su, const CgConfig& c, const Snapshot& s, const std::vector<Vec2>& v,
+                          SnapshotMeasure& m) {
+  const RestRows rows = rest_rows(su, c, m.intruder);
+  const double band = c.wall_band_d * su.d;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const Vec2 p = s.position[i];
+    if (!s.active[i] || p.y < rows.low || p.y >= rows.high) continue;
+    if (p.x - su.cell.left >= band && su.cell.right - p.x >= band) continue;
+    m.rest_grain_ss += (v[i].x * v[i].x + v[i].y * v[i].y) / (su.v_ref * su.v_ref);
+    ++m.rest_grains;
+  }
 }
 
 }  // namespace dem2d::analysis

@@ -35,10 +35,18 @@ struct Setup {
   std::size_t centre_i = 0;   // node column through the intruder's centre
   std::size_t tip_nx = 0, tip_ny = 0;
   std::vector<double> levels, starts, bands, heights;  // sensitivity values (v*, m, m, m)
+  // v* of single nodes at rest (noise pre-pass), sorted; the cone's level is
+  // raised to its (1 - noise.cone_false_alarm) quantile
+  std::vector<double> rest_nodes;
   std::size_t level0 = 0, start0 = 0, band0 = 0, height0 = 0;  // indices of the primary values
+  std::size_t level_fixed = 0;  // index of cone.level itself (the definitions before the noise calibration)
   // SourceMeasure::cone is [level][start], wall_left/right [level][band]: the primary entries
-  std::size_t cone0() const { return level0 * starts.size() + start0; }
+  // the cone is measured on the paper's level (cone.level) and kept where the
+  // zone at the noise-calibrated level (level0) has that edge too
+  std::size_t cone0() const { return level_fixed * starts.size() + start0; }
+  std::size_t cone_gate() const { return level0 * starts.size() + start0; }
   std::size_t wall0() const { return level0 * bands.size() + band0; }
+  std::size_t wall_fixed() const { return level_fixed * bands.size() + band0; }
 };
 
 // One velocity source of one snapshot.
@@ -56,8 +64,18 @@ struct SnapshotMeasure {
   Intruder intruder;
   SourceMeasure src[2];                       // [kInst, kPiv]
   std::vector<double> phi_follow, phi_fixed;  // [region height]
+  // the PIV noise at rest: sum of (vx^2 + vy^2) / V_ref^2 over the grains of
+  // the wall bands below the intruder (cg_report.cpp, wall_noise), and their number
+  double rest_grain_ss = 0.0;
+  std::size_t rest_grains = 0;
   // per-snapshot profiles and the intruder-frame window (float32 for cg.h5)
   std::vector<float> centre_vy[2], centre_phi, wall_vstar[2], tip[2][2];
+  // v* along the column band_d / 2 from each wall by local-linear regression
+  // (local_linear_profile; the primary velocities): the walls' mobility
+  std::vector<float> wall_local[2];
+  // its velocity components (x V_ref) and its noise gain along the same
+  // columns (local_linear_profile): the walls' mobility is judged on them
+  std::vector<float> wall_vx[2], wall_vy[2], wall_gain[2];
   // full fields (only for the selected snapshots)
   std::vector<float> phi_field, v_field[2][2];
 };
@@ -67,5 +85,28 @@ struct SnapshotMeasure {
 // whose wall profiles are kept.
 SnapshotMeasure measure_snapshot(const Setup& su, const CgConfig& c, const Fields& f, bool piv, const Snapshot& s,
                                  const Intruder& in, bool full_fields, std::size_t primary);
+
+// The rows of the wall bands at rest in a snapshot: above floor + margin and
+// below the intruder's centre - margin (margin = noise.rest_margin_w x w).
+struct RestRows {
+  double low = 0.0, high = 0.0;  // y (m)
+  bool any() const { return high > low; }
+};
+RestRows rest_rows(const Setup& su, const CgConfig& c, const Intruder& in);
+// The q-quantile of sorted values (the smallest value at or above a fraction q
+// of them: conservative in the tail; the largest when there are too few); NaN if none.
+double upper_quantile(const std::vector<double>& sorted, double q);
+// The cone's level: max(cone.level, the (1 - false_alarm) quantile of su.rest_nodes).
+double cone_level(const Setup& su, const CgConfig& c, double false_alarm);
+
+// Fills m.wall_local from the grains and velocity set `set` of the snapshot
+// (rows where the fields f have no velocity are NaN).
+void add_wall_profiles(const Setup& su, const CgConfig& c, const Fields& f, const Grains& grains, std::size_t set,
+                       SnapshotMeasure& m);
+
+// Adds to m the per-grain PIV noise of the grains within wall.band_d of a
+// wall in those rows (v: the grains' PIV-like velocities, m/s).
+void add_rest_grain_noise(const Setup& su, const CgConfig& c, const Snapshot& s, const std::vector<Vec2>& v,
+                          SnapshotMeasure& m);
 
 }  // namespace dem2d::analysis

@@ -108,7 +108,7 @@ PivVelocities piv_velocities(const Snapshot& s, const std::vector<Vec2>& disp, d
   return p;
 }
 
-SnapshotBatch read_batch(const RunReader& run, std::size_t k0, std::size_t k1, bool has_piv, double window) {
+SnapshotBatch read_batch(const SnapshotSource& run, std::size_t k0, std::size_t k1, bool has_piv, double window) {
   SnapshotBatch b;
   for (std::size_t k = k0; k < k1; ++k) {
     b.snaps.push_back(run.snapshot(k));
@@ -159,7 +159,7 @@ namespace {
 // Everything about the run that does not change along it, from snapshot 0:
 // the cell, d, the intruder and its velocity, kernel, grid, phi_ref, the
 // sensitivity values.
-Setup make_setup(const RunReader& run, const Snapshot& s0, const CgInput& in) {
+Setup make_setup(const SnapshotSource& run, const Snapshot& s0, const CgInput& in) {
   const CgConfig& c = in.config;
   const std::string& path = run.path();
   Setup su;
@@ -201,6 +201,52 @@ Setup make_setup(const RunReader& run, const Snapshot& s0, const CgInput& in) {
   return su;
 }
 
+// The noise pre-pass: v* of the nodes at rest (rest_rows, outside the
+// intruder's column by the kernel's cut-off beyond its tips) in
+// noise.snapshots snapshots spread evenly over the run, sorted.
+std::vector<double> rest_node_vstar(const SnapshotSource& run, const Setup& su, const CgConfig& c, bool has_piv,
+                                    std::size_t primary, int threads) {
+  const std::size_t S = run.snapshots(), n = std::min<std::size_t>(S, static_cast<std::size_t>(c.noise_snapshots));
+  std::vector<std::size_t> ks;
+  for (std::size_t q = 0; q < n; ++q) {
+    const std::size_t k = n == 1 ? 0 : static_cast<std::size_t>(std::llround(static_cast<double>(q * (S - 1)) / static_cast<double>(n - 1)));
+    if (ks.empty() || ks.back() != k) ks.push_back(k);
+  }
+  std::vector<std::vector<double>> found(ks.size());
+  const std::size_t batch = static_cast<std::size_t>(std::max(1, 2 * threads));
+  for (std::size_t q0 = 0; q0 < ks.size(); q0 += batch) {
+    const std::size_t q1 = std::min(ks.size(), q0 + batch);
+    std::vector<Snapshot> snaps;
+    std::vector<PivVelocities> piv;
+    for (std::size_t q = q0; q < q1; ++q) {
+      snaps.push_back(run.snapshot(ks[q]));
+      piv.push_back(has_piv ? piv_velocities(snaps.back(), run.displacement(ks[q]), su.window) : PivVelocities{false, {}});
+    }
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (std::size_t q = q0; q < q1; ++q) {
+      const Snapshot& s = snaps[q - q0];
+      const PivVelocities& p = piv[q - q0];
+      if (primary == kPiv && !p.ok) continue;
+      const Fields f = coarse_grain(su.grid, su.kernel, grains_of(s, primary == kPiv ? &p.v : nullptr));
+      const std::vector<double> vstar = speed_ratio(velocity(f, primary, su.min_phi), 0.0, 0.0, su.v_ref);
+      const Intruder in = intruder_of(s.bodies[static_cast<std::size_t>(s.find_role("intruder"))]);
+      const RestRows rows = rest_rows(su, c, in);
+      const double reach = 0.5 * in.length() + su.kernel.radius();
+      for (std::size_t j = 0; j < su.grid.ny; ++j) {
+        if (su.grid.y(j) < rows.low || su.grid.y(j) >= rows.high) continue;
+        for (std::size_t i = 0; i < su.grid.nx; ++i) {
+          const double v = vstar[su.grid.at(i, j)];
+          if (std::abs(su.grid.x(i) - in.xc) >= reach && std::isfinite(v)) found[q].push_back(v);
+        }
+      }
+    }
+  }
+  std::vector<double> out;
+  for (const auto& f : found) out.insert(out.end(), f.begin(), f.end());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 // Every snapshot, in batches: read serially (HDF5), coarse-grained and measured
 // in parallel. Each snapshot's result depends on its own data only (and, with
 // averaging, on the previous snapshots' fields, summed serially): the same for
@@ -211,7 +257,7 @@ struct Measured {
   double cg_seconds = 0.0;           // wall time in coarse_grain
 };
 
-Measured measure_all(const RunReader& run, const Setup& su, const CgInput& in, bool has_piv, std::size_t primary,
+Measured measure_all(const SnapshotSource& run, const Setup& su, const CgInput& in, bool has_piv, std::size_t primary,
                      const std::vector<std::size_t>& fields_at, int threads) {
   const CgConfig& c = in.config;
   const std::string& path = run.path();
@@ -250,6 +296,9 @@ Measured measure_all(const RunReader& run, const Setup& su, const CgInput& in, b
       try {
         out.ms[k] = measure_snapshot(su, c, avg[q], avg_piv[q] != 0, snaps[q],
                                  intruder_of(intruder_body(snaps[q], path)), full, primary);
+        if (primary == kPiv && piv[q].ok) add_rest_grain_noise(su, c, snaps[q], piv[q].v, out.ms[k]);
+        if (primary == kInst || piv[q].ok)
+          add_wall_profiles(su, c, avg[q], grains_of(snaps[q], has_piv ? &piv[q].v : nullptr), primary, out.ms[k]);
       } catch (const std::exception& e) {
         errors[q] = e.what();
       }
@@ -275,33 +324,47 @@ std::vector<std::int64_t> pre_rupture_snapshots(const std::vector<double>& times
 }
 
 CgResult compute_cg(const CgInput& in) {
+  validate(in.config, in.config_path.empty() ? "config" : in.config_path);
+  const RunFileSource run(in.run_path);
+  if (run.snapshots() == 0) throw CgError(run.path() + ": the run file has no snapshots");
+  const std::vector<std::string>& roles = run.body_roles();
+  if (std::find(roles.begin(), roles.end(), "intruder") == roles.end()) return compute_cg_lab(run, in);
+  if (in.events_path.empty()) return compute_cg(run, nullptr, in);
+  const std::vector<RuptureEvent> events = read_events(in.events_path);
+  return compute_cg(run, &events, in);
+}
+
+CgResult compute_cg(const SnapshotSource& run, const std::vector<RuptureEvent>* events_in, const CgInput& in) {
   const CgConfig& c = in.config;
   validate(c, in.config_path.empty() ? "config" : in.config_path);
   const auto t_start = std::chrono::steady_clock::now();
-  const RunReader run(in.run_path);
   const std::string& path = run.path();
-  if (run.snapshots() == 0) throw CgError(path + ": the run file has no snapshots");
+  if (run.snapshots() == 0) throw CgError(path + ": the run has no snapshots");
   const std::size_t S = run.snapshots();
   const std::vector<double>& times = run.snapshot_times();
-
-  const std::vector<std::string>& roles = run.body_roles();
-  if (std::find(roles.begin(), roles.end(), "intruder") == roles.end()) return compute_cg_lab(run, in);
   const Snapshot s0 = run.snapshot(0);
   Setup su = make_setup(run, s0, in);
+  const int threads = in.threads > 0 ? in.threads : omp_get_max_threads();
 
   // ---- what is selected: loading phases, full fields ----
-  const bool has_piv = su.window > 0.0 && h5::exists(run.file(), "snapshots/displacement");
+  const bool has_piv = run.has_displacements();
   const std::size_t primary = c.velocity == "piv" && has_piv ? kPiv : kInst;
+  // the cone's level, raised to what the noise alone reaches at rest (and the
+  // same for the sensitivity's false-alarm rates)
+  su.rest_nodes = rest_node_vstar(run, su, c, has_piv, primary, threads);
+  for (const double a : c.cone_false_alarms) with(su.levels, cone_level(su, c, a));
+  su.level0 = with(su.levels, cone_level(su, c, c.cone_false_alarm));
+  su.level_fixed = with(su.levels, c.level);
   std::vector<double> heights(S);
   {
-    const std::vector<Body> track = run.body_rows("snapshots", run.body_with_role("intruder"));
+    const std::vector<Body> track = run.body_track(run.body_with_role("intruder"));
     for (std::size_t k = 0; k < S; ++k) heights[k] = track[k].centre().y - su.cell.floor;
   }
-  const bool have_events = !in.events_path.empty();
+  const bool have_events = events_in != nullptr;
   std::vector<RuptureEvent> events;
   std::vector<std::int64_t> pre;
   if (have_events) {
-    events = read_events(in.events_path);
+    events = *events_in;
     pre = pre_rupture_snapshots(times, events, has_piv ? su.window : 0.0);
   }
   const std::int64_t after = first_after_travel(heights, c.after_travel_d * su.d);
@@ -310,7 +373,6 @@ CgResult compute_cg(const CgInput& in) {
                       after >= 0 ? static_cast<std::size_t>(after) : 0,
                       static_cast<std::size_t>(c.field_follow_snapshots));
 
-  const int threads = in.threads > 0 ? in.threads : omp_get_max_threads();
   Measured m = measure_all(run, su, in, has_piv, primary, fields_at, threads);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
 

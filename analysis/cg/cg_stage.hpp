@@ -16,6 +16,7 @@
 #include "cg/cg_field.hpp"
 #include "cg/cg_snapshot.hpp"
 #include "common/events.hpp"
+#include "common/snapshot_source.hpp"
 #include "common/study.hpp"
 
 namespace dem2d::analysis {
@@ -66,11 +67,15 @@ struct CgResult {
 
 // Everything, in memory. CgError (or std::runtime_error from the reader) on bad input.
 CgResult compute_cg(const CgInput& in);
+// The same on any source of snapshots with an intruder (in.run_path and
+// in.events_path are only recorded): `events` the rupture events (nullptr: none,
+// every snapshot is a loading snapshot).
+CgResult compute_cg(const SnapshotSource& run, const std::vector<RuptureEvent>* events, const CgInput& in);
 
 // ---- shared by the pull-off pass (cg_stage.cpp) and the lab-frame pass (cg_lab.cpp) ----
 
 // The run without an intruder: lab-frame fields, solid fraction and zones.
-CgResult compute_cg_lab(const RunReader& run, const CgInput& in);
+CgResult compute_cg_lab(const SnapshotSource& run, const CgInput& in);
 
 // The grains of snapshot s with their instantaneous velocities and, if given, a second set (PIV-like).
 Grains grains_of(const Snapshot& s, const std::vector<Vec2>* piv);
@@ -87,7 +92,7 @@ struct SnapshotBatch {
   std::vector<Snapshot> snaps;
   std::vector<PivVelocities> piv;  // {false, {}} without
 };
-SnapshotBatch read_batch(const RunReader& run, std::size_t k0, std::size_t k1, bool has_piv, double window);
+SnapshotBatch read_batch(const SnapshotSource& run, std::size_t k0, std::size_t k1, bool has_piv, double window);
 
 // su.kernel and su.grid from the config, su.cell and su.d: the grid spans the
 // cell's width, from the floor to grid.height_mm or to the highest grain top

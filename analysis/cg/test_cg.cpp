@@ -362,6 +362,28 @@ TEST(CgCone, ZonesAndRedExtent) {
   EXPECT_NEAR(e.height, g.y(7) - in.top, 1e-15);
 }
 
+// At a wall the kernel's mean is the velocity of the grains' weighted centroid,
+// ~0.8 w inside the wall; a local-linear fit has no such shift for a linear field.
+TEST(CgWall, LocalLinearProfileHasNoBoundaryShift) {
+  const Grid g = make_grid(0.0, 0.08, 0.0, 0.08, 0.0004);
+  const Kernel k = make_kernel(0.0045, 4.0);
+  Bed b = lattice(0.0, 0.08, 0.0, 0.08, 0.003);
+  const double gamma = 0.5;  // v_y = gamma x: zero at the wall x = 0
+  for (std::size_t i = 0; i < b.position.size(); ++i) b.velocity[i] = {0.0, gamma * b.position[i].x};
+  const Grains grains = b.grains();
+  const double x = 0.0015, v_ref = gamma * 0.003;  // v* = x / 3 mm
+  const std::vector<double> p = local_linear_profile(g, k, grains, 0, x, v_ref, std::vector<std::uint8_t>(g.ny, 1));
+  const Velocity mean = velocity(coarse_grain(g, k, grains), 0, 0.0);
+  const std::size_t i = static_cast<std::size_t>(std::lround((x - g.x0) / g.dx)), j = g.ny / 2;
+  EXPECT_NEAR(p[j], x * gamma / v_ref, 1e-9);             // the field at the column: 0.5
+  EXPECT_GT(mean.vy[g.at(i, j)] / v_ref, p[j] + 0.5);     // the kernel's mean reads >= 1 d further in
+  // invalid rows and a column without grains are NaN
+  std::vector<std::uint8_t> valid(g.ny, 1);
+  valid[j] = 0;
+  EXPECT_TRUE(std::isnan(local_linear_profile(g, k, grains, 0, x, v_ref, valid)[j]));
+  EXPECT_TRUE(std::isnan(local_linear_profile(g, k, grains, 0, 0.5, v_ref, std::vector<std::uint8_t>(g.ny, 1))[j]));
+}
+
 TEST(CgWall, ProfileMobileLengthAndStepFit) {
   const Grid g = make_grid(0.0, 0.01, 0.0, 0.01, 0.001);
   std::vector<double> vstar(g.size(), 0.0);
@@ -425,7 +447,7 @@ TEST(CgConfigFile, DefaultsAndErrors) {
             ":2:12: kernel.w_over_d = 0: must be in (0, 100] (kernel width w in mean diameters)");
   EXPECT_EQ(error("[kernel]\nwidth = 2\n"), ":2:1: unknown key 'width' in [kernel] (allowed: w_over_d, cutoff_over_w)");
   EXPECT_EQ(error("[colour]\n"), ":1:2: unknown key 'colour' at the top level (allowed: kernel, grid, velocity, zones, "
-                                 "cone, wall, dilatancy, output, sensitivity)");
+                                 "cone, wall, noise, dilatancy, output, sensitivity)");
   EXPECT_EQ(error("[velocity]\nuse = \"fast\"\n"),
             ":2:7: velocity.use = \"fast\": must be one of \"piv\", \"instantaneous\" (the velocity the zones use)");
   EXPECT_EQ(error("[grid]\nspacing_mm = \"a\"\n"), ":2:14: grid.spacing_mm = \"a\": wrong type, expected a number");

@@ -35,7 +35,7 @@ BodyLoads body_loads(const Snapshot& s, const std::vector<Partner>& partners) {
 
 }  // namespace
 
-NetworkResult run_bed_network(const RunReader& run, const NetworkInputs& in, const NetworkConfig& cfg,
+NetworkResult run_bed_network(const SnapshotSource& run, const NetworkInputs& in, const NetworkConfig& cfg,
                               const Study& study) {
   if (!in.events.empty() || !in.spectrum_metrics.empty())
     throw StageError(run.path() + ": the run has no body with role 'intruder': --events and --spectrum-metrics "

@@ -216,14 +216,20 @@ double read_top_layer_height_mm(const std::string& path) {
 }
 
 NetworkResult run_network(const NetworkInputs& in, const NetworkConfig& cfg, const Study& study) {
-  const RunReader run(in.run);
-  const std::size_t S = run.snapshots();
-  if (S == 0) throw StageError(run.path() + ": the run file has no snapshots");
+  const RunFileSource run(in.run);
+  if (run.snapshots() == 0) throw StageError(run.path() + ": the run file has no snapshots");
   const std::vector<std::string>& roles = run.body_roles();
   if (std::find(roles.begin(), roles.end(), "intruder") == roles.end()) return run_bed_network(run, in, cfg, study);
   std::vector<RuptureEvent> events;
   if (!in.events.empty()) events = read_events(in.events);
   const double spectrum_top_mm = in.spectrum_metrics.empty() ? kNaN : read_top_layer_height_mm(in.spectrum_metrics);
+  return run_network(run, events, spectrum_top_mm, in, cfg, study);
+}
+
+NetworkResult run_network(const SnapshotSource& run, const std::vector<RuptureEvent>& events, double spectrum_top_mm,
+                          const NetworkInputs& in, const NetworkConfig& cfg, const Study& study) {
+  const std::size_t S = run.snapshots();
+  if (S == 0) throw StageError(run.path() + ": the run has no snapshots");
 
   const FloorRule rule = floor_rule_from_name(cfg.floor_rule);
   const FloorRule other_rule = rule == FloorRule::vertex_removed ? FloorRule::bottom_layer_removed : FloorRule::vertex_removed;

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/snapshot_source.hpp"
 #include "common/study.hpp"
 #include "network/network.hpp"
 #include "common/stage_output.hpp"
@@ -56,12 +57,17 @@ struct NetworkResult {
 // file) on bad input.
 // A run without an intruder goes to run_bed_network.
 NetworkResult run_network(const NetworkInputs& in, const NetworkConfig& cfg, const Study& study);
+// The same on any source of snapshots with an intruder (the files named in
+// `in` are only recorded): the rupture events and the spectrum's top-layer
+// height (mm; NaN: none) given.
+NetworkResult run_network(const SnapshotSource& run, const std::vector<RuptureEvent>& events, double spectrum_top_mm,
+                          const NetworkInputs& in, const NetworkConfig& cfg, const Study& study);
 
 // What needs no intruder (a box, a silo, a fill), per snapshot: the
 // compressive network, whether its strong part spans the cell from wall to
 // wall, the fabric of the strong grain-grain contacts above the floor, and
 // the load on the floor and the side walls (bed_network.cpp).
-NetworkResult run_bed_network(const RunReader& run, const NetworkInputs& in, const NetworkConfig& cfg,
+NetworkResult run_bed_network(const SnapshotSource& run, const NetworkInputs& in, const NetworkConfig& cfg,
                               const Study& study);
 
 // spectrum.top_layer_height_mm of a spectrum metrics file, or NaN when the key
