@@ -122,8 +122,51 @@ def bulk(f: dict, path: Path) -> None:
     save(fig, path)
 
 
+def detectors(f: dict, path: Path) -> None:
+    """One panel per detector: each judged case's bias over its tolerance against the noise (error bar: the
+    replicas' sd), the definitions before in grey; cases with nothing planted as the fraction of replicas that
+    found something over the fraction allowed. Inside the band |y| <= 1 a case passes."""
+    rows = f.get("planted")
+    if not rows:
+        return
+    names = list(dict.fromkeys(r["detector"] for r in rows))
+    cols = min(4, len(names))
+    fig, axes = plt.subplots((len(names) + cols - 1) // cols, cols, figsize=(4.2 * cols, 3.4 * ((len(names) + cols - 1) // cols)),
+                             squeeze=False)
+    for ax, name in zip(axes.flat, names):
+        mine = [r for r in rows if r["detector"] == name]
+        levels = sorted({r["noise"] for r in mine})
+        x = {v: i for i, v in enumerate(levels)}
+        cases = list(dict.fromkeys(r["case"] for r in mine))
+        for c, case in enumerate(cases):
+            pts = [r for r in mine if r["case"] == case]
+            dx = 0.6 * (c / max(1, len(cases) - 1) - 0.5) if len(cases) > 1 else 0.0
+            for r in pts:
+                if r["planted"] is None:
+                    y = (r["found"] / r["replicas"]) / max(r["max_false"], 1e-9)
+                    ax.plot(x[r["noise"]] + dx, min(y, 3.0), "v", color="C3" if r["judged"] else "0.6", ms=5)
+                elif r["mean"] is not None:
+                    t = max(r["tolerance"], 1e-12)
+                    ax.errorbar(x[r["noise"]] + dx, (r["mean"] - r["planted"]) / t, yerr=(r["sd"] or 0.0) / t,
+                                fmt="o" if r["judged"] else "s", ms=3.5, mfc="C0" if r["judged"] else "none",
+                                color="C0" if r["judged"] else "0.6", lw=0.8)
+        ax.axhspan(-1, 1, color="C2", alpha=0.12, lw=0)
+        ax.axhline(0, color="k", lw=0.6)
+        ax.set_xticks(range(len(levels)), [f"{v:g}" for v in levels])
+        ax.set_xlabel(f"noise ({mine[0]['noise_unit']})", fontsize=8)
+        ax.set_ylabel("bias / tolerance;  ▼ found / allowed", fontsize=8)
+        ax.set_ylim(-3.2, 3.2)
+        ax.set_title(name, fontsize=9)
+    for ax in list(axes.flat)[len(names):]:
+        ax.axis("off")
+    fig.suptitle("Planted truth: green band = within tolerance; grey = the definitions before (for comparison)",
+                 fontsize=10)
+    save(fig, path)
+
+
 def draw(results: dict, out: Path) -> None:
     f = figure_data(results)
     impacts(f, out / "impacts.png")
     numerics(f, out / "numerics.png")
     bulk(f, out / "bulk.png")
+    detectors(f, out / "detectors.png")

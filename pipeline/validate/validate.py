@@ -19,6 +19,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "report"))
 import bulk  # noqa: E402
+import detectors  # noqa: E402
 import impacts  # noqa: E402
 import numerics  # noqa: E402
 import plots  # noqa: E402
@@ -37,6 +38,7 @@ CASES = {
     "janssen": ("bulk: Janssen saturation in a 2D silo", [bulk.janssen]),
     "beverloo": ("bulk: Beverloo's 2D discharge law", [bulk.beverloo]),
     "repose": ("bulk: angle of repose against mu and mu_r", [bulk.repose]),
+    "detectors": ("planted truth: the analyses' detectors", [detectors.planted]),
 }
 
 
@@ -45,11 +47,12 @@ class Context:
     dem2d: str
     out: Path
     config: dict
+    quick: bool = False
     figures: dict = field(default_factory=dict)
 
 
-def run_case(name: str, dem2d: str, out: str, config: dict):
-    ctx = Context(dem2d, Path(out), config)
+def run_case(name: str, dem2d: str, out: str, config: dict, quick: bool):
+    ctx = Context(dem2d, Path(out), config, quick)
     t0 = time.time()
     checks = []
     for fn in CASES[name][1]:
@@ -61,16 +64,18 @@ def run_case(name: str, dem2d: str, out: str, config: dict):
     return name, [c.row() for c in checks], ctx.figures, time.time() - t0
 
 
-def table_md(rows: list, seconds: dict) -> str:
+def table_md(rows: list, seconds: dict, planted: list, planted_noise: list) -> str:
     out = ["| case | quantity | expected | measured | tolerance | pass | reference |", "|---|---|---|---|---|---|---|"]
     for r in rows:
+        if r["case"].startswith("planted: "):  # in their own section below
+            continue
         unit = f" {r['unit']}" if r["unit"] else ""
         out.append(f"| {r['case']} | {r['quantity']} | {r['expected']:.6g}{unit} | {r['measured']:.6g}{unit} | "
                    f"{TOLERANCE[r['kind']](r['tolerance'])} | {'pass' if r['passed'] else '**FAIL**'} | {r['reference']} |")
     passed = sum(r["passed"] for r in rows)
     out += ["", f"{passed} of {len(rows)} checks pass. Wall time per case: " +
             ", ".join(f"{k} {v:.0f} s" for k, v in seconds.items()) + "."]
-    return "\n".join(out) + "\n"
+    return "\n".join(out) + "\n" + (detectors.section(planted, planted_noise) if planted else "")
 
 
 TOLERANCE = {"rel": lambda t: f"±{100 * t:.3g} %", "abs": lambda t: f"±{t:.3g}", "below": lambda t: "at most",
@@ -94,7 +99,7 @@ def main() -> None:
     a.out.mkdir(parents=True, exist_ok=True)
     results = {}
     with ProcessPoolExecutor(max_workers=a.jobs) as pool:
-        futures = [pool.submit(run_case, n, a.dem2d, str(a.out), config) for n in names]
+        futures = [pool.submit(run_case, n, a.dem2d, str(a.out), config, a.quick) for n in names]
         for f in futures:
             name, rows, figures, seconds = f.result()
             results[name] = {"title": CASES[name][0], "checks": rows, "figures": figures, "seconds": seconds}
@@ -105,7 +110,9 @@ def main() -> None:
                       f"({TOLERANCE[r['kind']](r['tolerance'])})", flush=True)
     rows = [r for n in names for r in results[n]["checks"]]
     write_atomic(a.out / "table.json", json.dumps(results, indent=1, default=float) + "\n")
-    write_atomic(a.out / "table.md", table_md(rows, {n: results[n]["seconds"] for n in names}))
+    figures = plots.figure_data(results)
+    write_atomic(a.out / "table.md", table_md(rows, {n: results[n]["seconds"] for n in names},
+                                              figures.get("planted", []), figures.get("planted_noise", [])))
     plots.draw(results, a.out)
     passed = sum(r["passed"] for r in rows)
     print(f"validate: {passed}/{len(rows)} checks pass -> {a.out / 'table.md'}")

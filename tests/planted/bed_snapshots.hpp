@@ -1,0 +1,100 @@
+// Synthetic pull-off snapshots with planted truth, for the cg and network
+// stages' detectors: a bed of disks on a triangular lattice in the study's
+// cell, the intruder rising through it at constant speed, and what is
+// planted on it: PIV-like velocities (a mobilised cone of angle beta from the
+// intruder's tips, the rest at rest, per-grain noise), a dilated layer above
+// the intruder, and force networks (arches from the intruder's ends to the
+// walls up to a loss height, keystones ejected at ruptures, random strong
+// contacts as noise). Grains keep their lattice positions unless a case
+// moves them: the detectors read velocities, displacements, solid fractions
+// and contacts, not dynamics. SI units.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "common/events.hpp"
+#include "common/snapshot_source.hpp"
+
+namespace dem2d::planted {
+
+struct BedGeometry {
+  double width = 0.100;        // cell between the walls' inner faces (m)
+  double bed_height = 0.141;   // lattice rows up to here (m)
+  double spacing = 0.0034;     // lattice spacing (m)
+  double d_min = 0.002, d_max = 0.004;  // diameters, uniform (m)
+  double density = 2500.0;     // kg/m^3
+  double length = 0.010;       // intruder tip to tip (m)
+  double thickness = 0.002;    // intruder (and walls, floor) rounding diameter (m)
+  double speed = 0.0012;       // intruder (m/s)
+  double start = 0.003;        // intruder centre at t = 0 (m)
+  std::uint64_t seed = 1;
+};
+
+// The bed: grain centres and diameters on the lattice (a tenth of the spacing jittered).
+struct Bed {
+  BedGeometry g;
+  std::vector<Vec2> position;
+  std::vector<double> diameter, mass;
+  std::vector<std::pair<std::int32_t, std::int32_t>> neighbours;  // lattice neighbours i < j
+  double solid_fraction = 0.0;  // the grains' area over the lattice's (width x bed height)
+};
+Bed make_bed(const BedGeometry& g);
+
+// A snapshot of the bed at time t: the grains at `position`, the walls, the
+// floor and the intruder at its height start + speed t.
+Snapshot bed_snapshot(const Bed& bed, const std::vector<Vec2>& position, double t, std::size_t index);
+double intruder_height(const BedGeometry& g, double t);
+
+// A cone from the intruder's tips at beta (degrees from the horizontal), the
+// paper's zones: the grains above the intruder between its tips move up with
+// it (v* = 1), those beside them move up at v* falling linearly with the
+// distance from the tips' verticals, through 0.25 at the cone's edge and on to
+// 0 (graded: the v* = 0.25 contour is the cone's edge, and a smooth field keeps
+// its contours under coarse-graining); else v* = 1 up to the edge and 0 beyond
+// (a step, which coarse-graining widens). Per-grain Gaussian noise of `noise`
+// x speed per component. Snapshots every `travel` m
+// of the intruder up to `end`, PIV window `window` s. With `dilation` > 0 the
+// snapshots after the first have the layer above the intruder (from 4 w below
+// the dilatancy region to 4 w above it; region: cg.toml's) stretched
+// vertically by 1 + dilation, w = 1.5 x mean diameter; `jitter` moves every
+// grain by a Gaussian of that many mean diameters at every snapshot.
+struct ConeScenario {
+  double beta_deg = 60.0, noise = 0.0, travel = 0.0005, end = 0.140, window = 0.05;
+  double dilation = 0.0, jitter = 0.0;
+  bool moving = true;  // false: no cone, every grain at rest (but for the noise)
+  bool graded = true;  // v* falling linearly across the cone's edge (else a step there)
+  std::uint64_t seed = 1;
+};
+analysis::MemorySource cone_run(const Bed& bed, const ConeScenario& c);
+
+// Force networks: weak contacts between lattice neighbours and with the
+// walls, floor and intruder; arches of strong contacts from the grain at each
+// intruder tip to each wall while the intruder is below `loss` (m; above it the
+// same arches end 15 mm short of the walls); a fraction `spurious` of all
+// contacts made strong at random. Snapshots every `travel` m up to `end`.
+struct NetworkScenario {
+  double loss = 0.100, spurious = 0.0, travel = 0.001, end = 0.140;
+  std::uint64_t seed = 1;
+};
+analysis::MemorySource network_run(const Bed& bed, const NetworkScenario& n);
+
+// Rupture events with keystones: `events` events, each a pair of snapshots
+// (before at the peak, after at the drop's end, 0.1 s apart) with the intruder
+// in the lower bed; arches to both walls before each; a fraction `ejected` of
+// the events (every k-th) moves the grain at an intruder tip (the keystone)
+// 1.5 of its diameters down, below the intruder, by the after snapshot; every
+// grain also moves by a Gaussian of `jitter` mean diameters.
+struct KeystoneScenario {
+  int events = 20;
+  double ejected = 0.5, spurious = 0.0, jitter = 0.0;
+  std::uint64_t seed = 1;
+};
+struct KeystoneRun {
+  analysis::MemorySource source;
+  std::vector<analysis::RuptureEvent> events;
+  int planted_ejections = 0;
+};
+KeystoneRun keystone_run(const Bed& bed, const KeystoneScenario& k);
+
+}  // namespace dem2d::planted

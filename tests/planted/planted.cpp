@@ -1,0 +1,74 @@
+#include "planted/planted.hpp"
+
+#include <numeric>
+
+#include "common/stage_config.hpp"
+
+namespace dem2d::planted {
+
+void summarise(Row& row, int replicas, const std::function<Outcome(unsigned)>& replica) {
+  row.replicas = replicas;
+  // replicas side by side; each depends on its seed only
+  std::vector<Outcome> outcomes(static_cast<std::size_t>(replicas));
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int r = 1; r <= replicas; ++r) outcomes[static_cast<std::size_t>(r - 1)] = replica(static_cast<unsigned>(r));
+  std::vector<double> values;
+  for (const Outcome& o : outcomes)
+    if (o.found && std::isfinite(o.value)) values.push_back(o.value);
+  row.found = static_cast<int>(values.size());
+  if (!values.empty()) {
+    const double n = static_cast<double>(values.size());
+    row.mean = std::accumulate(values.begin(), values.end(), 0.0) / n;
+    double ss = 0.0;
+    for (const double v : values) ss += (v - row.mean) * (v - row.mean);
+    row.sd = values.size() > 1 ? std::sqrt(ss / (n - 1.0)) : 0.0;
+  }
+  const double found_fraction = static_cast<double>(row.found) / static_cast<double>(replicas);
+  if (!row.judged) {
+    row.pass = true;
+    if (!row.expects_none()) row.bias = row.mean - row.planted;
+  } else if (row.expects_none()) {
+    row.pass = found_fraction <= row.max_false;
+  } else {
+    row.bias = row.mean - row.planted;
+    // where found, it must be right; found often enough (a case may require nothing)
+    row.pass = found_fraction >= row.min_found && (row.found == 0 || std::abs(row.bias) <= row.tolerance);
+  }
+}
+
+nlohmann::ordered_json to_json(const Row& r) {
+  auto num = [](double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
+  return {{"detector", r.detector},   {"case", r.name},           {"quantity", r.quantity},
+          {"unit", r.unit},           {"planted", num(r.planted)}, {"noise", r.noise},
+          {"noise_unit", r.noise_unit}, {"replicas", r.replicas},   {"found", r.found},
+          {"mean", num(r.mean)},      {"sd", num(r.sd)},           {"bias", num(r.bias)},
+          {"tolerance", r.tolerance}, {"max_false", r.max_false},  {"min_found", r.min_found},
+          {"judged", r.judged},       {"pass", r.pass},            {"note", r.note}};
+}
+
+Settings load_settings(const std::string& path, bool quick) {
+  Settings s;
+  analysis::StageConfig file(path);
+  auto read = [&](analysis::StageConfig t) {
+    t.integer("replicas", s.replicas, 1, 10000, "replicas per case");
+    t.numbers("drag_noise", s.drag_noise, 0.0, 10.0, "rms, x the load");
+    t.numbers("top_depths_mm", s.top_depths_mm, 0.0, 1e4, "mm");
+    t.numbers("spacings_d", s.spacings_d, 0.0, 100.0, "d", analysis::StageConfig::Ends::open_low);
+    t.numbers("piv_noise", s.piv_noise, 0.0, 100.0, "x V per component");
+    t.numbers("cone_angles_deg", s.cone_angles_deg, 0.0, 90.0, "degrees", analysis::StageConfig::Ends::open);
+    t.numbers("wall_lengths_mm", s.wall_lengths_mm, 0.0, 1e4, "mm", analysis::StageConfig::Ends::open_low);
+    t.numbers("dilatancy", s.dilatancy, -0.5, 0.5, "solid fraction change");
+    t.numbers("position_noise_d", s.position_noise_d, 0.0, 10.0, "x mean diameter");
+    t.numbers("percolation_loss_mm", s.percolation_loss_mm, 0.0, 1e4, "mm", analysis::StageConfig::Ends::open_low);
+    t.numbers("spurious_strong", s.spurious_strong, 0.0, 1.0, "fraction of contacts");
+    t.numbers("keystone_fractions", s.keystone_fractions, 0.0, 1.0, "fraction of ruptures");
+    t.reject_unknown();
+  };
+  read(file.table("full"));
+  if (quick) read(file.table("quick"));
+  else file.table("quick");
+  file.reject_unknown();
+  return s;
+}
+
+}  // namespace dem2d::planted

@@ -1,0 +1,79 @@
+// The planted-truth suite: each detector of the analysis stages is run,
+// unchanged, on synthetic input whose answer is known (a planted rupture
+// spacing, size distribution, top layer, cone angle, wall-mobility length,
+// dilatancy, percolation loss, keystone ejections), over replicas and noise
+// levels; every case states its tolerance here, next to what it checks, and
+// cases with nothing planted must come back "none". What is swept (noise
+// levels, planted values, replicas): data/planted.toml.
+#pragma once
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace dem2d::planted {
+
+// What one replica of a case gave: a value, or none (the detector found nothing).
+struct Outcome {
+  bool found = false;
+  double value = std::numeric_limits<double>::quiet_NaN();
+};
+
+// One case, summarised over its replicas.
+struct Row {
+  Row(std::string detector_, std::string name_, std::string quantity_, std::string unit_, double planted_,
+      double noise_, std::string noise_unit_)
+      : detector(std::move(detector_)), name(std::move(name_)), quantity(std::move(quantity_)), unit(std::move(unit_)),
+        planted(planted_), noise(noise_), noise_unit(std::move(noise_unit_)) {}
+  std::string detector;  // e.g. "top layer"
+  std::string name;      // e.g. "abrupt, 45 mm deep"
+  std::string quantity;  // what is compared, e.g. "depth below the surface"
+  std::string unit;
+  double planted = std::numeric_limits<double>::quiet_NaN();  // NaN: nothing planted, "none" expected
+  double noise = 0.0;
+  std::string noise_unit;
+  double tolerance = 0.0;  // |mean - planted| allowed (value cases)
+  int replicas = 0, found = 0;
+  double mean = std::numeric_limits<double>::quiet_NaN(), sd = std::numeric_limits<double>::quiet_NaN();
+  double bias = std::numeric_limits<double>::quiet_NaN();  // mean - planted
+  double max_false = 0.1;   // "none" cases: largest fraction of replicas allowed to find something
+  double min_found = 0.9;   // value cases: smallest fraction of replicas that must find it
+  bool judged = true;       // false: shown for comparison (an old definition), not a check
+  bool pass = false;
+  std::string note;
+  bool expects_none() const { return std::isnan(planted); }
+};
+
+// Runs `replica(seed)` for seeds 1..replicas and fills the row's statistics and verdict.
+void summarise(Row& row, int replicas, const std::function<Outcome(unsigned)>& replica);
+
+nlohmann::ordered_json to_json(const Row& r);
+
+// What data/planted.toml sweeps (the quick set for make test: fewer replicas and levels).
+struct Settings {
+  int replicas = 10;
+  std::vector<double> drag_noise{0.0125, 0.025, 0.05};  // white noise on the drag, x the load (+ 0.25 N/m)
+  std::vector<double> top_depths_mm{20.0, 45.0, 70.0};
+  std::vector<double> spacings_d{0.25, 0.5, 1.0};
+  std::vector<double> piv_noise{0.0, 0.1, 0.3, 0.5};  // per-grain PIV velocity noise, x V per component
+  std::vector<double> cone_angles_deg{50.0, 60.0, 70.0};
+  std::vector<double> wall_lengths_mm{54.0, 78.0, 124.0};
+  std::vector<double> dilatancy{0.0, -0.01, -0.026, -0.05};
+  std::vector<double> position_noise_d{0.0, 0.05, 0.1};  // grain-position noise, x mean diameter
+  std::vector<double> percolation_loss_mm{70.0, 100.0};
+  std::vector<double> spurious_strong{0.0, 0.05, 0.1};  // fraction of contacts made strong at random
+  std::vector<double> keystone_fractions{0.0, 0.5, 1.0};
+};
+Settings load_settings(const std::string& path, bool quick);
+
+// Each family of cases runs the stage's own code with its settings file
+// (data/<stage>.toml in `data_dir`).
+std::vector<Row> drag_cases(const Settings& s, const std::string& data_dir);
+std::vector<Row> cg_cases(const Settings& s, const std::string& data_dir);
+std::vector<Row> network_cases(const Settings& s, const std::string& data_dir);
+
+}  // namespace dem2d::planted
