@@ -289,7 +289,7 @@ $(RESULTS)/report.md: $(RESULTS)/metrics.json $(RESULTS)/check.json $(RESULTS)/f
 PVBATCH ?= pvbatch
 $(RESULTS)/figures/force_network_paraview.png: $(RESULTS)/pulloff/run.h5 pipeline/paraview/force_network.py
 	@mkdir -p $(@D)
-	$(if $(DISPLAY),,xvfb-run -a) $(PVBATCH) pipeline/paraview/force_network.py $(RESULTS)/pulloff $@
+	$(if $(DISPLAY),,xvfb-run -a -s "-screen 0 1280x1024x24") $(PVBATCH) pipeline/paraview/force_network.py $(RESULTS)/pulloff $@
 paraview: $(RESULTS)/figures/force_network_paraview.png
 
 pulloff-slice: $(SLICE_DIR)/metrics.json

@@ -83,7 +83,10 @@ assert abs(s["mean"] - sum(s["values"]) / 2) < 1e-12
 m = json.load(open(e / "metrics.json"))
 assert m["fill"]["solid_fraction"] == s["mean"]
 table = (e / "table.md").read_text()
-assert "| R1 | `fill.solid_fraction` |" in table and "targets pass" in table
+assert "| R1 | `fill.solid_fraction` |" in table, table[:400]
+import re
+c = re.search(r"\*\*(\d+) hold, (\d+) fail, (\d+) undetermined\*\* \(of (\d+) targets\)", table)
+assert c and sum(map(int, c.groups()[:3])) == int(c.group(4)), table[:600]
 assert (e / "drag.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 print(f"ensemble outputs: {len(st['metrics'])} metrics over {len(st['members'])} members")
 PYEOF

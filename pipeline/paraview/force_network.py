@@ -5,7 +5,7 @@ colour grow with F_n. Headless (no window):
 
     pvbatch pipeline/paraview/force_network.py RUN_DIR OUT.png [--height-mm 34] [--size 900 1200]
 
-(`xvfb-run -a pvbatch ...` where there is no display; make paraview does both).
+(`xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch ...` where there is no display: a 24-bit screen, the default 8 bits may have no OpenGL visual; make paraview does both).
 RUN_DIR holds run.h5 and run.xdmf. Prints what it drew (snapshot, H, contacts).
 """
 import argparse
