@@ -30,6 +30,7 @@ HEADLINE = [
     ("solid_fraction", "Φ", "", lambda m, s: m["fill"]["solid_fraction"]),
     ("drag_max_N_per_m", "peak drag", "N/m", lambda m, s: m["pulloff"]["drag_max_N_per_m"]),
     ("drag_mean_N_per_m", "mean drag", "N/m", None),  # from drag.csv
+    ("top_layer_found", "members with a top layer", "", lambda m, s: 1.0 if m["spectrum"]["top_layer_found"] else 0.0),
     ("top_layer_depth_mm", "top-layer depth", "mm",
      lambda m, s: m["spectrum"]["bed_height_mm"] - m["spectrum"]["top_layer_height_mm"]),
     ("cone_angle_deg", "β", "°", lambda m, s: m["cg"]["cone_angle_deg"]),
@@ -214,15 +215,20 @@ def claims(points: list) -> list:
     lines = []
     geo = geometry_points(points)
     lines += ["### 1. The top layer: depth ≈ (L_c − L)/2", "",
-              "| point | (L_c − L)/2 (mm) | top-layer depth (mm) | verdict (±10 mm, R4's tolerance) |", "|---|---|---|---|"]
+              "| point | (L_c − L)/2 (mm) | members with a top layer | top-layer depth (mm) | verdict (±10 mm, R4's tolerance) |",
+              "|---|---|---|---|---|"]
     verdicts = []
     for p in geo:
         x = 0.5 * (p["settings"]["cell_width_mm"] - p["settings"]["intruder_length_mm"])
         m, h = p["summary"]["top_layer_depth_mm"]
         v = within(m, h, x, 10.0)
         verdicts.append(v)
-        lines.append(f"| {p['point']} | {x:g} | {fmt(m, h)} | {v} |")
-    lines += ["", verdict_line(verdicts, "the top layer's depth follows (L_c − L)/2")]
+        lines.append(f"| {p['point']} | {x:g} | {fmt(p['summary']['top_layer_found'][0], float('nan'))} | {fmt(m, h)} | {v} |")
+    if geo and not any(p["summary"]["top_layer_found"][0] > 0 for p in geo):
+        lines += ["", "**Not supported**: no member at any point has a top layer (the drag's fluctuations reach the "
+                  "surface: no significant change point), so there is no depth to follow (L_c − L)/2."]
+    else:
+        lines += ["", verdict_line(verdicts, "the top layer's depth follows (L_c − L)/2")]
     xy = [(0.5 * (p["settings"]["cell_width_mm"] - p["settings"]["intruder_length_mm"]), p["summary"]["top_layer_depth_mm"][0])
           for p in geo if math.isfinite(p["summary"]["top_layer_depth_mm"][0])]
     if len({x for x, _ in xy}) >= 3:
