@@ -21,6 +21,14 @@ constexpr double kStep = kD / 125.0;    // m per row, as the study's series (0.0
 constexpr double kV = 0.0012;           // m/s
 
 const SpectrumScales kScales{kD, 0.150, kV};
+// The defaults without the resampling (the top layer's permutations and bootstrap, the size
+// distribution's synthetic sets): for the tests of the spectrum, the ringing and the events,
+// which read none of it (the top layer's and the sizes' own tests keep the defaults)
+const SpectrumConfig kNoResampling = [] {
+  SpectrumConfig c;
+  c.top_bootstrap = 0, c.size_bootstrap = 0;
+  return c;
+}();
 
 // A pull-off at speed v from 1 mm to `top`, one row every `interval` seconds, plus Gaussian noise. A row
 // holds the mean of drag(t, H) over `subsamples` instants of the interval ending at it, as the run's
@@ -144,7 +152,7 @@ TEST(Spectrum, PureNoiseHasNoSignificantPeriod) {
   // false_alarm = 0.01 per spectrum: 20 noise records should give at most one false detection
   int significant = 0;
   for (unsigned seed = 1; seed <= 20; ++seed) {
-    const SpectrumResult r = analyse(synthetic(trend, 1.0, seed), kScales, {}, "noise");
+    const SpectrumResult r = analyse(synthetic(trend, 1.0, seed), kScales, kNoResampling, "noise");
     significant += r.second_part.peak.significant;
     EXPECT_LE(r.events.size(), 1u) << "seed " << seed;  // false drops are rare at 7 sigma
     EXPECT_LT(r.second_part.peak.peak_to_background, 2.0 * r.second_part.peak.threshold);
@@ -225,7 +233,7 @@ TEST(Spectrum, BottomZoneFindsPeakCollapseAndReload) {
 // ringing is strong enough that the old search (wavelengths 0.1-2 d, whatever their time frequency)
 // takes it for the dominant period at 12 mm/s, as it did on the fast preset's bed at 12 mm/s.
 constexpr double kRingHz = 35.0;
-SpectrumResult ringing_run(double v, double interval, const SpectrumConfig& c = {}) {
+SpectrumResult ringing_run(double v, double interval, const SpectrumConfig& c = kNoResampling) {
   const Slips slips(0.5 * kD, 0.2, v, kRingHz, 25.0, 7);
   return analyse(pulled(slips, v, interval, 0.2, 1, 0.110, 8), kScales, c, "synthetic");
 }
@@ -293,7 +301,7 @@ TEST(SpectrumRinging, At30mmPerSDOverTwoIsBeyondTheCutoffAndNoPeriodIsClaimed) {
 TEST(SpectrumRinging, TheMetricsAndTheSensitivityTableReportTheRingingAndTheSearchRange) {
   const double v = 0.012;
   const SpectrumResult r = ringing_run(v, 0.002);
-  const SpectrumConfig c;
+  const SpectrumConfig& c = kNoResampling;
   const auto m = spectrum_metrics(r, kScales, c, 0.049);
   EXPECT_NEAR(m["ringing_frequency_hz"].get<double>(), kRingHz, kRingTolHz);
   EXPECT_TRUE(m["ringing_significant"].get<bool>());

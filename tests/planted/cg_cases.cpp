@@ -14,12 +14,6 @@ namespace dem2d::planted {
 
 namespace {
 
-std::string fmt(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
-
 struct CgRun {
   analysis::CgInput in;
   nlohmann::ordered_json run(const Bed& bed, const ConeScenario& c) const {
@@ -54,16 +48,22 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
   cg.in.threads = 1;
   const BedGeometry geometry;
   const double half_gap = 0.5 * (geometry.width - geometry.length);
+  // the replicas of a scenario: bed and noise seeded alike, 1 ... set.replicas
+  auto replicas = [&](const ConeScenario& scenario) {
+    return Replicas(set.replicas, [&](unsigned seed) {
+      BedGeometry g;
+      g.seed = seed;
+      ConeScenario c = scenario;
+      c.seed = seed;
+      return cg.run(make_bed(g), c);
+    });
+  };
   std::vector<Row> rows;
   for (const double noise : set.piv_noise) {
     for (const double beta : set.cone_angles_deg) {
-      const Replicas reps(set.replicas, [&](unsigned seed) {
-        BedGeometry g;
-        g.seed = seed;
-        ConeScenario c;
-        c.beta_deg = beta, c.noise = noise, c.seed = seed;
-        return cg.run(make_bed(g), c);
-      });
+      ConeScenario cone;
+      cone.beta_deg = beta, cone.noise = noise;
+      const Replicas reps = replicas(cone);
       Row b{"cone angle (R5)", "a cone of " + fmt("%g", beta) + " deg from the intruder's tips", "beta", "deg", beta,
             noise, "x V per grain"};
       b.tolerance = 5.0;  // half the paper target's +-10 deg: a bias below it cannot decide R5 by itself
@@ -90,13 +90,9 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
     // coarse-graining's response to a sharp edge, shown beside the graded ones
     if (noise == 0.0)
       for (const double beta : set.cone_angles_deg) {
-        const Replicas reps(set.replicas, [&](unsigned seed) {
-          BedGeometry g;
-          g.seed = seed;
-          ConeScenario c;
-          c.beta_deg = beta, c.graded = false, c.seed = seed;
-          return cg.run(make_bed(g), c);
-        });
+        ConeScenario step;
+        step.beta_deg = beta, step.graded = false;
+        const Replicas reps = replicas(step);
         Row b{"cone angle (R5)", "a step cone of " + fmt("%g", beta) + " deg (v* = 1 inside, 0 outside)", "beta", "deg",
               beta, noise, "x V per grain"};
         b.judged = false;
@@ -111,13 +107,9 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
         rows.push_back(h);
       }
     // nothing moves but the noise
-    const Replicas still(set.replicas, [&](unsigned seed) {
-      BedGeometry g;
-      g.seed = seed;
-      ConeScenario c;
-      c.moving = false, c.noise = noise, c.seed = seed;
-      return cg.run(make_bed(g), c);
-    });
+    ConeScenario nothing;
+    nothing.moving = false, nothing.noise = noise;
+    const Replicas still = replicas(nothing);
     Row nb{"cone angle (R5)", "nothing moves: the noise only", "beta", "deg", std::numeric_limits<double>::quiet_NaN(),
            noise, "x V per grain"};
     still.fill(nb, [](const auto& m) { return number(m, "cone_angle_deg"); });

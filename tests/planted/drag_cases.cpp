@@ -12,12 +12,6 @@ namespace dem2d::planted {
 
 namespace {
 
-std::string fmt(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
-
 struct Runner {
   analysis::SpectrumConfig config;
   analysis::SpectrumResult analyse(const DragScenario& s) const {

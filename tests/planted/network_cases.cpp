@@ -12,12 +12,6 @@ namespace dem2d::planted {
 
 namespace {
 
-std::string fmt(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
-
 Outcome number(const nlohmann::ordered_json& m, const char* key) {
   const auto& v = m[key];
   return v.is_number() ? Outcome{true, v.get<double>()} : Outcome{};

@@ -1,10 +1,17 @@
 #include "planted/planted.hpp"
 
+#include <cstdio>
 #include <numeric>
 
 #include "common/stage_config.hpp"
 
 namespace dem2d::planted {
+
+std::string fmt(const char* format, double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, format, v);
+  return b;
+}
 
 void summarise(Row& row, int replicas, const std::function<Outcome(unsigned)>& replica) {
   row.replicas = replicas;

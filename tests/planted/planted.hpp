@@ -51,6 +51,9 @@ struct Row {
 // Runs `replica(seed)` for seeds 1..replicas and fills the row's statistics and verdict.
 void summarise(Row& row, int replicas, const std::function<Outcome(unsigned)>& replica);
 
+// A number printed with a printf format, for the cases' names.
+std::string fmt(const char* format, double v);
+
 nlohmann::ordered_json to_json(const Row& r);
 
 // What data/planted.toml sweeps (the quick set for make test: fewer replicas and levels).
