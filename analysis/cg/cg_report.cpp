@@ -235,16 +235,18 @@ std::vector<Window> windows(const Grid& g, const Pooled& p, double low, double h
 // noise there (add_rest_grain_noise).
 struct WallNoise {
   std::size_t window_rows = 1;
+  double pool_d = 0.0;                    // the pooling over intruder travel (d, full width)
   std::vector<double> rest;               // window v* / window gain at rest, sorted
   double grain_rms = kNaN;                // per grain, rms per component, x V_ref
   std::size_t grains = 0;
   double level_min = kNaN, level_max = kNaN;  // the snapshots' mobility levels (set by calibrated_wall_loss)
 };
 
-WallNoise wall_noise(const StageRecord& r) {
+WallNoise wall_noise(const StageRecord& r, double pool_d) {
   WallNoise n;
   n.window_rows = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(r.config.wall_min_mobile_d * r.setup.d / r.setup.grid.dx)));
-  const double half = 0.5 * r.config.wall_pool_d * r.setup.d;
+  n.pool_d = pool_d;
+  const double half = 0.5 * pool_d * r.setup.d;
   std::vector<std::size_t> valid;
   double ss = 0.0;
   for (std::size_t k = 0; k < r.ms.size(); ++k) {
@@ -276,7 +278,7 @@ WallLoss calibrated_wall_loss(const StageRecord& r, const std::vector<std::size_
                               double false_alarm) {
   const Grid& g = r.setup.grid;
   const double window = static_cast<double>(n.window_rows) * g.dx, correlation = 2.0 * r.setup.kernel.w;
-  const double half = 0.5 * r.config.wall_pool_d * r.setup.d;
+  const double half = 0.5 * n.pool_d * r.setup.d;
   n.level_min = kInf, n.level_max = -kInf;
   std::vector<std::size_t> usable;
   for (const std::size_t k : sel)
@@ -338,8 +340,15 @@ json cg_metrics(const StageRecord& r) {
   const BetaStats every_edge = beta_stats(ms, sel, primary, cone0, gap, kEveryEdgeDeg, gate);
   const double hc_beta = gap * std::tan(beta.mean / kDeg);
   const WallLoss fixed_wall = wall_loss(ms, sel, primary, su.wall_fixed(), c.wall_min_mobile_d * su.d);
-  WallNoise noise = wall_noise(r);
+  // each snapshot alone, unless the noise lifts the walls' level above cone.level somewhere:
+  // then pooled over wall.pool_d of travel (steady mobility is kept, intermittent mobility
+  // averaged; at the study's noise the snapshots stand alone)
+  WallNoise noise = wall_noise(r, 0.0);
   WallLoss wall = calibrated_wall_loss(r, sel, noise, c.wall_false_alarm);
+  if (c.wall_pool_d > 0.0 && noise.level_max > c.level) {
+    noise = wall_noise(r, c.wall_pool_d);
+    wall = calibrated_wall_loss(r, sel, noise, c.wall_false_alarm);
+  }
   const double loss_p = loss_p_value(wall, c.wall_permutations);
   const bool loss_significant = std::isfinite(wall.fit.height) && loss_p < c.wall_loss_false_alarm;
   if (!loss_significant) wall.depth = kNaN;
@@ -408,8 +417,12 @@ json cg_metrics(const StageRecord& r) {
                                          "better than the same flags shuffled over the heights"
                                        : "no loss: the walls are mobile in every loading snapshot or in none";
   m["wall_mobility_level_range"] = {nullable(noise.level_min), nullable(noise.level_max)};
-  m["wall_mobility_level_note"] = "per snapshot: max(cone.level, the (1 - noise.wall_false_alarm / M) quantile of "
-                                  "the wall bands' windowed v* at rest), M the independent windows scanned";
+  m["wall_mobility_pool_d"] = noise.pool_d;
+  m["wall_mobility_level_note"] = "per window: max(cone.level, q x the local-linear fit's noise gain there), q the "
+                                  "(1 - noise.wall_false_alarm / M) quantile of the windowed v* per unit gain at "
+                                  "rest, M the independent windows scanned; the profiles pooled over "
+                                  "wall_mobility_pool_d of travel (0: each snapshot alone) only when the noise "
+                                  "lifts a level above cone.level";
   m["wall_mobility_length_fixed_level_mm"] = nullable(fixed_wall.depth * kMm);
   m["wall_mobility_fixed_level_note"] =
       "the definition before the noise calibration: mobile where the mean of the two walls' lengths with v* >= "
