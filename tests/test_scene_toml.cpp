@@ -13,6 +13,7 @@
 #include <string>
 #include <string_view>
 
+#include "engine/kernel_sets.hpp"
 #include "scene/generators.hpp"
 #include "scene/scene_toml.hpp"
 #include "temp_dir.hpp"
@@ -608,6 +609,21 @@ TEST(SceneTomlErrors, BodiesNeedWalls) {
   expect_error(edit(kValid, "walls = true\n", ""), {"effects.moving_bodies = true", "needs effects.walls = true"}, 8);
   expect_error(edit(kBare, "[material]", "[effects]\nwalls = true\n[material]"),
                {"effects.walls = true", "no [[body]]"}, 2);
+}
+
+// A set the build has no kernels for is refused, naming the line to add
+// (sim/engine/kernel_sets.inc); the study's set is compiled.
+TEST(SceneTomlErrors, EffectSetWithoutKernels) {
+  static_assert(parse_effect_set("friction,gravity") == (effect::gravity | effect::friction));
+  static_assert(parse_effect_set("") == EffectSet{0});
+  static_assert(!parse_effect_set("gravity,,friction") && !parse_effect_set("gravity,") &&
+                !parse_effect_set("gravity,gravity") && !parse_effect_set("gravitation"));
+  EXPECT_TRUE(kernels_compiled(parse_scene(kValid, kPath).effects));
+  expect_error(edit(kValid, "normal_damping = true\n", ""),
+               {"effects = {", "no kernels for the effect set "
+                "{gravity,friction,rolling_resistance,walls,moving_bodies}: add the line\n"
+                "  \"gravity,friction,rolling_resistance,walls,moving_bodies\",\nto sim/engine/kernel_sets.inc"},
+               3);
 }
 
 TEST(SceneTomlErrors, MovingBodyNeedsMovingBodies) {

@@ -8,7 +8,8 @@
 //   rolling     rolling spring-slider, cap mu_r F_n           contact/rolling.hpp
 //
 // A new term is its own header plus its line here (and its effect in
-// core/effects.hpp); the scene reader, the coefficients and the model take
+// core/effects.hpp); the scene reader, the coefficients, the model, the
+// stored energy, the stability limit and the load that caps friction take
 // it from this list.
 #pragma once
 
@@ -25,9 +26,15 @@
 #include "contact/tangential.hpp"
 #include "core/effects.hpp"
 
+#ifdef DEM2D_LAW_TERMS_HEADER
+#include DEM2D_LAW_TERMS_HEADER  // another list, for a build that tests the term contract (tests/extra_term/)
+#else
 namespace dem2d {
-
 using LawTerms = TermList<NormalLaw, Cohesion, Tangential, Rolling>;
+}  // namespace dem2d
+#endif
+
+namespace dem2d {
 
 template <class... T>
 struct AllParams : T::Params... {};
@@ -114,20 +121,57 @@ double range_of(TermList<T...>, const LawCoefficients& c, EffectSet effects) {
 }
 inline double law_range(const LawCoefficients& c, EffectSet effects) { return range_of(LawTerms{}, c, effects); }
 
-// Energy stored in one contact's springs (J/m): 1/2 k_n overlap^2, 1/2 S_t^2/k_t
-// and 1/2 S_r^2/k_r, the last two only with the effects that add the springs.
-struct SpringEnergy {
-  double normal = 0.0, tangential = 0.0, rolling = 0.0;
-  double total() const { return normal + tangential + rolling; }
-};
+// What one contact's springs hold (J/m, and the conservative part of F_n),
+// from every term compiled in for `effects` that stores energy.
+template <class... T>
+Stored stored_of(TermList<T...>, const ContactLaw& law, EffectSet effects, const StoredState& state) {
+  Stored out;
+  (
+      [&] {
+        if constexpr (requires(Stored& o) { T::stored(law, effects, state, o); })
+          if (term_active<T>(effects)) T::stored(law, effects, state, out);
+      }(),
+      ...);
+  return out;
+}
+inline Stored spring_energy(const ContactLaw& law, EffectSet effects, double overlap, double ft, double mr) {
+  return stored_of(LawTerms{}, law, effects, StoredState{overlap, ft, mr});
+}
 
-inline SpringEnergy spring_energy(const ContactLaw& law, EffectSet effects, double overlap, double ft, double mr) {
-  SpringEnergy u;
-  u.normal = 0.5 * law.kn * overlap * overlap;
-  if (has(effects, effect::friction) && law.kt > 0.0) u.tangential = 0.5 * ft * ft / law.kt;
-  if (has(effects, effect::rolling_resistance) && law.rolling_stiffness > 0.0)
-    u.rolling = 0.5 * mr * mr / law.rolling_stiffness;
-  return u;
+// The springs and dashpots of a touching pair with this effective mass and
+// inertia, from every term compiled in for `effects` (contact/stability.hpp).
+template <class... T>
+Rows rows_of(TermList<T...>, const ContactLaw& law, EffectSet effects, const Inertia& m) {
+  Rows out;
+  (
+      [&] {
+        if constexpr (requires(Rows& o) { T::rows(law, effects, m, o); })
+          if (term_active<T>(effects)) T::rows(law, effects, m, out);
+      }(),
+      ...);
+  return out;
+}
+inline Rows contact_rows(const ContactLaw& law, EffectSet effects, const Inertia& m) {
+  return rows_of(LawTerms{}, law, effects, m);
+}
+
+// The load that presses a contact's surfaces together and caps its friction
+// (N/m): F_n plus what the terms compiled in for `effects` pull with, for a
+// touching contact (overlap > 0, m); F_n otherwise.
+template <class... T>
+double load_of(TermList<T...>, const LawCoefficients& c, EffectSet effects, double fn, double overlap) {
+  double load = fn;
+  if (!(overlap > 0.0)) return load;
+  (
+      [&] {
+        if constexpr (requires { T::pull(c, -overlap); })
+          if (term_active<T>(effects)) load += T::pull(c, -overlap);
+      }(),
+      ...);
+  return load;
+}
+inline double friction_load(const LawCoefficients& c, EffectSet effects, double fn, double overlap) {
+  return load_of(LawTerms{}, c, effects, fn, overlap);
 }
 
 // The slip state as the run file reports it: the tangential force sits on the cone.

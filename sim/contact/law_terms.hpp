@@ -12,6 +12,15 @@
 // and, where it has them,
 //   static double range(const Coeffs&);      // how far beyond touching it acts (m)
 //   template <class Law> static std::optional<LawIssue> check(const Law&);  // conditions across terms
+//   static void stored(const Params&, EffectSet, const StoredState&, Stored&);  // energy in its springs
+//   static void rows(const Params&, EffectSet, const Inertia&, Rows&);       // stiffness, damping
+//   static double pull(const Coeffs&, double delta);  // its pull in F_n: not a load on friction (N/m)
+// The last three make the stored energy (the energy ledger, diagnostics),
+// the stability limit (contact/stability.hpp) and the load that caps
+// friction (the run file's `sliding` and `mu_star`, the friction stage)
+// right for the term without edits elsewhere: each adds its share to what
+// the list folds (contact/contact_law.hpp). A term without them stores no
+// energy, adds no spring or dashpot, and pulls nothing.
 //
 // Parameter and coefficient names must be unique across terms (ContactLaw
 // and LawCoefficients inherit every term's, so a clash does not compile).
@@ -76,6 +85,42 @@ struct LawKey {
 struct LawIssue {
   std::vector<std::string_view> keys;
   std::string message;
+};
+
+// A contact's stored state, as the contact lists and the run file keep it.
+struct StoredState {
+  double overlap;  // (m), > 0 touching
+  double ft;       // tangential spring (N/m)
+  double mr;       // rolling spring (N)
+};
+
+// What a contact's springs hold, by the three ways a contact moves: normal
+// (the overlap), tangential (the tangential spring), rolling (the rolling
+// spring). Terms add to it (`stored`).
+struct Stored {
+  double normal = 0.0, tangential = 0.0, rolling = 0.0;  // energy (J/m)
+  double fn = 0.0;  // the conservative part of F_n (N/m): what the springs push with;
+                    // the rest of F_n is dashpots' (the energy ledger's normal damping)
+  double total() const { return normal + tangential + rolling; }
+  Stored& operator+=(const Stored& o) {
+    normal += o.normal, tangential += o.tangential, rolling += o.rolling, fn += o.fn;
+    return *this;
+  }
+};
+
+// A touching pair of grains, for the stability analysis: its effective mass
+// (kg/m) and moment of inertia (kg m).
+struct Inertia {
+  double mass, inertia;
+};
+
+// The contact's springs and dashpots, linearised: stiffness k and damping c
+// of its normal and tangential motion (N/m; N s/m per m of depth) and of its
+// rolling (the rolling stiffness's unit; that per rad/s). Terms add to it
+// (`rows`).
+struct Rows {
+  double kn = 0.0, kt = 0.0, kr = 0.0;
+  double cn = 0.0, ct = 0.0, cr = 0.0;
 };
 
 template <class... Terms>

@@ -51,6 +51,15 @@ struct NormalLaw {
     return {p.kn, 2.0 * damping_ratio(p.restitution) * std::sqrt(p.kn)};
   }
 
+  static void stored(const Params& p, EffectSet, const StoredState& s, Stored& out) {
+    out.normal += 0.5 * p.kn * s.overlap * s.overlap;
+    out.fn += p.kn * s.overlap;
+  }
+  static void rows(const Params& p, EffectSet e, const Inertia& m, Rows& out) {
+    out.kn += p.kn;
+    if (has(e, effect::normal_damping)) out.cn += 2.0 * damping_ratio(p.restitution) * std::sqrt(m.mass * p.kn);
+  }
+
   template <EffectSet E>
   static ContactState apply(const Coeffs& c, const ContactKinematics k, ContactState s) {
     double fn = -c.kn * k.delta;

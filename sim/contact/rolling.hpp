@@ -41,6 +41,15 @@ struct Rolling {
     return {p.rolling_stiffness * dt, p.rolling_friction, 2.0 * p.rolling_damping_ratio * std::sqrt(p.rolling_stiffness)};
   }
 
+  static void stored(const Params& p, EffectSet, const StoredState& s, Stored& out) {
+    if (p.rolling_stiffness > 0.0) out.rolling += 0.5 * s.mr * s.mr / p.rolling_stiffness;
+  }
+  static void rows(const Params& p, EffectSet e, const Inertia& m, Rows& out) {
+    out.kr += p.rolling_stiffness;
+    if (has(e, effect::rolling_damping))
+      out.cr += 2.0 * p.rolling_damping_ratio * std::sqrt(m.inertia * p.rolling_stiffness);
+  }
+
   template <EffectSet E>
   static ContactState apply(const Coeffs& c, const ContactKinematics k, ContactState s) {
     const CappedSpring r = capped_spring<has(E, effect::rolling_damping)>(

@@ -35,12 +35,7 @@ struct Dynamics {
 // B_i^T k (B_i + B_j exp(i q.l)) to K(q).
 Dynamics dynamics(const ContactLaw& law, EffectSet effects, double density, double d, const Wave& q) {
   const double a = 0.5 * d, m = density * M_PI * d * d / 4.0, inertia = m * d * d / 8.0;
-  const double meff = 0.5 * m, ieff = 0.5 * inertia;
-  const bool friction = has(effects, effect::friction), rolling = has(effects, effect::rolling_resistance);
-  const double kn = law.kn, kt = friction ? law.kt : 0.0, kr = rolling ? law.rolling_stiffness : 0.0;
-  const double cn = has(effects, effect::normal_damping) ? 2.0 * damping_ratio(law.restitution) * std::sqrt(meff * kn) : 0.0;
-  const double ct = has(effects, effect::tangential_damping) ? 2.0 * law.tangential_damping_ratio * std::sqrt(meff * kt) : 0.0;
-  const double cr = has(effects, effect::rolling_damping) ? 2.0 * law.rolling_damping_ratio * std::sqrt(ieff * kr) : 0.0;
+  const Rows r = contact_rows(law, effects, Inertia{0.5 * m, 0.5 * inertia});  // the pair's effective mass, inertia
   Dynamics out{Mat3::Zero(), Mat3::Zero(), q};
   for (int k = 0; k < 6; ++k) {
     const double angle = M_PI / 3.0 * k, lx = d * std::cos(angle), ly = d * std::sin(angle);
@@ -50,8 +45,8 @@ Dynamics dynamics(const ContactLaw& law, EffectSet effects, double density, doub
     bj << -nx, -ny, 0.0, -tx, -ty, -a, 0.0, 0.0, -1.0;
     const cd phase = std::exp(cd(0.0, q.qx * lx + q.qy * ly));
     const Mat3 coupling = bi.cast<cd>() + bj.cast<cd>() * phase;
-    out.stiffness += bi.transpose().cast<cd>() * Eigen::Vector3d(kn, kt, kr).asDiagonal().toDenseMatrix().cast<cd>() * coupling;
-    out.damping += bi.transpose().cast<cd>() * Eigen::Vector3d(cn, ct, cr).asDiagonal().toDenseMatrix().cast<cd>() * coupling;
+    out.stiffness += bi.transpose().cast<cd>() * Eigen::Vector3d(r.kn, r.kt, r.kr).asDiagonal().toDenseMatrix().cast<cd>() * coupling;
+    out.damping += bi.transpose().cast<cd>() * Eigen::Vector3d(r.cn, r.ct, r.cr).asDiagonal().toDenseMatrix().cast<cd>() * coupling;
   }
   const Eigen::Vector3d inv_mass(1.0 / m, 1.0 / m, 1.0 / inertia);
   out.stiffness = inv_mass.cast<cd>().asDiagonal() * out.stiffness;
@@ -94,7 +89,9 @@ StabilityLimit limit_over(const ContactLaw& law, EffectSet effects, double densi
     }
     return std::pair{g, at};
   };
-  double lo = 0.0, hi = 2.0 * dt_c;  // undamped limits: <= 2/sqrt(6) dt_c from the normal springs alone
+  // the normal springs alone give 2/sqrt(6) dt_c undamped; a term that softens them allows more
+  double lo = 0.0, hi = 2.0 * dt_c;
+  while (worst(hi).first.radius <= 1.0 + kTolerance && hi < 1e6 * dt_c) lo = hi, hi *= 2.0;
   for (int k = 0; k < 60 && hi - lo > 1e-12 * dt_c; ++k) {
     const double mid = 0.5 * (lo + hi);
     (worst(mid).first.radius <= 1.0 + kTolerance ? lo : hi) = mid;

@@ -49,6 +49,14 @@ struct Tangential {
     return {p.kt * dt, p.friction, 2.0 * p.tangential_damping_ratio * std::sqrt(p.kt)};
   }
 
+  static void stored(const Params& p, EffectSet, const StoredState& s, Stored& out) {
+    if (p.kt > 0.0) out.tangential += 0.5 * s.ft * s.ft / p.kt;
+  }
+  static void rows(const Params& p, EffectSet e, const Inertia& m, Rows& out) {
+    out.kt += p.kt;
+    if (has(e, effect::tangential_damping)) out.ct += 2.0 * p.tangential_damping_ratio * std::sqrt(m.mass * p.kt);
+  }
+
   template <EffectSet E>
   static ContactState apply(const Coeffs& c, const ContactKinematics k, ContactState s) {
     const CappedSpring t = capped_spring<has(E, effect::tangential_damping)>(

@@ -19,14 +19,9 @@ void for_touching(const List& L, F&& f) {
 }
 
 template <class List>
-SpringEnergy list_spring_energy(const List& L, const ContactLaw& law, EffectSet effects) {
-  SpringEnergy e;
-  for_touching(L, [&](std::size_t s) {
-    const SpringEnergy u = spring_energy(law, effects, L.overlap[s], L.ft[s], L.mr[s]);
-    e.normal += u.normal;
-    e.tangential += u.tangential;
-    e.rolling += u.rolling;
-  });
+Stored list_spring_energy(const List& L, const ContactLaw& law, EffectSet effects) {
+  Stored e;
+  for_touching(L, [&](std::size_t s) { e += spring_energy(law, effects, L.overlap[s], L.ft[s], L.mr[s]); });
   return e;
 }
 
@@ -51,14 +46,9 @@ bool kinetic_energy_criterion_met(const System& sys, const StopCondition& stop) 
   return stop.kinetic_energy_below > 0.0 && ke < stop.kinetic_energy_below;
 }
 
-SpringEnergy spring_energy(const System& sys) {
-  SpringEnergy e = list_spring_energy(sys.lists.pairs, sys.law_pp, sys.effects);
-  if (has(sys.effects, effect::walls)) {
-    const SpringEnergy w = list_spring_energy(sys.lists.walls, sys.law_pw, sys.effects);
-    e.normal += w.normal;
-    e.tangential += w.tangential;
-    e.rolling += w.rolling;
-  }
+Stored spring_energy(const System& sys) {
+  Stored e = list_spring_energy(sys.lists.pairs, sys.law_pp, sys.effects);
+  if (has(sys.effects, effect::walls)) e += list_spring_energy(sys.lists.walls, sys.law_pw, sys.effects);
   return e;
 }
 

@@ -18,7 +18,7 @@ bool kinetic_energy_criterion_met(const System& sys, const StopCondition& stop);
 
 // Elastic energy stored in the contacts (J/m): normal springs, and the
 // tangential and rolling springs when those effects are on; by kind, and total.
-SpringEnergy spring_energy(const System& sys);
+Stored spring_energy(const System& sys);
 double elastic_energy(const System& sys);
 
 // Gravitational potential energy -m g.r of the active grains (J/m).

@@ -81,13 +81,14 @@ Channel channel(double force, double rate, double spring, double spring_prev, do
 }
 
 // `ft`: the tangential force on the grain, `moment`: the rolling moment on it
-// (both at the step's end, from the slot's force and torques).
+// (both at the step's end, from the slot's force and torques); `elastic_fn`:
+// what the springs push with (contact_law.hpp: Stored::fn).
 Dissipated dissipated(const System& s, const ContactLaw& law, const LawCoefficients& c, const Motion& m,
-                      double overlap, double fn, double ft, double moment, double spring_t, double spring_t_prev,
+                      double elastic_fn, double fn, double ft, double moment, double spring_t, double spring_t_prev,
                       double spring_r, double spring_r_prev) {
   Dissipated d;
   // the normal force's non-elastic part, -c vn unless the force is clamped at 0
-  d.normal = (c.kn * overlap - fn) * m.vn * s.dt;
+  d.normal = (elastic_fn - fn) * m.vn * s.dt;
   if (has(s.effects, effect::friction)) {
     const Channel t = channel(ft, m.vt, spring_t, spring_t_prev, law.kt, c.kt_dt, s.dt);
     if (has(s.effects, effect::tangential_damping)) d.tangential = t.dashpot;
@@ -104,7 +105,7 @@ Dissipated dissipated(const System& s, const ContactLaw& law, const LawCoefficie
 // A contact that opened this step: the kernel zeroed its springs, whose
 // energy the slider and the rolling slip take (the cap fell to 0 with F_n).
 void release(EnergyLedger& e, std::size_t i, const ContactLaw& law, EffectSet effects, double ft_prev, double mr_prev) {
-  const SpringEnergy u = spring_energy(law, effects, 0.0, ft_prev, mr_prev);
+  const Stored u = spring_energy(law, effects, 0.0, ft_prev, mr_prev);
   e.sliding[i] += u.tangential;
   e.rolling_slip[i] += u.rolling;
   e.error[i] -= u.tangential + u.rolling;
@@ -198,23 +199,23 @@ void close_step(System& s) {
         const Work w = pair_work(s, sl, i);
         const Motion m = pair_motion(s.p, i, static_cast<std::size_t>(L.partner[sl]), L.overlap[sl]);
         const double ft = L.fx[sl] * m.tx + L.fy[sl] * m.ty;  // T_i = -a_i F_t + M_r
-        const Dissipated d = dissipated(s, s.law_pp, s.pp, m, L.overlap[sl], L.fn[sl], ft, L.ti[sl] + m.a * ft,
-                                        L.ft[sl], L.ft_prev[sl], L.mr[sl], L.mr_prev[sl]);
+        const Stored u = spring_energy(s.law_pp, s.effects, L.overlap[sl], L.ft[sl], L.mr[sl]);
+        const Dissipated d = dissipated(s, s.law_pp, s.pp, m, u.fn, L.fn[sl], ft, L.ti[sl] + m.a * ft, L.ft[sl],
+                                        L.ft_prev[sl], L.mr[sl], L.mr_prev[sl]);
         add(e, i, d);
-        e.error[i] -= spring_energy(s.law_pp, s.effects, L.overlap[sl], L.ft[sl], L.mr[sl]).total() + w.relative +
-                      d.total();
+        e.error[i] -= u.total() + w.relative + d.total();
       },
       [&](std::size_t i, std::size_t sl) {
         if (!(W.overlap[sl] > 0.0)) return release(e, i, s.law_pw, s.effects, W.ft_prev[sl], W.mr_prev[sl]);
         const Work w = wall_work(s, sl, i);
         const Motion m = wall_motion(s, i, static_cast<std::size_t>(W.body[sl]), W.overlap[sl]);
         const double ft = W.fx[sl] * m.tx + W.fy[sl] * m.ty;
-        const Dissipated d = dissipated(s, s.law_pw, s.pw, m, W.overlap[sl], W.fn[sl], ft, W.tq[sl] + m.a * ft,
-                                        W.ft[sl], W.ft_prev[sl], W.mr[sl], W.mr_prev[sl]);
+        const Stored u = spring_energy(s.law_pw, s.effects, W.overlap[sl], W.ft[sl], W.mr[sl]);
+        const Dissipated d = dissipated(s, s.law_pw, s.pw, m, u.fn, W.fn[sl], ft, W.tq[sl] + m.a * ft, W.ft[sl],
+                                        W.ft_prev[sl], W.mr[sl], W.mr_prev[sl]);
         add(e, i, d);
         e.body_work[i] += w.body;
-        e.error[i] -= spring_energy(s.law_pw, s.effects, W.overlap[sl], W.ft[sl], W.mr[sl]).total() + w.relative +
-                      d.total();
+        e.error[i] -= u.total() + w.relative + d.total();
       });
 }
 
@@ -238,7 +239,7 @@ EnergyBalance balance(const System& s) {
   const EnergyLedger& e = s.energy;
   const Particles& p = s.p;
   EnergyBalance out;
-  const SpringEnergy u = spring_energy(s);
+  const Stored u = spring_energy(s);
   out.elastic_normal = u.normal;
   out.elastic_tangential = u.tangential;
   out.elastic_rolling = u.rolling;

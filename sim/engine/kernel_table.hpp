@@ -1,29 +1,30 @@
 // The kernel table: kernels::advance<E> and kernels::initial_forces<E> for
-// every valid effect set (is_valid: 288 of the 2^9), split by the two highest
-// effect bits into four parts, each instantiated in its own translation unit
+// every effect set this build compiles (engine/kernel_sets.hpp), split into
+// four parts, each instantiated in its own translation unit
 // (kernels_part*.cpp) to build in parallel.
 #pragma once
 
-#include <array>
-#include <utility>
+#include <span>
 
 #include "engine/system.hpp"
 
 namespace dem2d {
 
-struct KernelPair {
+struct KernelEntry {
+  EffectSet effects;
   AdvanceFn advance;
   ForceFn initial_forces;
 };
 
-inline constexpr unsigned kKernelPartBits = effect::count - 2;
+inline constexpr unsigned kKernelParts = 4;
 
+// Part `Part` of the table: the sets k with k % kKernelParts == Part.
 template <unsigned Part>
-KernelPair kernel_part(EffectSet low_bits);
+std::span<const KernelEntry> kernel_part();
 
-extern template KernelPair kernel_part<0>(EffectSet);
-extern template KernelPair kernel_part<1>(EffectSet);
-extern template KernelPair kernel_part<2>(EffectSet);
-extern template KernelPair kernel_part<3>(EffectSet);
+extern template std::span<const KernelEntry> kernel_part<0>();
+extern template std::span<const KernelEntry> kernel_part<1>();
+extern template std::span<const KernelEntry> kernel_part<2>();
+extern template std::span<const KernelEntry> kernel_part<3>();
 
 }  // namespace dem2d

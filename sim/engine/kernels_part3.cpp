@@ -1,5 +1,5 @@
 #include "engine/kernel_part_impl.hpp"
 
 namespace dem2d {
-template KernelPair kernel_part<3>(EffectSet);
+template std::span<const KernelEntry> kernel_part<3>();
 }  // namespace dem2d

@@ -11,7 +11,6 @@
 #include <type_traits>
 #include <utility>
 
-#include "contact/cohesion.hpp"
 #include "contact/contact_model.hpp"
 #include "engine/diagnostics.hpp"
 #include "engine/energy_ledger.hpp"
@@ -211,14 +210,13 @@ void RunRecorder::record_snapshot(const System& sys, const std::vector<double>* 
 
   // acting slots, pairs then walls, in slot order: touching ones, and with
   // cohesion also those attracting across a gap (overlap < 0)
-  const bool friction = has(sys.effects, effect::friction), cohesion = has(sys.effects, effect::cohesion);
+  const bool friction = has(sys.effects, effect::friction);
   const bool gaps = reaches_beyond_contact(sys.effects);
   const std::size_t before = contact_.i.size();
   // (ex, ey): the far end of the contact's line from grain i's centre (a grain's centre, a point on a body)
   const auto add = [&](std::size_t i, std::int32_t j, double fn, double ft, double overlap, double nx,
                        double ny, double mr, const LawCoefficients& c, double ex, double ey) {
-    // the load pressing the surfaces together caps friction: F_n, plus the adhesive pull with cohesion
-    const double load = cohesion && overlap > 0.0 ? fn + Cohesion::pull(c, -overlap) : fn;
+    const double load = friction_load(c, sys.effects, fn, overlap);  // what caps friction
     contact_.mu_star.push_back(friction && overlap > 0.0 && load > 0.0 ? std::abs(ft) / (c.mu * load)
                                                                        : std::numeric_limits<double>::quiet_NaN());
     contact_.line.insert(contact_.line.end(), {p.x[i], p.y[i], ex, ey});

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/kernel_sets.hpp"
 #include "core/body_roles.hpp"
 #include "core/key_spec.hpp"
 #include "core/step_count.hpp"
@@ -130,6 +131,7 @@ class SceneParser {
       if (has(s_.effects, bit) && !has(s_.effects, needs))
         effects_.fail(effect_key(bit).substr(8),
                       "needs " + effect_key(needs) + " = true (" + effect_key(bit) + " acts on what it adds)");
+    if (const std::string missing = kernels_missing(s_.effects); !missing.empty()) top_.fail("effects", missing);
 
     if (has(s_.effects, effect::gravity)) {
       const Vec2 g = top_.table("gravity", {"g"})
