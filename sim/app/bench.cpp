@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/diagnostics.hpp"
+#include "engine/kernel_sets.hpp"
 #include "engine/system.hpp"
 #include "scene/scene_toml.hpp"
 
@@ -180,9 +181,14 @@ int run_bench(const BenchOptions& opt) {
   nlohmann::json out = nlohmann::json::array();
   std::printf("\n  %-42s %7s %17s %12s\n", "case", "threads", "ns/particle-step", "contacts/N");
   for (const Case& c : kCases) {
+    const EffectSet effects = (settled.effects & ~c.removed) | c.added;
+    if (!kernels_compiled(effects)) {  // (its set is not declared: engine/kernel_sets.inc)
+      std::printf("  %-42s skipped: this build has no kernels for {%s}\n", c.name, effect_names(effects).c_str());
+      continue;
+    }
     for (const int threads : opt.threads) {
       Scene s = settled;
-      s.effects = (s.effects & ~c.removed) | c.added;
+      s.effects = effects;
       s.output.energy_balance = c.ledger;
       s.threads = threads;
       zero(s.particle_particle, c.zeroed);
