@@ -323,8 +323,9 @@ TEST(BedMetricsConfig, KeysAreReadAndBadOnesRejectedWithTheirPlace) {
 
 // ---- run files ---------------------------------------------------------------
 
-RunInfo run_info() {
+RunInfo run_info(const Scene& scene) {
   RunInfo info;
+  info.scene = &scene;
   info.code_version = code_version();
   return info;
 }
@@ -352,7 +353,7 @@ TEST(BedMetricsRunFile, SettledBedInARunFile) {
     y_of_grain_k.push_back(sys.p.y[static_cast<std::size_t>(k) % sys.size()]);
   }
   const std::string run = dir.file("run.h5");
-  rec.finish(sys, run_info(), run, "test");
+  rec.finish(sys, run_info(scene), run, "test");
 
   const RunReader reader(run);
   ASSERT_EQ(reader.snapshots(), static_cast<std::size_t>(kSnapshots));
@@ -423,10 +424,11 @@ TEST(BedMetricsRunFile, BadFilesAreErrorsNamingTheFile) {
   // A complete run file without snapshots.
   const std::string empty = dir.file("empty.h5");
   {
-    System sys(test::boxed_bed(effect::gravity | effect::walls, 10, 0.02));
+    const Scene scene = test::boxed_bed(effect::gravity | effect::walls, 10, 0.02);
+    System sys(scene);
     RunRecorder rec(sys, dir.file(""));
     rec.record_series(sys);
-    rec.finish(sys, run_info(), empty, "test");
+    rec.finish(sys, run_info(scene), empty, "test");
   }
   EXPECT_NE(message(empty).find(empty + ": the run file has no snapshots"), std::string::npos) << message(empty);
 
@@ -439,12 +441,12 @@ TEST(BedMetricsRunFile, BadFilesAreErrorsNamingTheFile) {
     System sys(scene);
     RunRecorder rec(sys, dir.file(""));
     rec.record_snapshot(sys);
-    rec.finish(sys, run_info(), dir.file("west.h5"), "test");
+    rec.finish(sys, run_info(scene), dir.file("west.h5"), "test");
     scene.bodies[1].role = "";
     System unroled(scene);
     RunRecorder rec2(unroled, dir.file(""));
     rec2.record_snapshot(unroled);
-    rec2.finish(unroled, run_info(), unnamed, "test");
+    rec2.finish(unroled, run_info(scene), unnamed, "test");
   }
   EXPECT_EQ(RunReader(dir.file("west.h5")).body_with_role("left_wall"), 1u);
   EXPECT_EQ(message(dir.file("west.h5")).find("role"), std::string::npos) << message(dir.file("west.h5"));

@@ -127,9 +127,12 @@ void record(System& sys, RunRecorder& rec, Expected& ex, int from, int to, int f
   }
 }
 
-RunInfo run_info() {
+constexpr const char* kSceneText = "# scene built in code\n";
+
+RunInfo run_info(const Scene& scene) {
   RunInfo info;
-  info.scene_text = "# scene built in code\n";
+  info.scene = &scene;
+  info.scene_text = kSceneText;
   info.scene_path = "test.toml";
   info.code_version = code_version();
   return info;
@@ -137,13 +140,14 @@ RunInfo run_info() {
 
 // The whole standard run into dir/run.h5.
 Expected run(const fs::path& dir, int flush_every, int* segments = nullptr) {
-  System sys(run_scene());
+  const Scene scene = run_scene();
+  System sys(scene);
   RunRecorder rec(sys, dir.string());
   Expected ex;
   const fs::path out = dir / "run.h5";
   record(sys, rec, ex, 0, kRows, flush_every, out);
   if (segments) *segments = rec.segments();
-  rec.finish(sys, run_info(), out.string(), "duration");
+  rec.finish(sys, run_info(scene), out.string(), "duration");
   return ex;
 }
 
@@ -424,7 +428,7 @@ TEST(RunFile, RecordsMatchTheSystem) {
 
   // header
   EXPECT_EQ(h5::read_attr_string(f, "/", "format"), "dem2d-run-2");
-  EXPECT_EQ(h5::read_attr_string(f, "/", "scene_text"), run_info().scene_text);
+  EXPECT_EQ(h5::read_attr_string(f, "/", "scene_text"), kSceneText);
   EXPECT_EQ(h5::read_attr_string(f, "/", "scene_path"), "test.toml");
   EXPECT_EQ(h5::read_attr_string(f, "/", "code_version"), code_version());
   EXPECT_EQ(h5::read_attr_string(f, "/", "stop_reason"), "duration");
@@ -570,7 +574,8 @@ TEST(RunFile, ResumeDropsLaterSegments) {
   run(dir.sub("whole"), 3);
 
   const fs::path work = dir.sub("resumed"), out = work / "run.h5";
-  System sys(run_scene());
+  const Scene scene = run_scene();
+  System sys(scene);
   Expected ex;
   RunRecorder rec(sys, work.string());
   record(sys, rec, ex, 0, 6, 3, out);
@@ -593,7 +598,7 @@ TEST(RunFile, ResumeDropsLaterSegments) {
   EXPECT_TRUE(fs::exists(work / "checkpoint.h5"));
   EXPECT_EQ(again.series_rows(), 6);
   record(resumed, again, ex, 6, kRows, 3, out);
-  again.finish(resumed, run_info(), out.string(), "duration");
+  again.finish(resumed, run_info(scene), out.string(), "duration");
   EXPECT_TRUE(leftovers(dir.path()).empty());
 
   const h5::File a = h5::File::open_read((dir.path() / "whole/run.h5").string());
@@ -612,7 +617,7 @@ TEST(RunFile, EmptyRunHasEveryDataset) {
   rec.flush_segment();  // nothing buffered: no segment
   EXPECT_EQ(rec.segments(), 0);
   const fs::path out = dir.path() / "empty.h5";
-  rec.finish(sys, run_info(), out.string(), "energy");
+  rec.finish(sys, run_info(s), out.string(), "energy");
   EXPECT_TRUE(leftovers(dir.path()).empty());
   const h5::File f = h5::File::open_read(out.string());
   expect_layout(f, layout(0, 0, 0, 0, 2, 0, 1));

@@ -14,6 +14,7 @@
 #include "core/version.hpp"
 #include "io/h5.hpp"
 #include "io/run_file.hpp"
+#include "io/run_parameters.hpp"
 #include "io/run_reader.hpp"
 #include "pulloff/drag_profile.hpp"
 #include "scene_builder.hpp"
@@ -38,6 +39,7 @@ std::string valid_run(const TempDir& dir) {
     rec.record_snapshot(sys);
   }
   RunInfo info;
+  info.scene = &scene;
   info.code_version = code_version();
   const std::string path = dir.file("valid.h5");
   rec.finish(sys, info, path, "test");
@@ -106,6 +108,46 @@ TEST_F(RunReaderChecks, ValidRunIsReadWhole) {
   std::size_t contacts = 0;
   for (std::size_t k = 0; k < run.snapshots(); ++k) contacts += run.snapshot(k).contacts.size();
   EXPECT_GT(contacts, 10u);
+}
+
+// /parameters hands back what the run ran with; a file without it is
+// refused (naming the version that wrote it), a value out of the scene's
+// range is named.
+TEST_F(RunReaderChecks, ParametersAreTheScenesAndOldFilesAreRefused) {
+  Scene scene = boxed_bed(effect::gravity | effect::normal_damping | effect::friction, 30, 0.03);
+  add_wall(scene, "intruder", 0.01, 0.02, 0.02, 0.02, 2e-3);
+  const RunParameters p = RunReader(valid_).parameters();
+  EXPECT_EQ(p.effects, scene.effects);
+  EXPECT_EQ(p.dt, scene.dt);
+  EXPECT_EQ(p.gy, scene.gy);
+  EXPECT_EQ(p.density, scene.density);
+  EXPECT_EQ(p.grain_grain.kn, scene.particle_particle.kn);
+  EXPECT_EQ(p.grain_body.friction, scene.particle_wall.friction);
+  EXPECT_EQ(p.grain_grain.rolling_friction, 0.0);  // its effect is off: not in the file
+  EXPECT_EQ(p.stop.duration, scene.stop.duration);
+  ASSERT_EQ(p.bodies.size(), scene.bodies.size());
+  EXPECT_EQ(p.bodies[3].name, "intruder");
+  EXPECT_EQ(p.bodies[3].vertices[1].x, 0.02);
+  EXPECT_EQ(p.find_role("floor"), 0);
+  EXPECT_EQ(h5::read_attr_string(h5::File::open_read(valid_), "/parameters/contact/grain_grain/kn", "units"), "N/m");
+
+  const std::string old = dir_->file("old.h5");
+  fs::copy_file(valid_, old, fs::copy_options::overwrite_existing);
+  H5Ldelete(h5::File::open_write(old).id(), "parameters", H5P_DEFAULT);
+  EXPECT_ERROR(RunReader{old}, old, "before run files carried their parameters");
+  EXPECT_ERROR(RunReader{old}, old, code_version());
+
+  const std::string kn = "parameters/contact/grain_grain/kn";
+  const std::string array = with_dataset<double>(*dir_, valid_, "array_kn", kn, {1e6}, {1});
+  EXPECT_ERROR(RunReader(array).parameters(), array, "/" + kn + ": not a scalar");
+  const std::string bad = dir_->file("bad_kn.h5");
+  fs::copy_file(valid_, bad, fs::copy_options::overwrite_existing);
+  {
+    const h5::File f = h5::File::open_write(bad);
+    H5Ldelete(f.id(), kn.c_str(), H5P_DEFAULT);
+    h5::write_scalar(f, kn, -1.0);
+  }
+  EXPECT_ERROR(RunReader(bad).parameters(), bad, "/" + kn + ": -1: must be normal stiffness in N/m, > 0");
 }
 
 TEST_F(RunReaderChecks, NonFiniteValuesAreRefusedWhereTheyAreRead) {

@@ -4,8 +4,6 @@
 #include <cmath>
 #include <numbers>
 
-#include <toml++/toml.h>
-
 #include "io/run_reader.hpp"
 #include "common/stage_config.hpp"
 
@@ -20,35 +18,26 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 }  // namespace
 
-FrictionCoefficients friction_from_scene(const std::string& scene_text, const std::string& where) {
-  toml::table scene;
-  try {
-    scene = toml::parse(scene_text);
-  } catch (const toml::parse_error& e) {
-    throw StageError(where + ": cannot read the scene text: " + std::string(e.description()));
-  }
-  if (!scene["effects"]["friction"].value_or(false))
-    throw StageError(where + ": the scene has no friction (effects.friction is off): mu* is undefined; give mu_grain "
+FrictionLaws friction_laws(const RunParameters& run, std::optional<double> mu_grain, std::optional<double> mu_wall,
+                           const std::string& where) {
+  if (!has(run.effects, effect::friction) && !(mu_grain && mu_wall))
+    throw StageError(where + ": the run has no friction (effects.friction is off): mu* is undefined; give mu_grain "
                              "and mu_wall in the config to measure |F_t| / (mu F_n) anyway");
-  const std::optional<double> grain = scene["contact"]["friction"].value<double>();
-  if (!grain || !(*grain > 0.0))
-    throw StageError(where + ": [contact] friction is missing or not > 0 in the scene text");
-  FrictionCoefficients mu{*grain, scene["contact"]["wall"]["friction"].value_or(*grain), 0.0, 0.0};
-  if (!(mu.wall > 0.0)) throw StageError(where + ": [contact.wall] friction = " + format_number(mu.wall) + ": must be > 0");
-  if (scene["effects"]["cohesion"].value_or(false)) {
-    mu.cohesion_grain = scene["contact"]["cohesion_force"].value_or(0.0);
-    mu.cohesion_wall = scene["contact"]["wall"]["cohesion_force"].value_or(mu.cohesion_grain);
-  }
-  return mu;
+  FrictionLaws laws{run.effects, coefficients(run.grain_grain, run.dt), coefficients(run.grain_body, run.dt)};
+  if (mu_grain) laws.grain.mu = *mu_grain;
+  if (mu_wall) laws.wall.mu = *mu_wall;
+  for (const double mu : {laws.grain.mu, laws.wall.mu})
+    if (!(mu > 0.0)) throw StageError(where + ": a Coulomb coefficient is " + format_number(mu) + ": must be > 0");
+  return laws;
 }
 
-std::vector<double> mu_star(const Contacts& c, const std::vector<Partner>& partners, const FrictionCoefficients& mu) {
+std::vector<double> mu_star(const Contacts& c, const std::vector<Partner>& partners, const FrictionLaws& laws) {
   std::vector<double> out(c.size(), kNaN);
   for (std::size_t k = 0; k < c.size(); ++k) {
     if (!(c.overlap[k] > 0.0)) continue;  // attracting across a gap: no friction
-    const bool grain = partners[k] == Partner::grain;
-    const double load = c.fn[k] + (grain ? mu.cohesion_grain : mu.cohesion_wall);
-    if (load > 0.0) out[k] = std::abs(c.ft[k]) / ((grain ? mu.grain : mu.wall) * load);
+    const LawCoefficients& law = partners[k] == Partner::grain ? laws.grain : laws.wall;
+    const double load = friction_load(law, laws.effects, c.fn[k], c.overlap[k]);
+    if (load > 0.0) out[k] = std::abs(c.ft[k]) / (law.mu * load);
   }
   return out;
 }
@@ -119,16 +108,9 @@ FrictionResult run_friction(const std::string& run_path, const std::string& conf
   const RunReader run(run_path);
   const std::size_t S = run.snapshots();
   if (S == 0) throw StageError(run.path() + ": the run file has no snapshots");
-  FrictionCoefficients mu;
-  std::string mu_source;
-  if (cfg.mu_grain) {
-    mu = {*cfg.mu_grain, *cfg.mu_wall};
-    mu_source = "config " + config_path;
-  } else {
-    if (!h5::has_attr(run.file(), "/", "scene_text")) throw StageError(run.path() + ": no scene_text attribute");
-    mu = friction_from_scene(h5::read_attr_string(run.file(), "/", "scene_text"), run.path() + ": scene_text");
-    mu_source = "the run's scene ([contact] friction, [contact.wall] friction)";
-  }
+  const FrictionLaws mu = friction_laws(run.parameters(), cfg.mu_grain, cfg.mu_wall, run.path());
+  const std::string mu_source =
+      cfg.mu_grain ? "config " + config_path : "the run's scene ([contact] friction, [contact.wall] friction)";
 
   // Thresholds: the configured one first, then the sensitivity ones.
   std::vector<double> thresholds = {cfg.slip_threshold};
@@ -217,8 +199,8 @@ FrictionResult run_friction(const std::string& run_path, const std::string& conf
   m["run_file"] = run.path();
   m["config_file"] = config_path;
   m["snapshots"] = S;
-  m["mu_grain"] = mu.grain;
-  m["mu_wall"] = mu.wall;
+  m["mu_grain"] = mu.grain.mu;
+  m["mu_wall"] = mu.wall.mu;
   m["mu_source"] = mu_source;
   m["initial_bed_height_mm"] = bed0 * kMm;
   m["intruder"] = with_intruder;

@@ -13,31 +13,34 @@
 #include <nlohmann/json.hpp>
 
 #include "common/study.hpp"
+#include "contact/contact_law.hpp"
+#include "io/run_parameters.hpp"
 #include "common/pulloff_frame.hpp"
 #include "common/stage_output.hpp"
 
 namespace dem2d::analysis {
 
-// Coulomb coefficients: grain-grain, and grain-body (walls, floor, intruder);
-// with cohesion (contact/cohesion.hpp) the pull-off forces f_c (N/m), which
-// press touching surfaces together and so belong to the friction cap's load.
-struct FrictionCoefficients {
-  double grain = 0.0, wall = 0.0;
-  double cohesion_grain = 0.0, cohesion_wall = 0.0;
+// The run's contact laws as far as mu* needs them: the Coulomb coefficient mu
+// (coefficient `mu`) and what sets the load that caps friction
+// (contact/contact_law.hpp: friction_load), for grain-grain and grain-body
+// (walls, floor, intruder) contacts, under the run's effects.
+struct FrictionLaws {
+  EffectSet effects = effect::friction;
+  LawCoefficients grain, wall;
 };
 
-// [contact] friction and [contact.wall] friction (which defaults to the
-// former) of a scene's TOML text, and cohesion_force likewise when
-// effects.cohesion is on. StageError "<where>: ..." if the scene has no
-// friction (effects.friction off or the key missing) or cannot be read.
-FrictionCoefficients friction_from_scene(const std::string& scene_text, const std::string& where);
+// From the run's /parameters (io/run_parameters.hpp); mu_grain, mu_wall (if
+// given) replace the laws' Coulomb coefficients. StageError "<where>: ..." if
+// the run has no friction and none is given.
+FrictionLaws friction_laws(const RunParameters& run, std::optional<double> mu_grain, std::optional<double> mu_wall,
+                           const std::string& where);
 
-// mu* per contact: |ft| / (mu F_load) with mu = grain for grain-grain contacts
-// and wall for grain-body ones, F_load = fn, plus f_c for a touching contact
-// with cohesion (the engine's cap, contact_model.hpp); NaN where F_load <= 0
-// (no load) or the contact is a cohesive one across a gap (no friction):
+// mu* per contact: |ft| / (mu F_load), the engine's own ratio (the run file's
+// mu_star), with mu and F_load of the contact's law: F_load = fn plus what
+// the law's terms pull with (cohesion's f_c) for a touching contact; NaN
+// where F_load <= 0 (no load) or the contact acts across a gap (no friction):
 // excluded.
-std::vector<double> mu_star(const Contacts& c, const std::vector<Partner>& partners, const FrictionCoefficients& mu);
+std::vector<double> mu_star(const Contacts& c, const std::vector<Partner>& partners, const FrictionLaws& laws);
 
 // The contacts of one snapshot summarised. Groups: bulk = grain-grain, wall =
 // grain-side wall (left, right); floor and intruder separately; all = every

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <tuple>
 #include <filesystem>
 
 #include "friction/friction.hpp"
@@ -15,6 +16,21 @@ namespace {
 
 constexpr std::int32_t kLeft = -1, kRight = -2, kFloor = -3, kIntruder = -4;
 
+// The laws of a run with Coulomb coefficients mu_grain, mu_wall and, with
+// cohesion, pull-off forces f_c (the range 1 m: the pull is f_c in contact).
+FrictionLaws laws(double mu_grain, double mu_wall, double fc_grain = 0.0, double fc_wall = 0.0) {
+  RunParameters run;
+  run.effects = effect::friction | effect::walls | (fc_grain > 0.0 ? effect::cohesion : 0);
+  run.dt = 1e-6;
+  for (auto [law, mu, fc] : {std::tuple{&run.grain_grain, mu_grain, fc_grain}, {&run.grain_body, mu_wall, fc_wall}}) {
+    law->kn = 1e6;
+    law->friction = mu;
+    law->cohesion_force = fc;
+    law->cohesion_range = 1.0;
+  }
+  return friction_laws(run, std::nullopt, std::nullopt, "run.h5");
+}
+
 TEST(FrictionMuStar, RatioOfTangentialToCoulombForce) {
   Contacts c;
   c.add(0, 1, 10.0, 1e-6, 1, 0, -2.5);        // grain-grain: 2.5 / (0.5 x 10) = 0.5
@@ -22,7 +38,7 @@ TEST(FrictionMuStar, RatioOfTangentialToCoulombForce) {
   c.add(1, kFloor, 0.0, 1e-6, 0, 1, 0.0);     // no load: excluded
   c.add(1, kIntruder, 2.0, 1e-6, 0, 1, 0.1);  // 0.1 / 0.5 = 0.2
   const std::vector<Partner> p = {Partner::grain, Partner::left, Partner::floor, Partner::intruder};
-  const std::vector<double> m = mu_star(c, p, {0.5, 0.25});
+  const std::vector<double> m = mu_star(c, p, laws(0.5, 0.25));
   EXPECT_DOUBLE_EQ(m[0], 0.5);
   EXPECT_DOUBLE_EQ(m[1], 1.0);
   EXPECT_TRUE(std::isnan(m[2]));
@@ -40,22 +56,12 @@ TEST(FrictionMuStar, CohesionAddsThePullOffForceToTheLoad) {
   c.add(1, kLeft, 0.0, 1e-7, 1, 0, 0.05);   // wall, f_c 0.25, mu_wall 0.25: 0.05 / (0.25 x 0.25) = 0.8
   c.add(2, 3, -0.6, 1e-9, 1, 0, 0.0);       // pulled beyond f_c (cannot hold in the engine): no load
   const std::vector<Partner> p = {Partner::grain, Partner::grain, Partner::grain, Partner::left, Partner::grain};
-  const std::vector<double> m = mu_star(c, p, {0.5, 0.25, 0.5, 0.25});
+  const std::vector<double> m = mu_star(c, p, laws(0.5, 0.25, 0.5, 0.25));
   EXPECT_DOUBLE_EQ(m[0], 0.4);
   EXPECT_DOUBLE_EQ(m[1], 0.4);
   EXPECT_TRUE(std::isnan(m[2]));
   EXPECT_DOUBLE_EQ(m[3], 0.8);
   EXPECT_TRUE(std::isnan(m[4]));
-  // the scene's pull-off forces, the wall's defaulting to the grains'
-  const std::string base = "[effects]\nfriction = true\ncohesion = true\n[contact]\nkn = 1.0\nfriction = 0.5\n"
-                           "cohesion_force = 0.5\n";
-  FrictionCoefficients mu = friction_from_scene(base, "run.h5");
-  EXPECT_EQ(mu.cohesion_grain, 0.5);
-  EXPECT_EQ(mu.cohesion_wall, 0.5);
-  mu = friction_from_scene(base + "[contact.wall]\ncohesion_force = 0.25\n", "run.h5");
-  EXPECT_EQ(mu.cohesion_wall, 0.25);
-  EXPECT_EQ(friction_from_scene("[effects]\nfriction = true\n[contact]\nfriction = 0.5\ncohesion_force = 0.5\n",
-                                "run.h5").cohesion_grain, 0.0);  // the effect off: no cohesion
 }
 
 TEST(FrictionSummary, SlipFractionZeroForcesAndGroups) {
@@ -75,7 +81,7 @@ TEST(FrictionSummary, SlipFractionZeroForcesAndGroups) {
   add(kIntruder, Partner::intruder, 10, 4.0);  // 0.8
   add(5, Partner::grain, 0.0, 0.0);        // excluded
   add(kLeft, Partner::left, 0.0, 0.0);     // excluded
-  const std::vector<double> ms = mu_star(c, p, {0.5, 0.5});
+  const std::vector<double> ms = mu_star(c, p, laws(0.5, 0.5));
   const SnapshotFriction s = summarise_friction(c, p, ms, {0.99, 0.995, 0.5});
   EXPECT_EQ(s.rows, 10);
   EXPECT_EQ(s.zero_fn, 2);
@@ -96,20 +102,23 @@ TEST(FrictionSummary, SlipFractionZeroForcesAndGroups) {
   EXPECT_TRUE(std::isnan(none.bulk.mean()));
 }
 
-TEST(FrictionScene, CoefficientsFromTheSceneText) {
-  const std::string base = "[effects]\nfriction = true\n[contact]\nkn = 1.0\nfriction = 0.5\n";
-  FrictionCoefficients mu = friction_from_scene(base, "run.h5");
-  EXPECT_EQ(mu.grain, 0.5);
-  EXPECT_EQ(mu.wall, 0.5);
-  mu = friction_from_scene(base + "[contact.wall]\nfriction = 0.3\n", "run.h5");
-  EXPECT_EQ(mu.wall, 0.3);
-  EXPECT_THROW(friction_from_scene("[effects]\ngravity = true\n[contact]\nkn = 1.0\n", "run.h5"), StageError);
-  EXPECT_THROW(friction_from_scene("[effects\n", "run.h5"), StageError);
+// The Coulomb coefficients are the run's; a config's replace them; a run
+// without friction needs the config's.
+TEST(FrictionLaws, FromTheRunsParameters) {
+  FrictionLaws mu = laws(0.5, 0.3);
+  EXPECT_EQ(mu.grain.mu, 0.5);
+  EXPECT_EQ(mu.wall.mu, 0.3);
+  RunParameters run;
+  run.effects = effect::gravity;
+  run.grain_grain.kn = run.grain_body.kn = 1.0;
+  mu = friction_laws(run, 0.4, 0.2, "run.h5");
+  EXPECT_EQ(mu.grain.mu, 0.4);
+  EXPECT_EQ(mu.wall.mu, 0.2);
   try {
-    friction_from_scene("[effects]\nfriction = true\n[contact]\nkn = 1.0\n", "x/run.h5: scene_text");
+    friction_laws(run, std::nullopt, std::nullopt, "x/run.h5");
     FAIL();
   } catch (const StageError& e) {
-    EXPECT_NE(std::string(e.what()).find("x/run.h5: scene_text: [contact] friction is missing"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("x/run.h5: the run has no friction"), std::string::npos);
   }
 }
 

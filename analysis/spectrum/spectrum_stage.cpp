@@ -1,6 +1,5 @@
 #include "spectrum/spectrum_stage.hpp"
 
-#include <toml++/toml.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -11,6 +10,7 @@
 #include "common/output.hpp"
 #include "common/events.hpp"
 #include "io/h5.hpp"
+#include "io/run_parameters.hpp"
 #include "io/run_reader.hpp"
 #include "pulloff/drag_profile.hpp"
 
@@ -27,13 +27,7 @@ namespace {
 double exit_height(const RunReader& run, const DragProfile& p) {
   const h5::File& f = run.file();
   if (h5::read_attr_string(f, "/", "stop_reason").find("free of the bed") == std::string::npos) return kNaN;
-  double free_time = kNaN;
-  try {
-    const toml::table scene = toml::parse(h5::read_attr_string(f, "/", "scene_text"));
-    free_time = scene["stop"]["free_time"].value_or(kNaN);
-  } catch (const toml::parse_error&) {
-    return kNaN;
-  }
+  const double free_time = run.parameters().stop.free_time;
   const double t = h5::read_attr_double(f, "/", "end_time") - free_time;
   if (!(t >= p.time.front() && t <= p.time.back())) return kNaN;
   const auto k = static_cast<std::size_t>(std::lower_bound(p.time.begin(), p.time.end(), t) - p.time.begin());

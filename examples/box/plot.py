@@ -29,7 +29,7 @@ def load_on(snap, body):
 def main(path, out):
     with dem2d.open_run(path) as run:
         s = run.snapshot(-1)
-        g = -run.scene["gravity"]["g"][1]
+        g = -run.parameters.gravity[1]
         weight = run.particles.mass[s.active].sum() * g
         floor = -load_on(s, run.body("floor"))[1] / weight  # the share of the weight it carries
         walls = -sum(load_on(s, run.body(w))[1] for w in ("left_wall", "right_wall")) / weight
@@ -41,7 +41,7 @@ def main(path, out):
         lines = draw_contacts(ax, s)
         draw_bodies(ax, run, s)
         fig.colorbar(lines, ax=ax, shrink=0.6).set_label(f"F_n ({run.units('contacts/fn')})")
-        ax.set_title(f"{run.scene['name']}: floor {floor:.3f}, walls {walls:.3f} of the weight")
+        ax.set_title(f"{run.parameters.name}: floor {floor:.3f}, walls {walls:.3f} of the weight")
         fig.savefig(out, dpi=120)
 
 

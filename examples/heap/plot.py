@@ -33,7 +33,7 @@ def main(path, out):
         draw_bodies(ax, run, s)
         top = surface(s.position[on_base], d)
         ax.plot(top[:, 0], top[:, 1], "g.", ms=4, label="free surface")
-        ax.set_title(f"{run.scene['name']}: angle of repose {angle:.1f}° (tan = {math.tan(math.radians(angle)):.2f})")
+        ax.set_title(f"{run.parameters.name}: angle of repose {angle:.1f}° (tan = {math.tan(math.radians(angle)):.2f})")
         ax.legend(loc="upper right")
         fig.savefig(out, dpi=120)
 

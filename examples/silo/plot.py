@@ -20,7 +20,7 @@ from dem2d.plot import draw_bodies, draw_grains, frame  # noqa: E402
 
 def main(path, out):
     with dem2d.open_run(path) as run:
-        outlet = run.scene["jam"]["outlet_height"]  # m: the funnel's outlet
+        outlet = run.parameters.jam["outlet_height"]  # m: the funnel's outlet
         above = np.array([(s.position[s.active, 1] > outlet).sum() for s in run])
         flowing = (above < above[0]) & (above > 0)
         # the mean flow rate while the silo empties (grains per second)

@@ -306,7 +306,7 @@ def cyclic_section(points: list) -> list:
                 down = [leg["drag_mean_N_per_m"] for leg in legs if leg["cycle"] == c and leg["direction"] == "down"]
                 lines.append(f"| {c} | {fmt(up[0], float('nan')) if up else '—'} | {fmt(down[0], float('nan')) if down else '—'} |")
             with dem2d.open_run(Path(member) / "cyclic" / "run.h5") as run:
-                motion = next(b for b in run.scene["body"] if b["name"] == "intruder")["motion"]
+                motion = run.parameters.body("intruder")["motion"]
                 t, ends = 0.0, []
                 for seg in motion:
                     if seg["kind"] == "triangle":

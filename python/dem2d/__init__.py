@@ -2,7 +2,7 @@
 
     import dem2d
     with dem2d.open_run("results/default/pulloff/run.h5") as run:
-        print(run.scene["name"], run.end_time, "s,", run.n_particles, "grains")
+        print(run.parameters.name, run.end_time, "s,", run.n_particles, "grains")
         s = run.snapshot(-1)                      # the last snapshot
         xy, d = s.position, run.particles.diameter
         c = s.contacts

@@ -1,8 +1,7 @@
 """The run file: a Run and what it holds (snapshots, contacts, bodies, series)."""
 from __future__ import annotations
 
-import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 
 import h5py
@@ -29,6 +28,79 @@ class Body:
     def core(self, body_vertices):
         """This body's core vertices (x, y) in m from a snapshot's or series row's body_vertices [B, K, 2]."""
         return np.asarray(body_vertices)[self.index, :self.vertex_count]
+
+
+@dataclass(frozen=True)
+class Parameters:
+    """What the run ran with: the run file's /parameters (docs/run_file.md), typed, SI.
+
+    contact["grain_grain"], contact["grain_body"]: the law's values by scene key (kn, friction, ...);
+    stop, output: by key (s, J/m, m); bodies: one dict each (name, role, shape, vertices [K, 2] m,
+    thickness m, velocity [2] m/s, remove_at s or None, motion: a list of segment dicts with "kind",
+    motion_repeat); units[path]: the unit of every value, path as in the file ("contact/grain_grain/kn")."""
+    name: str
+    effects: frozenset
+    dt: float
+    density: float
+    gravity: np.ndarray
+    contact: dict
+    stop: dict
+    output: dict
+    domain: np.ndarray
+    skin: float
+    bodies: list
+    jam: dict        # the hopper's jam remedy ([jam]: outlet_height m, ..., bodies), {} without
+    units: dict = field(repr=False)
+
+    def body(self, role):
+        """The body dict with this role; KeyError naming the roles there are."""
+        for b in self.bodies:
+            if b["role"] == role:
+                return b
+        raise KeyError(f"no body has the role {role!r} (roles: {sorted({b['role'] for b in self.bodies})})")
+
+
+PARAMETERS_FORMAT = "dem2d-parameters-1"
+
+
+def _read_parameters(path, g: h5py.Group) -> Parameters:
+    units = {}
+
+    def values(group):
+        out = {}
+        for k, v in group.items():
+            if isinstance(v, h5py.Dataset) and v.dtype.kind == "f":
+                x = v[()]
+                out[k] = float(x) if np.ndim(x) == 0 else np.asarray(x, dtype=float)
+                units[v.name[len("/parameters/"):]] = v.attrs.get("units", "-")
+        return out
+
+    fmt = g.attrs.get("format")
+    if fmt != PARAMETERS_FORMAT:
+        raise ValueError(f"{path}: /parameters has format {fmt!r}; this reader knows {PARAMETERS_FORMAT}")
+    bodies = []
+    for k in range(int(g.attrs["bodies"])):
+        b = g[f"bodies/{k}"]
+        d = {"name": b.attrs["name"], "role": b.attrs["role"], "shape": b.attrs["shape"], **values(b)}
+        d["remove_at"] = d.get("remove_at")
+        d["vertices"] = np.asarray(d["vertices"]).reshape(-1, 2)
+        d["motion"] = ([{"kind": b[f"motion/{j}"].attrs["kind"], **values(b[f"motion/{j}"])}
+                        for j in range(int(b["motion"].attrs["segments"]))] if "motion" in b else [])
+        for seg in d["motion"]:
+            if "cycles" in seg:
+                seg["cycles"] = int(seg["cycles"])
+        d["motion_repeat"] = int(d.get("motion_repeat", 1))
+        bodies.append(d)
+    effects = values(g["effects"])
+    return Parameters(
+        name=g.attrs["scene"], effects=frozenset(k for k, on in effects.items() if on),
+        dt=values(g["time"])["dt"], density=values(g["material"])["density"],
+        gravity=values(g["gravity"])["g"] if "gravity" in g else np.zeros(2),
+        contact={k: values(g["contact"][k]) for k in g["contact"]},
+        stop={**values(g["stop"]), **({"body_free": g["stop"].attrs["body_free"]} if "body_free" in g["stop"].attrs else {})},
+        output=values(g["output"]), domain=np.asarray(g["domain"][...]), skin=values(g["neighbour"])["skin"],
+        bodies=bodies, jam=({**values(g["jam"]), "bodies": list(g["jam/bodies"].asstr()[...])} if "jam" in g else {}),
+        units=units)
 
 
 @dataclass(frozen=True)
@@ -125,6 +197,11 @@ class Run:
             self.file.close()
             raise ValueError(f"{self.path}: format {fmt!r} is not a dem2d run file ({', '.join(FORMATS)})")
         self.attrs = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in self.file.attrs.items()}
+        if "parameters" not in self.file:
+            self.file.close()
+            raise ValueError(f"{self.path}: written by dem2d {self.attrs.get('code_version', '(unknown version)')}, "
+                             "before run files carried their parameters (/parameters): run its scene again with "
+                             "this dem2d (make rebuilds the study's run files)")
         self._start = self.file["snapshots/contact_start"][...]
         self.times = self.file["snapshots/time"][...]
 
@@ -159,9 +236,9 @@ class Run:
         return self.attrs["stop_reason"]
 
     @cached_property
-    def scene(self) -> dict:
-        """The scene file the run was made from (its TOML text parsed)."""
-        return tomllib.loads(self.attrs["scene_text"])
+    def parameters(self) -> Parameters:
+        """What the run ran with (/parameters): the laws, bodies and schedules, time step, stop criteria."""
+        return _read_parameters(self.path, self.file["parameters"])
 
     @cached_property
     def particles(self) -> Particles:

@@ -53,6 +53,13 @@ inline constexpr std::array<MotionKindSpec, 5> kMotionKinds{{
     {"triangle", MotionKind::triangle, false, false, true, true, true},
 }};
 
+// The row of kMotionKinds for a kind.
+constexpr const MotionKindSpec& motion_kind(MotionKind kind) {
+  for (const MotionKindSpec& s : kMotionKinds)
+    if (s.kind == kind) return s;
+  return kMotionKinds[0];
+}
+
 class MotionSchedule {
  public:
   MotionSchedule() = default;

@@ -162,6 +162,14 @@ std::vector<T> read(const File& f, const std::string& name, std::vector<hsize_t>
   return data;
 }
 
+void write_scalar(const File& f, const std::string& name, double value) {
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  Handle lcpl = link_create_plist();
+  Handle ds = check(H5Dcreate2(f.id(), name.c_str(), native_type<double>(), space, lcpl, H5P_DEFAULT, H5P_DEFAULT),
+                    H5Dclose, f, "cannot create dataset " + name);
+  check(H5Dwrite(ds, native_type<double>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &value), f, "cannot write dataset " + name);
+}
+
 void write_strings(const File& f, const std::string& name, const std::vector<std::string>& data) {
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
   H5Tset_size(type, H5T_VARIABLE);

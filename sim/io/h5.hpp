@@ -85,6 +85,8 @@ void write(const File& f, const std::string& name, const Array& data, std::vecto
   write(f, name, std::span<const typename Array::value_type>(data.data(), data.size()), std::move(dims));
 }
 void write_strings(const File& f, const std::string& name, const std::vector<std::string>& data);
+// A scalar (rank-0) float64 dataset; read<double> gives it as one value.
+void write_scalar(const File& f, const std::string& name, double value);
 
 template <class T>
 std::vector<T> read(const File& f, const std::string& name, std::vector<hsize_t>* dims = nullptr);

@@ -17,6 +17,7 @@
 #include "io/h5.hpp"
 #include "io/h5_seal.hpp"
 #include "io/run_file_units.hpp"
+#include "io/run_parameters.hpp"
 #include "io/run_xdmf.hpp"
 
 namespace dem2d {
@@ -53,6 +54,8 @@ void append_vertices(std::vector<double>& out, const Bodies& B, std::uint64_t k)
 }
 
 void write_header(const h5::File& f, const System& sys, const RunInfo& info, const std::string& stop_reason) {
+  if (!info.scene) throw std::logic_error("RunRecorder::finish: RunInfo::scene is required (the run's /parameters)");
+  write_parameters(f, *info.scene);
   const auto i64 = [](auto v) { return static_cast<std::int64_t>(v); };
   h5::write_attr(f, "/", "format", kRunFileFormat);
   h5::write_attr(f, "/", "scene_text", info.scene_text);

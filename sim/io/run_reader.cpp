@@ -8,6 +8,7 @@
 #include <tuple>
 #include <type_traits>
 
+#include "io/run_parameters.hpp"
 #include "core/body_roles.hpp"
 #include "core/number_text.hpp"
 #include "io/run_format.hpp"
@@ -181,6 +182,13 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
   if (format != kRunFileFormat && !legacy_bodies_)
     fail("not a dem2d run file: format attribute is " + format + ", expected " + kRunFileFormat + " (or " +
          kRunFileFormatSegments + ")");
+  if (!has_parameters(file_)) {
+    const std::string by = h5::has_attr(file_, "/", "code_version") ? h5::read_attr_string(file_, "/", "code_version")
+                                                                    : "an unknown version";
+    fail("written by dem2d " + by + ", before run files carried their parameters (/parameters), which the "
+         "analyses read: run its scene again with this dem2d (make rebuilds the run files of the study; "
+         "dem2d run SCENE --out DIR for another)");
+  }
   const auto need = [&](const std::string& name) {
     if (!h5::exists(file_, name)) fail("dataset /" + name + " is missing (truncated or not a run file?)");
   };
@@ -420,5 +428,7 @@ Snapshot RunReader::last_snapshot() const {
   if (snapshots() == 0) fail("the run file has no snapshots (/snapshots/time is empty)");
   return snapshot(snapshots() - 1);
 }
+
+RunParameters RunReader::parameters() const { return read_parameters(file_); }
 
 }  // namespace dem2d

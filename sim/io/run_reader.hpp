@@ -22,6 +22,8 @@
 
 namespace dem2d {
 
+struct RunParameters;  // io/run_parameters.hpp
+
 struct Vec2 {
   double x = 0.0, y = 0.0;
 };
@@ -106,6 +108,10 @@ class RunReader {
   const std::string& path() const { return file_.path(); }
   // For what this class does not wrap (/series, root attributes): sim/io/h5.hpp.
   const h5::File& file() const { return file_; }
+
+  // The run's parameters (/parameters: the law per pair, the bodies and
+  // their schedules, the time step, effects, stop criteria), read when asked.
+  RunParameters parameters() const;
 
   std::size_t particles() const { return diameter_.size(); }
   std::size_t snapshots() const { return times_.size(); }

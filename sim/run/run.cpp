@@ -138,6 +138,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   for (Controller* c : controllers) c->finish(sys);
 
   RunInfo info;
+  info.scene = &scene;
   info.scene_text = scene.text;
   info.scene_path = scene.path;
   info.code_version = code_version();

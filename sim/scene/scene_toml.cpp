@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "engine/kernel_sets.hpp"
+#include "scene/scene_keys.hpp"
 #include "core/body_roles.hpp"
 #include "core/key_spec.hpp"
 #include "core/step_count.hpp"
@@ -135,7 +136,7 @@ class SceneParser {
 
     if (has(s_.effects, effect::gravity)) {
       const Vec2 g = top_.table("gravity", {"g"})
-                         .required_vec2("g", {"gravity vector", "m/s^2", Rule::finite},
+                         .required_vec2("g", scene_key::gravity,
                                         "; required because effects.gravity is true");
       s_.gx = g[0];
       s_.gy = g[1];
@@ -143,7 +144,7 @@ class SceneParser {
       top_.forbid("gravity", "effects.gravity is false");
     }
     s_.density = top_.table("material", {"density"})
-                     .required("density", {"grain density", "kg/m^3", Rule::positive});
+                     .required("density", scene_key::density);
 
     const TableReader contact = top_.table("contact", law_keys(true));
     s_.particle_particle = read_law(contact, s_.effects, nullptr);
@@ -157,9 +158,9 @@ class SceneParser {
 
   TableReader read_time() {
     TableReader t = top_.table("time", {"duration", "dt", "dt_over_critical", "force_dt"});
-    s_.stop.duration = t.required("duration", {"simulated time", "s", Rule::positive});
+    s_.stop.duration = t.required("duration", scene_key::duration);
     time_key(t, "duration", s_.stop.duration, "to run without end, stop it by [stop] and give a duration it does not reach");
-    t.number("dt", {"time step", "s", Rule::positive});
+    t.number("dt", scene_key::dt);
     t.number("dt_over_critical",
              {"time step as a fraction of dt_c = sqrt(m_min/k_n)", "", Rule::positive});
     if (t.has("dt") && t.has("dt_over_critical"))
@@ -180,28 +181,28 @@ class SceneParser {
     if (st.has("kinetic_energy_below") && st.has("kinetic_energy_per_grain_below"))
       st.fail("kinetic_energy_per_grain_below",
               "stop.kinetic_energy_below is also given: give one of the two (total, or per active grain)");
-    const auto ke = st.number("kinetic_energy_below", {"total kinetic energy threshold", "J/m", Rule::positive});
+    const auto ke = st.number("kinetic_energy_below", scene_key::kinetic_energy_below);
     const auto ke_grain = st.number("kinetic_energy_per_grain_below",
-                                    {"kinetic energy threshold per active grain", "J/m", Rule::positive});
+                                    scene_key::kinetic_energy_per_grain_below);
     if (ke || ke_grain) {
       stop.kinetic_energy_below = ke.value_or(-1.0);
       stop.kinetic_energy_per_grain_below = ke_grain.value_or(-1.0);
-      stop.all_below = st.number_or("all_below", {"height every grain must be below", "m", Rule::finite}, 1e300);
+      stop.all_below = st.number_or("all_below", scene_key::all_below, 1e300);
     } else {
       st.forbid("all_below", "no kinetic energy criterion (kinetic_energy_below, kinetic_energy_per_grain_below) is");
     }
     if (const auto body = st.string("body_free")) {
       stop.body_free = *body;
-      stop.free_time = st.required("free_time", {"time without contact", "s", Rule::positive},
+      stop.free_time = st.required("free_time", scene_key::free_time,
                                    "; required because stop.body_free is given");
       time_key(st, "free_time", stop.free_time, "to never stop this way, leave stop.body_free out");
     } else {
       st.forbid("free_time", "stop.body_free is not");
     }
     if (stop.energy_criterion() || !stop.body_free.empty()) {
-      stop.check_interval = st.required("check_interval", {"interval between checks", "s", Rule::positive},
+      stop.check_interval = st.required("check_interval", scene_key::check_interval,
                                         "; required because a stop criterion is given");
-      stop.min_time = st.number_or("min_time", {"time before the first check", "s", Rule::non_negative}, 0.0);
+      stop.min_time = st.number_or("min_time", scene_key::min_time, 0.0);
       time_key(st, "check_interval", stop.check_interval, "to never check, leave the stop criteria out");
       time_key(st, "min_time", stop.min_time, "to never check, leave the stop criteria out");
     } else {
@@ -211,7 +212,7 @@ class SceneParser {
     }
 
     const TableReader d = top_.table("domain", {"xmin", "xmax", "ymin", "ymax"});
-    const Num coord{"domain bound", "m", Rule::finite};
+    const Num coord = scene_key::domain_bound;
     s_.domain = {d.required("xmin", coord), d.required("ymin", coord), d.required("xmax", coord),
                  d.required("ymax", coord)};
     if (!(s_.domain.xmax > s_.domain.xmin))
@@ -220,18 +221,17 @@ class SceneParser {
       d.fail("ymax", "must be > domain.ymin = " + shortest(s_.domain.ymin) + " (m)");
 
     skin_ = top_.table("neighbour", {"skin"})
-                .number_or("skin", {"Verlet-list skin", "m", Rule::positive}, -1.0);
+                .number_or("skin", scene_key::skin, -1.0);
 
     const TableReader o = top_.table(
         "output", {"series_interval", "snapshot_interval", "checkpoint_interval", "displacement_window", "energy_balance"});
-    const Num every{"interval, 0 = off", "s", Rule::non_negative};
+    const Num every = scene_key::output_interval;
     s_.output = {o.number_or("series_interval", every, 0.0),
                  o.number_or("snapshot_interval", every, 0.0),
                  o.number_or("checkpoint_interval",
-                             {"wall-clock interval, 0 = off", "s", Rule::non_negative}, 0.0),
+                             scene_key::checkpoint_interval, 0.0),
                  o.number_or("displacement_window",
-                             {"window of the displacement stored with each snapshot, 0 = off", "s",
-                              Rule::non_negative},
+                             scene_key::displacement_window,
                              0.0),
                  o.boolean("energy_balance").value_or(false)};
     time_key(o, "series_interval", s_.output.series_interval, "to write none, set 0 (off)");
@@ -371,17 +371,17 @@ class SceneParser {
       body.shape = b.string("shape").value_or("segment");
       const ShapeKind* kind = find_shape_kind(body.shape);
       if (!kind) b.fail("shape", "unknown shape kind (allowed: " + join(kinds) + ")");
-      body.thickness = b.required("thickness", {"rounding diameter (a segment's cap diameter d_s)", "m", Rule::non_negative});
+      body.thickness = b.required("thickness", scene_key::thickness);
       body.vertices = read_shape(b, *kind, body.thickness);
       const Vec2 v =
-          b.vec2("velocity", {"prescribed velocity", "m/s", Rule::finite}).value_or(Vec2{0.0, 0.0});
+          b.vec2("velocity", scene_key::body_velocity).value_or(Vec2{0.0, 0.0});
       body.vx = v[0], body.vy = v[1];
       if ((v[0] != 0.0 || v[1] != 0.0) && !has(s_.effects, effect::moving_bodies))
         b.fail("velocity", "a non-zero velocity needs effects.moving_bodies = true");
       any_moving = any_moving || v[0] != 0.0 || v[1] != 0.0;
       read_motion(b, body);
       any_moving = any_moving || !body.motion.empty();
-      body.remove_at = b.number_or("remove_at", {"time the body is taken away", "s", Rule::non_negative}, -1.0);
+      body.remove_at = b.number_or("remove_at", scene_key::remove_at, -1.0);
       time_key(b, "remove_at", body.remove_at, "to keep the body, leave remove_at out");
       s_.bodies.push_back(body);
     }
@@ -454,17 +454,17 @@ class SceneParser {
         if (spec->kind == MotionKind::constant && last && !m.has("duration"))
           seg.duration = std::numeric_limits<double>::infinity();
         else
-          seg.duration = m.required("duration", {"segment duration", "s", Rule::positive}, why);
+          seg.duration = m.required("duration", scene_key::segment_duration, why);
       }
       if (take(spec->velocity, "velocity")) {
-        const Vec2 v = m.required_vec2("velocity", {"velocity (a ramp's at its end)", "m/s", Rule::finite}, why);
+        const Vec2 v = m.required_vec2("velocity", scene_key::segment_velocity, why);
         seg.vx = v[0], seg.vy = v[1];
       }
       if (take(spec->amplitude, "amplitude")) {
-        const Vec2 a = m.required_vec2("amplitude", {"peak displacement of a cycle", "m", Rule::finite}, why);
+        const Vec2 a = m.required_vec2("amplitude", scene_key::amplitude, why);
         seg.ax = a[0], seg.ay = a[1];
       }
-      if (take(spec->period, "period")) seg.period = m.required("period", {"period of a cycle", "s", Rule::positive}, why);
+      if (take(spec->period, "period")) seg.period = m.required("period", scene_key::period, why);
       if (take(spec->cycles, "cycles"))
         seg.cycles = static_cast<int>(m.integer_or("cycles", 1, "number of cycles", 1));
       if (std::isinf(seg.duration) && b.has("motion_repeat"))
@@ -486,18 +486,18 @@ class SceneParser {
       f_.fail(j.where(), "[jam] taps hopper walls, which needs effects.moving_bodies = true");
     JamControl& c = s_.jam;
     c.enabled = true;
-    c.outlet_height = j.required("outlet_height", {"height of the hopper outlet", "m", Rule::finite});
-    c.start_time = j.number_or("start_time", {"time the outlet opens", "s", Rule::non_negative}, 0.0);
-    c.no_flow_time = j.required("no_flow_time", {"time without outflow that makes a jam", "s", Rule::positive});
-    c.check_interval = j.number_or("check_interval", {"interval between checks", "s", Rule::positive},
+    c.outlet_height = j.required("outlet_height", scene_key::outlet_height);
+    c.start_time = j.number_or("start_time", scene_key::jam_start_time, 0.0);
+    c.no_flow_time = j.required("no_flow_time", scene_key::no_flow_time);
+    c.check_interval = j.number_or("check_interval", scene_key::check_interval,
                                    c.no_flow_time / 10.0);
     c.bodies = j.strings("bodies", "the hopper walls tapped to clear a jam");
     for (const std::string& name : c.bodies)
       if (!has_body(name)) j.fail("bodies", "'" + name + "' names no [[body]]");
-    const Vec2 v = j.required_vec2("tap_velocity", {"tap velocity, first half of a tap", "m/s", Rule::finite});
+    const Vec2 v = j.required_vec2("tap_velocity", scene_key::tap_velocity);
     c.tap_vx = v[0];
     c.tap_vy = v[1];
-    c.tap_duration = j.required("tap_duration", {"duration of a tap, there and back", "s", Rule::positive});
+    c.tap_duration = j.required("tap_duration", scene_key::tap_duration);
     c.max_taps = static_cast<int>(j.integer_or("max_taps", 1, "taps before giving up", 20, 1000000));
     time_key(j, "start_time", c.start_time, "to never watch for jams, leave [jam] out");
     time_key(j, "no_flow_time", c.no_flow_time, "to never watch for jams, leave [jam] out");

@@ -92,7 +92,9 @@ TEST(ExtraTerm, RunFileFrictionLoadIncludesItsPull) {
     rec.record_snapshot(sys);
   }
   const std::string out = (dir.path() / "run.h5").string();
-  rec.finish(sys, RunInfo{}, out, "duration");
+  RunInfo info;
+  info.scene = &s;
+  rec.finish(sys, info, out, "duration");
   const RunReader run(out);
   const std::vector<double> mu_star = read_rows<double>(run.file(), "contacts/mu_star", 0, 5);
   for (std::size_t k = 0; k < run.snapshots(); ++k) {

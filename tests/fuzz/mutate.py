@@ -203,6 +203,7 @@ def mutate_run(rng, f):
         del f[name]
         if kind == "delete":
             return kind, name, "all"
+        data = np.asarray(data).reshape(-1) if np.ndim(data) == 0 and kind in ("shorter", "empty") else data
         if kind == "shorter":
             data = data[:-1] if len(data) > 1 else data[:0]
         elif kind == "empty":

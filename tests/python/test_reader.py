@@ -73,7 +73,7 @@ def test_bodies_heights_and_snapshots(example_runs):
         h = run.heights()
         assert h[0] == pytest.approx(0.001, abs=1e-9)  # the bar lies on the floor: its centre 1 mm up
         speed = np.polyfit(run.times, h, 1)[0]
-        assert speed == pytest.approx(run.scene["body"][3]["velocity"][1], rel=1e-9)  # 20 mm/s
+        assert speed == pytest.approx(run.parameters.body("intruder")["velocity"][1], rel=1e-9)  # 20 mm/s
         assert run.snapshot(-1).time == run.times[-1] == run.snapshot(len(run) - 1).time
         assert run.snapshot_at(run.times[3] + 1e-6).index == 3
         with pytest.raises(KeyError, match="no body with role or name 'lid'"):
@@ -90,3 +90,22 @@ def test_what_is_not_a_run_file_is_refused(tmp_path):
         dem2d.open_run(other)
     with pytest.raises(OSError, match="missing.h5: cannot open as a run file"):
         dem2d.open_run(tmp_path / "missing.h5")
+
+
+def test_parameters_are_the_scenes_typed_with_units(example_runs, tmp_path):
+    with dem2d.open_run(example_runs["pulloff"]) as run:
+        p = run.parameters
+        assert p.effects >= {"gravity", "friction", "walls", "moving_bodies"}
+        assert p.contact["grain_grain"]["kn"] == 1.92e6 and p.units["contact/grain_grain/kn"] == "N/m"
+        assert p.contact["grain_grain"]["friction"] == 0.5 and p.contact["grain_body"]["friction"] == 0.5
+        assert "cohesion_force" not in p.contact["grain_grain"]  # its effect is off
+        assert p.dt == run.dt and p.units["time/dt"] == "s"
+        assert list(p.body("intruder")["velocity"]) == [0.0, 0.02] and p.units["bodies/3/velocity"] == "m/s"
+        assert p.stop["body_free"] == "intruder" and p.stop["free_time"] > 0
+    # a run file from before /parameters is refused, saying how to regenerate it
+    old = tmp_path / "old.h5"
+    old.write_bytes(open(example_runs["box"], "rb").read())
+    with h5py.File(old, "a") as f:
+        del f["parameters"]
+    with pytest.raises(ValueError, match="old.h5: written by dem2d .* before run files carried their parameters"):
+        dem2d.open_run(old)
