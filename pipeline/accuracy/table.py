@@ -43,19 +43,20 @@ class Run:
     """One point's pull-off: its drag series, overlaps and cost."""
 
     def __init__(self, directory: Path):
-        import h5py
         import numpy as np
+
+        import dem2d
 
         run_file = directory / "pulloff" / "run.h5"
         try:
-            with h5py.File(run_file, "r") as f:
-                a = f.attrs
-                self.wall = float(a["wall_seconds"])
-                self.steps = int(a["steps"])
-                self.dt = float(a["dt"])
-                self.overlap = np.asarray(f["series/max_overlap"]) / float(np.mean(f["particles/diameter"]))
-                self.d_mean_mm = 1e3 * float(np.mean(f["particles/diameter"]))
-        except (OSError, KeyError) as e:
+            with dem2d.open_run(run_file) as r:
+                self.wall = float(r.attrs["wall_seconds"])
+                self.steps = int(r.attrs["steps"])
+                self.dt = float(r.dt)
+                d_mean = float(np.mean(r.particles.diameter))
+                self.overlap = np.asarray(r.series["max_overlap"]) / d_mean
+                self.d_mean_mm = 1e3 * d_mean
+        except (OSError, KeyError, ValueError) as e:
             fail(f"{run_file}: unreadable ({e}): rerun `{MAKE}`")
         csv = directory / "pulloff" / "drag.csv"
         try:

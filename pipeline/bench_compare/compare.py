@@ -37,11 +37,11 @@ import sys
 import time
 from pathlib import Path
 
-import h5py
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "report"))
-from files import fail, read_toml, write_atomic  # noqa: E402
+from files import fail, read_toml, write_atomic  # noqa: E402  (also puts python/dem2d on the path)
+import dem2d  # noqa: E402
 
 WALL = 2e-3  # m, thickness of dem2d's wall sphero-lines (their inner faces are the cell's)
 
@@ -147,15 +147,12 @@ thickness = {WALL}
 
 def final_state(run: Path) -> dict:
     """Positions, velocities, spins, diameters and grain-grain contacts at the end of a dem2d run."""
-    with h5py.File(run, "r") as f:
-        s = f["snapshots"]
-        last = s["position"].shape[0] - 1
-        c0, c1 = s["contact_start"][last], s["contact_start"][last + 1]
-        j = f["contacts/j"][c0:c1]
-        overlap = f["contacts/overlap"][c0:c1]
-        return {"position": s["position"][last], "velocity": s["velocity"][last], "omega": s["omega"][last],
-                "diameter": f["particles/diameter"][:], "dt": float(f.attrs["dt"]),
-                "pair_contacts": int(np.count_nonzero((j >= 0) & (overlap > 0)))}
+    with dem2d.open_run(run) as r:
+        s = r.snapshot(-1)
+        c = s.contacts
+        return {"position": s.position, "velocity": s.velocity, "omega": s.omega,
+                "diameter": r.particles.diameter, "dt": float(r.dt),
+                "pair_contacts": int(np.count_nonzero(~c.is_body & (c.overlap > 0)))}
 
 
 def lammps_inputs(d: dict, bed: dict, out: Path, steps: int, two_nu: float) -> Path:

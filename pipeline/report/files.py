@@ -6,6 +6,9 @@ import os
 import sys
 from pathlib import Path
 
+# the run-file reader (python/dem2d): the one way the scripts read run files
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
+
 
 def fail(message: str) -> None:
     print(message, file=sys.stderr)

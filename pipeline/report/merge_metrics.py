@@ -30,21 +30,21 @@ SIMULATIONS = ["fill", "pulloff"]
 
 def simulation_cost(run_file: Path, preset: str, stage: str) -> tuple[dict, str]:
     """The run's cost (engine wall time, steps, ...) and the code version that ran it."""
-    import h5py  # Debian's python3-h5py
+    import dem2d  # python/dem2d (files.py puts it on the path)
 
     try:
-        with h5py.File(run_file, "r") as f:
-            a = f.attrs
+        with dem2d.open_run(run_file) as r:
+            a = r.attrs
             steps, n, wall = int(a["steps"]), int(a["n_particles"]), float(a["wall_seconds"])
             cost = {"wall_seconds": wall, "steps": steps, "particles": n, "threads": int(a["threads"]),
                     "simulated_seconds": float(a["end_time"]), "time_step_s": float(a["dt"])}
             version = a["code_version"]
-    except (OSError, KeyError) as e:
+    except (OSError, KeyError, ValueError) as e:
         fail(f"{run_file}: cannot read the run's cost ({e}): run `make {stage} PRESET={preset}`")
     if steps > 0 and wall > 0:
         cost["ns_per_particle_step"] = wall * 1e9 / (steps * n)
         cost["particle_steps_per_second"] = steps * n / wall
-    return cost, version.decode() if isinstance(version, bytes) else str(version)
+    return cost, str(version)
 
 
 def main() -> None:

@@ -5,8 +5,12 @@ import subprocess
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import h5py
+import sys
+
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
+import dem2d  # noqa: E402  (the run-file reader, python/dem2d)
 
 DENSITY = 2500.0  # kg/m^3, glass (SPEC)
 
@@ -68,12 +72,13 @@ class Run:
         self.file = self.dir / "run.h5"
 
     def read(self, name: str) -> np.ndarray:
-        with h5py.File(self.file, "r") as f:
-            return f[name][...]
+        """Dataset `name` of the run file (e.g. "series/time"), read through dem2d.Run."""
+        with dem2d.open_run(self.file) as r:
+            return r.dataset(name)
 
     def attr(self, name: str):
-        with h5py.File(self.file, "r") as f:
-            return f.attrs[name]
+        with dem2d.open_run(self.file) as r:
+            return r.attrs[name]
 
 
 def run(dem2d: str, scene: dict, out: Path, extra_args=()) -> Run:

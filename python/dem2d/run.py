@@ -235,6 +235,12 @@ class Run:
     def stop_reason(self):
         return self.attrs["stop_reason"]
 
+    def dataset(self, name):
+        """A whole dataset by its path in the file (docs/run_file.md), e.g. "series/kinetic_energy"."""
+        if name not in self.file:
+            raise KeyError(f"{self.path}: no dataset /{name}")
+        return self.file[name][...]
+
     @cached_property
     def parameters(self) -> Parameters:
         """What the run ran with (/parameters): the laws, bodies and schedules, time step, stop criteria."""
