@@ -26,7 +26,7 @@ namespace {
 // did not stop that way.
 double exit_height(const RunReader& run, const DragProfile& p) {
   const h5::File& f = run.file();
-  if (h5::read_attr_string(f, "/", "stop_reason").find("free of the bed") == std::string::npos) return kNaN;
+  if (run.stopped_by() != "body_free") return kNaN;
   const double free_time = run.parameters().stop.free_time;
   const double t = h5::read_attr_double(f, "/", "end_time") - free_time;
   if (!(t >= p.time.front() && t <= p.time.back())) return kNaN;

@@ -106,5 +106,5 @@ def static_pile(ctx) -> list:
                   1e-3, reference="statics: sum F_y = m g"),
             Check(case, "side walls' horizontal pushes, summed / weight", 0.0, float(force[:, 0].sum()) / weight, 1e-3,
                   kind="abs", reference="statics: sum F_x = 0"),
-            Check(case, "stopped at rest", 1.0, float(r.attr("stop_reason").startswith("kinetic energy")), 0.0,
+            Check(case, "stopped at rest", 1.0, float(r.attr("stopped_by") == "kinetic_energy"), 0.0,
                   kind="abs", reference="per-grain kinetic energy criterion")]

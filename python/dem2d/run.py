@@ -233,7 +233,13 @@ class Run:
 
     @property
     def stop_reason(self):
+        """Why the run ended, in words."""
         return self.attrs["stop_reason"]
+
+    @property
+    def stopped_by(self):
+        """The criterion that ended it: "duration", "body_free", "kinetic_energy", "max_taps"."""
+        return self.attrs.get("stopped_by", "")
 
     def dataset(self, name):
         """A whole dataset by its path in the file (docs/run_file.md), e.g. "series/kinetic_energy"."""

@@ -66,6 +66,7 @@ void write_header(const h5::File& f, const System& sys, const RunInfo& info, con
   h5::write_attr(f, "/", "steps", i64(sys.step));
   h5::write_attr(f, "/", "end_time", sys.time());
   h5::write_attr(f, "/", "stop_reason", stop_reason);
+  h5::write_attr(f, "/", "stopped_by", info.stopped_by);
   h5::write_attr(f, "/", "effects", effect_names(sys.effects));
   h5::write_attr(f, "/", "n_particles", i64(sys.size()));
   h5::write_attr(f, "/", "n_bodies", i64(sys.bodies.size()));

@@ -23,6 +23,7 @@ namespace dem2d {
 // Header data, written as root attributes.
 struct RunInfo {
   const Scene* scene = nullptr;    // the validated scene, written as /parameters (required)
+  std::string stopped_by;          // the criterion that ended the run (Controller::stop_criterion)
   std::string scene_text, scene_path, code_version;  // code_version: core/version.hpp
   int threads = 1;
   std::string initial_run;         // run file the grains came from ("" if none)

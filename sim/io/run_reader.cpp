@@ -431,4 +431,9 @@ Snapshot RunReader::last_snapshot() const {
 
 RunParameters RunReader::parameters() const { return read_parameters(file_); }
 
+std::string RunReader::stopped_by() const {
+  if (!h5::has_attr(file_, "/", "stopped_by")) fail("root attribute stopped_by is missing");
+  return h5::read_attr_string(file_, "/", "stopped_by");
+}
+
 }  // namespace dem2d

@@ -112,6 +112,9 @@ class RunReader {
   // The run's parameters (/parameters: the law per pair, the bodies and
   // their schedules, the time step, effects, stop criteria), read when asked.
   RunParameters parameters() const;
+  // Which criterion ended the run: "duration", "body_free", "kinetic_energy",
+  // "max_taps" ("" for files written by a program, not a run).
+  std::string stopped_by() const;
 
   std::size_t particles() const { return diameter_.size(); }
   std::size_t snapshots() const { return times_.size(); }

@@ -70,6 +70,9 @@ class Controller {
   // Runs when sys.step == next_step(). A non-empty result ends the run and
   // is its stop reason.
   virtual std::string act(System& sys) = 0;
+  // After act() ended the run: which criterion did (the run file's
+  // `stopped_by`: "duration", "body_free", "kinetic_energy", "max_taps").
+  virtual std::string stop_criterion() const { return name(); }
   // Its state at the current step, after it acted (may flush buffers first).
   virtual void save(const ControllerState& out) = 0;
   // Replaces the state a fresh start set up with the saved one.

@@ -23,6 +23,7 @@ class JamController final : public Controller {
   JamController(const JamControl& spec, const System& sys);
 
   std::string name() const override { return "jam"; }
+  std::string stop_criterion() const override { return "max_taps"; }
   // A check or a tap turning (kNever without [jam]).
   std::int64_t next_step() const override;
   // Ends the run once a jam was detected after max_taps taps (the hopper

@@ -107,7 +107,10 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   std::int64_t chunk = 64;
   while (report.stop_reason.empty()) {
     for (Controller* c : controllers)
-      if (c->next_step() == sys.step && !(report.stop_reason = c->act(sys)).empty()) break;
+      if (c->next_step() == sys.step && !(report.stop_reason = c->act(sys)).empty()) {
+        report.stopped_by = c->stop_criterion();
+        break;
+      }
     if (!report.stop_reason.empty()) break;
     if (g_interrupt.load() || sys.step == opt.interrupt_at_step) {
       checkpoint();
@@ -139,6 +142,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
 
   RunInfo info;
   info.scene = &scene;
+  info.stopped_by = report.stopped_by;
   info.scene_text = scene.text;
   info.scene_path = scene.path;
   info.code_version = code_version();

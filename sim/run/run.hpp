@@ -29,6 +29,7 @@ struct RunReport {
   bool complete = false;  // false: interrupted, checkpoint written
   bool resumed = false;
   std::string stop_reason;
+  std::string stopped_by;  // the criterion (Controller::stop_criterion)
   std::int64_t steps = 0;        // steps advanced by this invocation
   std::int64_t final_step = 0;
   double wall_seconds = 0.0;     // of this invocation

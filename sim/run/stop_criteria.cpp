@@ -27,9 +27,12 @@ StopCriteria::StopCriteria(const Scene& scene, const System& sys)
 std::string StopCriteria::act(System& sys) {
   next_check_ += every_;
   if (free_ && held_by_bed(sys, free_body_)) last_contact_ = sys.step;
-  if (free_ && sys.step - last_contact_ >= free_steps_)
+  if (free_ && sys.step - last_contact_ >= free_steps_) {
+    met_ = "body_free";
     return "body " + stop_.body_free + " free of the bed for " + shortest(stop_.free_time) + " s";
+  }
   if (energy_ && kinetic_energy_criterion_met(sys, stop_) && highest_grain(sys) < stop_.all_below) {
+    met_ = "kinetic_energy";
     std::ostringstream why;
     if (stop_.kinetic_energy_per_grain_below > 0.0)
       why << "kinetic energy below " << stop_.kinetic_energy_per_grain_below << " J/m per grain";

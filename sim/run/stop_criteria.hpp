@@ -35,6 +35,7 @@ class StopCriteria final : public Controller {
   std::string name() const override { return "stop"; }
   std::int64_t next_step() const override { return next_check_; }
   std::string act(System& sys) override;
+  std::string stop_criterion() const override { return met_; }
   void save(const ControllerState& out) override;
   void restore(const ControllerState& in) override;
   // body_free: when the body's bottom, rising at its current velocity, clears
@@ -42,6 +43,7 @@ class StopCriteria final : public Controller {
   EndForecast forecast(const System& sys) const override;
 
  private:
+  std::string met_;  // the criterion act() found met: "body_free" or "kinetic_energy"
   StopCondition stop_;
   bool energy_ = false, free_ = false;
   std::size_t free_body_ = 0;
