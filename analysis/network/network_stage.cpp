@@ -226,11 +226,11 @@ NetworkResult run_network(const NetworkInputs& in, const NetworkConfig& cfg, con
   return run_network(run, events, spectrum_top_mm, in, cfg, study);
 }
 
-NetworkResult run_network(const SnapshotSource& run, const std::vector<RuptureEvent>& events, double spectrum_top_mm,
-                          const NetworkInputs& in, const NetworkConfig& cfg, const Study& study) {
-  const std::size_t S = run.snapshots();
-  if (S == 0) throw StageError(run.path() + ": the run has no snapshots");
+namespace {
 
+// The percolation variants: the configured strong network, its sensitivity
+// thresholds, the other floor rule, the whole network; S snapshots each.
+std::vector<Variant> percolation_variants(const NetworkConfig& cfg, std::size_t S) {
   const FloorRule rule = floor_rule_from_name(cfg.floor_rule);
   const FloorRule other_rule = rule == FloorRule::vertex_removed ? FloorRule::bottom_layer_removed : FloorRule::vertex_removed;
   std::vector<Variant> variants = {{"strong", cfg.strong_threshold, rule, {}, {}}};
@@ -239,111 +239,117 @@ NetworkResult run_network(const SnapshotSource& run, const std::vector<RuptureEv
   variants.push_back({std::string("strong_") + floor_rule_name(other_rule), cfg.strong_threshold, other_rule, {}, {}});
   variants.push_back({"whole", 0.0, rule, {}, {}});
   for (Variant& v : variants) v.left.assign(S, 0), v.right.assign(S, 0);
+  return variants;
+}
 
-  // Snapshots whose force network goes to the figure data: every k-th and the
-  // one before each event's peak.
+// Snapshots whose force network goes to the figure data: every k-th and the
+// one before each event's peak.
+std::set<std::size_t> figure_snapshots(const SnapshotSource& run, const std::vector<RuptureEvent>& events,
+                                       const NetworkConfig& cfg) {
   std::set<std::size_t> figure;
-  for (const std::size_t k : every_kth(S, static_cast<std::size_t>(cfg.figure_every))) figure.insert(k);
+  for (const std::size_t k : every_kth(run.snapshots(), static_cast<std::size_t>(cfg.figure_every))) figure.insert(k);
   for (const RuptureEvent& e : events)
     if (const EventWindow w = event_window(run.snapshot_times(), e, cfg.event_max_gap_s); w.before >= 0)
       figure.insert(static_cast<std::size_t>(w.before));
-  ForceSegments segments;
+  return figure;
+}
 
+// What the snapshot loop gathers.
+struct Tracked {
   Track t;
-  const double d_mean = study.mean_diameter;  // "d" of the settings
-  double measured_d = 0.0, bed0 = 0.0, end_to_wall = 0.0;
-  std::vector<double> diameter;
+  std::vector<Variant> variants;
+  ForceSegments segments;
+  double measured_d = 0.0, bed0 = 0.0, end_to_wall = 0.0;  // (m), at the first snapshot
+  std::vector<double> diameter;                             // (m) [N]
+};
+
+// Snapshot k's measures: its contact graph's percolation for every variant,
+// the fabric above the intruder, the grains touching it, its keystones.
+void track_snapshot(const Snapshot& s, std::size_t k, const NetworkConfig& cfg, double d_mean, bool to_figure,
+                    Tracked& out) {
+  Track& t = out.t;
+  const FloorRule rule = floor_rule_from_name(cfg.floor_rule);
+  const PulloffGeometry geo = pulloff_geometry(s);
+  if (k == 0) {
+    out.measured_d = mean_diameter(s);
+    out.bed0 = bed_height(s, geo);
+    out.end_to_wall = geo.end_to_wall();
+    out.diameter = s.diameter;
+  }
+  const std::vector<Partner> partners = classify_contacts(s, geo);
+  const ContactGraph g = build_contact_graph(s, partners);
+  const double strong = cfg.strong_threshold * g.mean_fn;
+  t.time.push_back(s.time);
+  t.height.push_back(geo.height());
+  t.intruder_y.push_back(geo.centre.y);
+  t.mean_fn.push_back(g.mean_fn);
+  t.contacts.push_back(static_cast<std::int64_t>(g.edges()));
+  t.strong_contacts.push_back(g.edges_above(strong));
+  for (Variant& v : out.variants) {
+    const Percolation p = percolation(g, v.factor * g.mean_fn, v.rule, g.intruder());
+    v.left[k] = p.left, v.right[k] = p.right;
+  }
+  const double y0 = t.intruder_y.back(), y1 = y0 + cfg.anisotropy_region_height * geo.end_to_wall();
+  const auto min_contacts = static_cast<std::size_t>(cfg.anisotropy_min_contacts);
+  t.fabric_strong.push_back(region_fabric(s, partners, strong, y0, y1, min_contacts));
+  t.fabric_all.push_back(region_fabric(s, partners, 0.0, y0, y1, min_contacts));
+  t.fabric_region.resize(cfg.sensitivity_anisotropy_region_height.size());
+  for (std::size_t r = 0; r < t.fabric_region.size(); ++r)
+    t.fabric_region[r].push_back(region_fabric(
+        s, partners, strong, y0, y0 + cfg.sensitivity_anisotropy_region_height[r] * geo.end_to_wall(), min_contacts));
+  t.touching.emplace_back();
+  for (const auto e : boost::make_iterator_range(boost::out_edges(g.intruder(), g.graph)))
+    if (boost::target(e, g.graph) < g.grains) t.touching.back().push_back(static_cast<std::int32_t>(boost::target(e, g.graph)));
+  t.keystones.push_back(analyse_keystones(g, s, geo, strong, rule, cfg.keystone_end_zone_d * d_mean));
+  t.position.push_back(s.position);
+  if (to_figure) out.segments.add(s, partners, strong);
+}
+
+// The loop over the run's snapshots.
+Tracked track(const SnapshotSource& run, const std::vector<RuptureEvent>& events, const NetworkConfig& cfg,
+              double d_mean) {
+  const std::size_t S = run.snapshots();
+  Tracked out;
+  out.variants = percolation_variants(cfg, S);
+  const std::set<std::size_t> figure = figure_snapshots(run, events, cfg);
   for (std::size_t k = 0; k < S; ++k) {
     const Snapshot s = run.snapshot(k);
     try {
-      const PulloffGeometry geo = pulloff_geometry(s);
-      if (k == 0) {
-        measured_d = mean_diameter(s);
-        bed0 = bed_height(s, geo);
-        end_to_wall = geo.end_to_wall();
-        diameter = s.diameter;
-      }
-      const std::vector<Partner> partners = classify_contacts(s, geo);
-      const ContactGraph g = build_contact_graph(s, partners);
-      const double strong = cfg.strong_threshold * g.mean_fn;
-      t.time.push_back(s.time);
-      t.height.push_back(geo.height());
-      t.intruder_y.push_back(geo.centre.y);
-      t.mean_fn.push_back(g.mean_fn);
-      t.contacts.push_back(static_cast<std::int64_t>(g.edges()));
-      t.strong_contacts.push_back(g.edges_above(strong));
-      for (Variant& v : variants) {
-        const Percolation p = percolation(g, v.factor * g.mean_fn, v.rule, g.intruder());
-        v.left[k] = p.left, v.right[k] = p.right;
-      }
-      const double y0 = t.intruder_y.back(), y1 = y0 + cfg.anisotropy_region_height * geo.end_to_wall();
-      const auto min_contacts = static_cast<std::size_t>(cfg.anisotropy_min_contacts);
-      t.fabric_strong.push_back(region_fabric(s, partners, strong, y0, y1, min_contacts));
-      t.fabric_all.push_back(region_fabric(s, partners, 0.0, y0, y1, min_contacts));
-      t.fabric_region.resize(cfg.sensitivity_anisotropy_region_height.size());
-      for (std::size_t r = 0; r < t.fabric_region.size(); ++r)
-        t.fabric_region[r].push_back(region_fabric(
-            s, partners, strong, y0, y0 + cfg.sensitivity_anisotropy_region_height[r] * geo.end_to_wall(), min_contacts));
-      t.touching.emplace_back();
-      for (const auto e : boost::make_iterator_range(boost::out_edges(g.intruder(), g.graph)))
-        if (boost::target(e, g.graph) < g.grains) t.touching.back().push_back(static_cast<std::int32_t>(boost::target(e, g.graph)));
-      t.keystones.push_back(analyse_keystones(g, s, geo, strong, rule, cfg.keystone_end_zone_d * d_mean));
-      t.position.push_back(s.position);
-      if (figure.count(k)) {
-        segments.add(s, partners, strong);
-      }
+      track_snapshot(s, k, cfg, d_mean, figure.count(k) > 0, out);
     } catch (const StageError& e) {
       throw StageError(run.path() + ": snapshot " + std::to_string(k) + ": " + e.what());
     }
   }
+  return out;
+}
 
-  // Percolation against height and the loss height.
-  const bool both = cfg.walls == "both";
-  const HeightBins bins{cfg.bin_width_d * d_mean};
-  const Variant& primary = variants.front();
-  const std::vector<std::uint8_t> flags = primary.flags(both);
-  const PercolationProfile profile = percolation_profile(bins, t.height, flags);
-  const std::optional<double> loss = loss_height(profile, cfg.loss_level);
+// The top layer's height (m; NaN: none), where it came from, and the top of
+// the range called "below the top layer".
+struct TopLayer {
+  double height = kNaN;
+  std::string source;
+  double below_hi = 0.0;
+};
 
-  double top = kNaN;
-  std::string top_source;
+TopLayer top_layer(double spectrum_top_mm, const std::optional<double>& loss, const NetworkInputs& in, double bed0) {
+  TopLayer top;
   if (std::isfinite(spectrum_top_mm)) {
-    top = spectrum_top_mm / kMm;
-    top_source = "spectrum metrics (" + in.spectrum_metrics + ": spectrum.top_layer_height_mm)";
+    top.height = spectrum_top_mm / kMm;
+    top.source = "spectrum metrics (" + in.spectrum_metrics + ": spectrum.top_layer_height_mm)";
   } else if (loss) {
-    top = *loss;
-    top_source = std::string(in.spectrum_metrics.empty() ? "no --spectrum-metrics given"
-                                                        : "spectrum.top_layer_height_mm absent or null") +
+    top.height = *loss;
+    top.source = std::string(in.spectrum_metrics.empty() ? "no --spectrum-metrics given"
+                                                         : "spectrum.top_layer_height_mm absent or null") +
                  ": this stage's percolation-loss height";
   } else {
-    top_source = "none: no spectrum top layer and percolation is never lost; 'below the top layer' = the whole pull-off";
+    top.source = "none: no spectrum top layer and percolation is never lost; 'below the top layer' = the whole pull-off";
   }
-  const double below_hi = std::isfinite(top) ? top : bed0;
+  top.below_hi = std::isfinite(top.height) ? top.height : bed0;
+  return top;
+}
 
-  json m;
-  m["run_file"] = run.path();
-  m["config_file"] = in.config;
-  m["events_file"] = in.events.empty() ? json(nullptr) : json(in.events);
-  m["spectrum_metrics_file"] = in.spectrum_metrics.empty() ? json(nullptr) : json(in.spectrum_metrics);
-  m["snapshots"] = S;
-  m["intruder"] = true;
-  m["d_mm"] = d_mean * kMm;
-  m["measured_mean_diameter_mm"] = measured_d * kMm;
-  m["initial_bed_height_mm"] = bed0 * kMm;
-  m["end_to_wall_distance_mm"] = end_to_wall * kMm;
-  m["percolation_loss_height_mm"] = mm_or_null(loss);
-  if (!loss) m["percolation_loss_note"] = "the strong network still percolates in the highest height bin";
-  m["top_layer_height_mm"] = mm_or_null(top);
-  m["top_layer_source"] = top_source;
-
-  std::int64_t n_below = 0;
-  m["percolating_fraction_below_top_layer"] = number_or_null(flagged_fraction(t.height, flags, -kInf, below_hi, &n_below));
-  m["snapshots_below_top_layer"] = n_below;
-  m["percolating_fraction_above_top_layer"] = number_or_null(flagged_fraction(t.height, flags, below_hi, bed0));
-  m["whole_network_percolating_fraction_below_top_layer"] =
-      number_or_null(flagged_fraction(t.height, variants.back().flags(both), -kInf, below_hi));
-
-  // Anisotropy of the strong network above the intruder.
+// The fabric of the strong network above the intruder, in and below the top layer.
+void anisotropy_metrics(json& m, const Track& t, double top, double bed0, double below_hi) {
   std::int64_t n_top = 0, n_top_all = 0;
   const double top_aniso = std::isfinite(top) ? mean_of(t.fabric_strong, t.height, top, bed0, &Fabric::anisotropy, &n_top) : kNaN;
   m["top_layer_anisotropy"] = number_or_null(top_aniso);
@@ -374,7 +380,13 @@ NetworkResult run_network(const SnapshotSource& run, const std::vector<RuptureEv
     m["top_layer_anisotropy_note"] = "no snapshot above the top-layer height has anisotropy_min_contacts strong "
                                      "contacts above the intruder: the strong network is (nearly) absent there";
 
-  // Keystones and events.
+}
+
+// Keystones at the rupture events (--events): which explain a drop.
+EventSummary event_metrics(json& m, const Track& t, const std::vector<double>& diameter,
+                           const std::vector<RuptureEvent>& events, const NetworkInputs& in, const NetworkConfig& cfg,
+                           double bed0, const std::vector<std::uint8_t>& flags) {
+  const std::size_t S = t.time.size();
   std::int64_t with_keys = 0, in_bed = 0;
   for (std::size_t k = 0; k < S; ++k)
     if (t.height[k] < bed0) ++in_bed, with_keys += !t.keystones[k].keystones(cfg.keystone_share).empty();
@@ -408,7 +420,19 @@ NetworkResult run_network(const SnapshotSource& run, const std::vector<RuptureEv
     m["baseline_window_snapshots"] = ev.window_snapshots;
   }
 
-  // Sensitivity tables.
+  return ev;
+}
+
+// How the metrics move with the settings' thresholds.
+json sensitivity(const Tracked& tr, const std::vector<RuptureEvent>& events, const NetworkInputs& in,
+                 const NetworkConfig& cfg, double d_mean, double top, double below_hi) {
+  const Track& t = tr.t;
+  const std::vector<Variant>& variants = tr.variants;
+  const double bed0 = tr.bed0;
+  const std::vector<double>& diameter = tr.diameter;
+  const HeightBins bins{cfg.bin_width_d * d_mean};
+  const std::vector<std::uint8_t> flags = variants.front().flags(cfg.walls == "both");
+  const PercolationProfile profile = percolation_profile(bins, t.height, flags);
   json sens;
   for (const Variant& v : variants) {
     for (const bool b : {true, false}) {
@@ -465,21 +489,73 @@ NetworkResult run_network(const SnapshotSource& run, const std::vector<RuptureEv
                                      {"displaced_fraction_outside_drops", number_or_null(e.baseline)}});
       }
   }
-  m["sensitivity"] = sens;
-  m["config"] = to_json(cfg);
+  return sens;
+}
 
-  NetworkResult r;
-  r.metrics = {{"network", m}};
+// network.h5: the per-snapshot series, percolation, profile, fabric, keystones, events.
+// network.h5's keystones: the max flows, the keystones and the candidates per snapshot.
+void write_keystones(H5Output& h, const Track& t, const NetworkConfig& cfg) {
+  std::vector<double> flow_l, flow_r, c_share_l, c_share_r;
+  std::vector<std::int64_t> k_start = {0}, c_start = {0};
+  std::vector<std::int32_t> k_grain, c_grain, c_end;
+  for (const KeystoneAnalysis& a : t.keystones) {
+    flow_l.push_back(a.flow_left), flow_r.push_back(a.flow_right);
+    for (const std::int32_t g : a.keystones(cfg.keystone_share)) k_grain.push_back(g);
+    k_start.push_back(static_cast<std::int64_t>(k_grain.size()));
+    for (const KeystoneCandidate& c : a.candidates)
+      c_grain.push_back(c.grain), c_end.push_back(c.end), c_share_l.push_back(c.share_left), c_share_r.push_back(c.share_right);
+    c_start.push_back(static_cast<std::int64_t>(c_grain.size()));
+  }
+  h.add("keystones/flow_left", flow_l, "N/m", "max flow intruder -> left wall, strong network, capacities fn");
+  h.add("keystones/flow_right", flow_r, "N/m", "max flow intruder -> right wall");
+  h.add("keystones/start", k_start, "-", "keystones of snapshot k: grain[start[k] .. start[k+1]-1]");
+  h.add("keystones/grain", k_grain, "-", "keystone grain ids (share >= keystone_share)");
+  h.add("keystones/candidate_start", c_start, "-", "candidates of snapshot k: rows start[k] .. start[k+1]-1");
+  h.add("keystones/candidate_grain", c_grain, "-", "grain on a strong contact with an intruder end");
+  h.add("keystones/candidate_end", c_end, "-", "-1: end a (bodies/intruder a), +1: end b");
+  h.add("keystones/candidate_share_left", c_share_l, "-", "share of the max flow to the left wall through it");
+  h.add("keystones/candidate_share_right", c_share_r, "-", "share of the max flow to the right wall through it");
+}
 
-  // network.h5
-  r.h5 = H5Output("network", run.path());
-  H5Output& h = r.h5;
+// network.h5's events: each rupture's snapshots, keystones and what moved.
+void write_events(H5Output& h, const EventSummary& ev, const std::vector<RuptureEvent>& events) {
+  std::vector<double> peak, drop, disp;
+  std::vector<std::int64_t> before, after, nkeys;
+  std::vector<std::int32_t> grain;
+  std::vector<std::uint8_t> resolved, explained, below;
+  for (std::size_t e = 0; e < ev.checks.size(); ++e) {
+    const EventCheck& c = ev.checks[e];
+    peak.push_back(events[e].peak_time), drop.push_back(events[e].drop_end_time);
+    before.push_back(c.window.before), after.push_back(c.window.after);
+    resolved.push_back(c.window.resolved), nkeys.push_back(static_cast<std::int64_t>(c.keystones.size()));
+    grain.push_back(c.moved.grain), disp.push_back(c.window.resolved && c.moved.grain >= 0 ? c.moved.over_d : kNaN);
+    explained.push_back(c.explained), below.push_back(c.ends_below);
+  }
+  h.add("events/peak_time", peak, "s", "from the events file");
+  h.add("events/drop_end_time", drop, "s", "from the events file");
+  h.add("events/snapshot_before", before, "-", "last snapshot at or before the peak (-1: none)");
+  h.add("events/snapshot_after", after, "-", "first snapshot at or after the drop's end (-1: none)");
+  h.add("events/resolved", resolved, "-", "1: both snapshots within event_max_gap_s");
+  h.add("events/keystones", nkeys, "-", "keystones at snapshot_before");
+  h.add("events/moved_grain", grain, "-", "the keystone that moved most (-1: none)");
+  h.add("events/moved_over_d", disp, "-", "its displacement / its diameter");
+  h.add("events/explained", explained, "-", "1: moved_over_d > ejection_distance_d");
+  h.add("events/ends_below_intruder", below, "-", "1: explained and that grain ends below the intruder's centre");
+  std::vector<std::uint8_t> any;
+  for (const EventCheck& c : ev.checks) any.push_back(c.any_touching_moved);
+  h.add("events/any_intruder_grain_displaced", any, "-",
+        "1: some grain touching the intruder at snapshot_before moved more than ejection_distance_d diameters");
+}
+
+void write_network_h5(H5Output& h, const Tracked& tr, const PercolationProfile& profile, const EventSummary& ev,
+                      const std::vector<RuptureEvent>& events, const NetworkConfig& cfg) {
+  const Track& t = tr.t;
   h.add("snapshots/time", t.time, "s", "snapshot time");
   h.add("snapshots/height", t.height, "m", "intruder centre above the floor's inner face");
   h.add("snapshots/mean_fn", t.mean_fn, "N/m", "mean normal force over the contacts with fn > 0");
   h.add("snapshots/contacts", t.contacts, "-", "contacts with fn > 0 (graph edges)");
   h.add("snapshots/strong_contacts", t.strong_contacts, "-", "contacts with fn > strong_threshold x mean_fn");
-  for (const Variant& v : variants) {
+  for (const Variant& v : tr.variants) {
     const std::string what = (v.factor == 0.0 ? std::string("whole network (fn > 0)")
                                               : "strong network (fn > " + format_number(v.factor) + " x mean)") +
                              ", floor rule " + floor_rule_name(v.rule);
@@ -507,57 +583,65 @@ NetworkResult run_network(const SnapshotSource& run, const std::vector<RuptureEv
   h.add("anisotropy/all", column(t.fabric_all, &Fabric::anisotropy), "-", "same for all grain-grain contacts with fn > 0");
   h.add("anisotropy/all_angle", column(t.fabric_all, &Fabric::angle_deg), "deg", "major axis from +x");
 
-  std::vector<double> flow_l, flow_r, c_share_l, c_share_r;
-  std::vector<std::int64_t> k_start = {0}, c_start = {0};
-  std::vector<std::int32_t> k_grain, c_grain, c_end;
-  for (const KeystoneAnalysis& a : t.keystones) {
-    flow_l.push_back(a.flow_left), flow_r.push_back(a.flow_right);
-    for (const std::int32_t g : a.keystones(cfg.keystone_share)) k_grain.push_back(g);
-    k_start.push_back(static_cast<std::int64_t>(k_grain.size()));
-    for (const KeystoneCandidate& c : a.candidates)
-      c_grain.push_back(c.grain), c_end.push_back(c.end), c_share_l.push_back(c.share_left), c_share_r.push_back(c.share_right);
-    c_start.push_back(static_cast<std::int64_t>(c_grain.size()));
-  }
-  h.add("keystones/flow_left", flow_l, "N/m", "max flow intruder -> left wall, strong network, capacities fn");
-  h.add("keystones/flow_right", flow_r, "N/m", "max flow intruder -> right wall");
-  h.add("keystones/start", k_start, "-", "keystones of snapshot k: grain[start[k] .. start[k+1]-1]");
-  h.add("keystones/grain", k_grain, "-", "keystone grain ids (share >= keystone_share)");
-  h.add("keystones/candidate_start", c_start, "-", "candidates of snapshot k: rows start[k] .. start[k+1]-1");
-  h.add("keystones/candidate_grain", c_grain, "-", "grain on a strong contact with an intruder end");
-  h.add("keystones/candidate_end", c_end, "-", "-1: end a (bodies/intruder a), +1: end b");
-  h.add("keystones/candidate_share_left", c_share_l, "-", "share of the max flow to the left wall through it");
-  h.add("keystones/candidate_share_right", c_share_r, "-", "share of the max flow to the right wall through it");
+  write_keystones(h, t, cfg);
+  tr.segments.write(h);
+  if (!ev.checks.empty()) write_events(h, ev, events);
+}
 
-  segments.write(h);
+}  // namespace
 
-  if (!ev.checks.empty()) {
-    std::vector<double> peak, drop, disp;
-    std::vector<std::int64_t> before, after, nkeys;
-    std::vector<std::int32_t> grain;
-    std::vector<std::uint8_t> resolved, explained, below;
-    for (std::size_t e = 0; e < ev.checks.size(); ++e) {
-      const EventCheck& c = ev.checks[e];
-      peak.push_back(events[e].peak_time), drop.push_back(events[e].drop_end_time);
-      before.push_back(c.window.before), after.push_back(c.window.after);
-      resolved.push_back(c.window.resolved), nkeys.push_back(static_cast<std::int64_t>(c.keystones.size()));
-      grain.push_back(c.moved.grain), disp.push_back(c.window.resolved && c.moved.grain >= 0 ? c.moved.over_d : kNaN);
-      explained.push_back(c.explained), below.push_back(c.ends_below);
-    }
-    h.add("events/peak_time", peak, "s", "from the events file");
-    h.add("events/drop_end_time", drop, "s", "from the events file");
-    h.add("events/snapshot_before", before, "-", "last snapshot at or before the peak (-1: none)");
-    h.add("events/snapshot_after", after, "-", "first snapshot at or after the drop's end (-1: none)");
-    h.add("events/resolved", resolved, "-", "1: both snapshots within event_max_gap_s");
-    h.add("events/keystones", nkeys, "-", "keystones at snapshot_before");
-    h.add("events/moved_grain", grain, "-", "the keystone that moved most (-1: none)");
-    h.add("events/moved_over_d", disp, "-", "its displacement / its diameter");
-    h.add("events/explained", explained, "-", "1: moved_over_d > ejection_distance_d");
-    h.add("events/ends_below_intruder", below, "-", "1: explained and that grain ends below the intruder's centre");
-    std::vector<std::uint8_t> any;
-    for (const EventCheck& c : ev.checks) any.push_back(c.any_touching_moved);
-    h.add("events/any_intruder_grain_displaced", any, "-",
-          "1: some grain touching the intruder at snapshot_before moved more than ejection_distance_d diameters");
-  }
+NetworkResult run_network(const SnapshotSource& run, const std::vector<RuptureEvent>& events, double spectrum_top_mm,
+                          const NetworkInputs& in, const NetworkConfig& cfg, const Study& study) {
+  const std::size_t S = run.snapshots();
+  if (S == 0) throw StageError(run.path() + ": the run has no snapshots");
+  const double d_mean = study.mean_diameter;  // "d" of the settings
+  const Tracked tr = track(run, events, cfg, d_mean);
+  const Track& t = tr.t;
+  const std::vector<Variant>& variants = tr.variants;
+  const double measured_d = tr.measured_d, bed0 = tr.bed0, end_to_wall = tr.end_to_wall;
+
+  // Percolation against height and the loss height.
+  const bool both = cfg.walls == "both";
+  const HeightBins bins{cfg.bin_width_d * d_mean};
+  const std::vector<std::uint8_t> flags = variants.front().flags(both);
+  const PercolationProfile profile = percolation_profile(bins, t.height, flags);
+  const std::optional<double> loss = loss_height(profile, cfg.loss_level);
+  const TopLayer layer = top_layer(spectrum_top_mm, loss, in, bed0);
+  const double top = layer.height, below_hi = layer.below_hi;
+  const std::string& top_source = layer.source;
+
+  json m;
+  m["run_file"] = run.path();
+  m["config_file"] = in.config;
+  m["events_file"] = in.events.empty() ? json(nullptr) : json(in.events);
+  m["spectrum_metrics_file"] = in.spectrum_metrics.empty() ? json(nullptr) : json(in.spectrum_metrics);
+  m["snapshots"] = S;
+  m["intruder"] = true;
+  m["d_mm"] = d_mean * kMm;
+  m["measured_mean_diameter_mm"] = measured_d * kMm;
+  m["initial_bed_height_mm"] = bed0 * kMm;
+  m["end_to_wall_distance_mm"] = end_to_wall * kMm;
+  m["percolation_loss_height_mm"] = mm_or_null(loss);
+  if (!loss) m["percolation_loss_note"] = "the strong network still percolates in the highest height bin";
+  m["top_layer_height_mm"] = mm_or_null(top);
+  m["top_layer_source"] = top_source;
+
+  std::int64_t n_below = 0;
+  m["percolating_fraction_below_top_layer"] = number_or_null(flagged_fraction(t.height, flags, -kInf, below_hi, &n_below));
+  m["snapshots_below_top_layer"] = n_below;
+  m["percolating_fraction_above_top_layer"] = number_or_null(flagged_fraction(t.height, flags, below_hi, bed0));
+  m["whole_network_percolating_fraction_below_top_layer"] =
+      number_or_null(flagged_fraction(t.height, variants.back().flags(both), -kInf, below_hi));
+
+  anisotropy_metrics(m, t, top, bed0, below_hi);
+  const EventSummary ev = event_metrics(m, t, tr.diameter, events, in, cfg, bed0, flags);
+  m["sensitivity"] = sensitivity(tr, events, in, cfg, d_mean, top, below_hi);
+  m["config"] = to_json(cfg);
+
+  NetworkResult r;
+  r.metrics = {{"network", m}};
+  r.h5 = H5Output("network", run.path());
+  write_network_h5(r.h5, tr, profile, ev, events, cfg);
   return r;
 }
 
