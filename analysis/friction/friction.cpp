@@ -198,6 +198,15 @@ FrictionTrack track(const RunReader& run, const FrictionLaws& mu, const Friction
   return t;
 }
 
+// The mean of a per-snapshot series over the snapshots with the intruder in
+// [lo, hi) (m), and that band in mm; null without an intruder.
+json band_mean(const FrictionTrack& t, const std::vector<double>& v, double lo, double hi) {
+  return t.with_intruder ? number_or_null(mean_in_band(t.height, v, lo, hi)) : json(nullptr);
+}
+json band_mm(const FrictionTrack& t, double lo, double hi) {
+  return t.with_intruder ? json{lo * kMm, hi * kMm} : json(nullptr);
+}
+
 // How much of the contacts slip while the intruder is in the bed.
 void slip_metrics(json& m, const FrictionTrack& t, const FrictionConfig& cfg) {
   const std::vector<double> slip = series_of(t.snap, [](const SnapshotFriction& f) { return f.slip_fraction(0); });
@@ -228,10 +237,8 @@ void band_metrics(json& m, const FrictionTrack& t, const FrictionConfig& cfg) {
   const std::vector<double> all = series_of(t.snap, [](const SnapshotFriction& f) { return f.all.mean(); });
   const double hc = t.hc, bed0 = t.bed0, lower_top = cfg.lower_band_top * hc;
   const bool with_intruder = t.with_intruder;
-  const auto band = [&](const std::vector<double>& v, double lo, double hi) {
-    return with_intruder ? number_or_null(mean_in_band(t.height, v, lo, hi)) : json(nullptr);
-  };
-  const auto mm_pair = [&](double lo, double hi) { return with_intruder ? json{lo * kMm, hi * kMm} : json(nullptr); };
+  const auto band = [&](const std::vector<double>& v, double lo, double hi) { return band_mean(t, v, lo, hi); };
+  const auto mm_pair = [&](double lo, double hi) { return band_mm(t, lo, hi); };
   m["critical_height_mm"] = number_or_null(hc * kMm);
   m["critical_height_source"] = !with_intruder ? "none: no intruder"
                                 : cfg.critical_height_mm
@@ -268,10 +275,8 @@ void band_metrics(json& m, const FrictionTrack& t, const FrictionConfig& cfg) {
 json sensitivity(const FrictionTrack& t, const FrictionConfig& cfg) {
   const std::vector<double> bulk = series_of(t.snap, [](const SnapshotFriction& f) { return f.bulk.mean(); });
   const std::vector<double> wall = series_of(t.snap, [](const SnapshotFriction& f) { return f.wall.mean(); });
-  const auto band = [&](const std::vector<double>& v, double lo, double hi) {
-    return t.with_intruder ? number_or_null(mean_in_band(t.height, v, lo, hi)) : json(nullptr);
-  };
-  const auto mm_pair = [&](double lo, double hi) { return t.with_intruder ? json{lo * kMm, hi * kMm} : json(nullptr); };
+  const auto band = [&](const std::vector<double>& v, double lo, double hi) { return band_mean(t, v, lo, hi); };
+  const auto mm_pair = [&](double lo, double hi) { return band_mm(t, lo, hi); };
   json sens;
   for (std::size_t k = 0; k < t.thresholds.size(); ++k) {
     const std::vector<double> v = series_of(t.snap, [k](const SnapshotFriction& f) { return f.slip_fraction(k); });
