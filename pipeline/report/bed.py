@@ -15,7 +15,7 @@ class Run:
         self.h5 = inp.h5("pulloff", "run.h5")
         self.path = self.h5.path
         names = [str(n) for n in self.h5.dset("bodies/name").asstr()[...]]
-        roles = body_roles(self.h5, names)
+        roles = [str(r) for r in self.h5.dset("bodies/role").asstr()[...]]
         want = ("left_wall", "right_wall", "floor", "intruder")
         try:
             self.body = {role: roles.index(role) for role in want}  # role -> body index
@@ -26,7 +26,8 @@ class Run:
         self.thickness = self.h5.read("bodies/thickness")
         self.diameter = self.h5.read("particles/diameter")
         self.time = self.h5.read("snapshots/time")
-        self.vertices, self.vertex_count = body_vertices(self.h5)  # [S, B, K, 2] m, [B]
+        self.vertices = self.h5.read("snapshots/body_vertices")  # [S, B, K, 2] m
+        self.vertex_count = self.h5.read("bodies/vertex_count")
         self.start = self.h5.read("snapshots/contact_start")
         fl = self.core(0, "floor")
         self.floor_y = fl[:, 1].max() + self.thickness[self.body["floor"]] / 2
@@ -86,27 +87,6 @@ class Run:
             xy[:, 1] -= self.floor_y * MM
             out.append((role, xy))
         return out
-
-
-# Run files written before roles (no /bodies/role): the study's scenes named
-# the bodies after their roles (sim/core/body_roles.hpp, legacy_body_role).
-LEGACY_ROLES = {"intruder": "intruder", "floor": "floor", "left": "left_wall", "right": "right_wall"}
-
-
-def body_roles(h5, names):
-    """Each body's role ("" none)."""
-    if h5.has("bodies/role"):
-        return [str(r) for r in h5.dset("bodies/role").asstr()[...]]
-    return [LEGACY_ROLES.get(n, "") for n in names]
-
-
-def body_vertices(h5):
-    """Every body's core vertices [S, B, K, 2] (m) and vertex counts [B]; run files
-    of format dem2d-run-1 had sphero-lines only, as /snapshots/body_ends [S, B, 4]."""
-    if "snapshots/body_vertices" in h5.f:
-        return h5.read("snapshots/body_vertices"), h5.read("bodies/vertex_count")
-    ends = h5.read("snapshots/body_ends")
-    return ends.reshape(ends.shape[0], ends.shape[1], 2, 2), np.full(ends.shape[1], 2)
 
 
 def outline(core, r, n=16):

@@ -7,7 +7,7 @@ from functools import cached_property
 import h5py
 import numpy as np
 
-FORMATS = ("dem2d-run-1", "dem2d-run-2")
+FORMATS = ("dem2d-run-2",)
 
 
 def open_run(path):
@@ -260,12 +260,8 @@ class Run:
     @cached_property
     def bodies(self) -> list[Body]:
         b = self.file["bodies"]
-        names = b["name"].asstr()[...]
-        # files written before roles: the study's scenes named the bodies after them
-        legacy = {"intruder": "intruder", "floor": "floor", "left": "left_wall", "right": "right_wall"}
-        roles = b["role"].asstr()[...] if "role" in b else [legacy.get(str(n), "") for n in names]
-        shapes = b["shape"].asstr()[...] if "shape" in b else ["segment"] * len(names)
-        counts = b["vertex_count"][...] if "vertex_count" in b else [2] * len(names)
+        names, roles, shapes = (b[k].asstr()[...] for k in ("name", "role", "shape"))
+        counts = b["vertex_count"][...]
         return [Body(k, str(names[k]), str(roles[k]), str(shapes[k]), float(b["thickness"][k]), int(counts[k]))
                 for k in range(len(names))]
 

@@ -17,6 +17,7 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "contact/cohesion.hpp"
@@ -79,22 +80,25 @@ inline const std::vector<LawKey<ContactLaw>>& contact_law_keys() {
   return keys;
 }
 
-// The conditions across terms that `law` breaks under `effects`, from the
-// terms compiled in for them.
-template <class... T>
-std::vector<LawIssue> law_issues_of(TermList<T...>, const ContactLaw& law, EffectSet effects) {
-  std::vector<LawIssue> issues;
-  (
-      [&] {
-        if constexpr (requires { T::check(law); })
-          if (term_active<T>(effects))
-            if (auto issue = T::check(law)) issues.push_back(std::move(*issue));
-      }(),
-      ...);
-  return issues;
+// Calls f.template operator()<T>() for every term T of the law compiled in
+// for `effects`, in the list's order: the folds below are written with it.
+template <class F, class... T>
+void for_each_term_of(TermList<T...>, EffectSet effects, F&& f) {
+  ((term_active<T>(effects) ? f.template operator()<T>() : void()), ...);
 }
+template <class F>
+void for_each_term(EffectSet effects, F&& f) {
+  for_each_term_of(LawTerms{}, effects, std::forward<F>(f));
+}
+
+// The conditions across terms that `law` breaks under `effects`.
 inline std::vector<LawIssue> law_issues(const ContactLaw& law, EffectSet effects) {
-  return law_issues_of(LawTerms{}, law, effects);
+  std::vector<LawIssue> issues;
+  for_each_term(effects, [&]<class T>() {
+    if constexpr (requires { T::check(law); })
+      if (auto issue = T::check(law)) issues.push_back(std::move(*issue));
+  });
+  return issues;
 }
 
 // Whether the law for `effects` acts across a gap (a term with a range):
@@ -108,70 +112,45 @@ constexpr bool reaches_beyond_contact(EffectSet effects) { return reaches_beyond
 
 // How far beyond touching (gap > 0) the law for `effects` acts (m): the
 // largest range of its terms, 0 if none has one.
-template <class... T>
-double range_of(TermList<T...>, const LawCoefficients& c, EffectSet effects) {
+inline double law_range(const LawCoefficients& c, EffectSet effects) {
   double r = 0.0;
-  (
-      [&] {
-        if constexpr (requires(const typename T::Coeffs& x) { T::range(x); })
-          if (term_active<T>(effects)) r = std::max(r, T::range(c));
-      }(),
-      ...);
+  for_each_term(effects, [&]<class T>() {
+    if constexpr (requires { T::range(c); }) r = std::max(r, T::range(c));
+  });
   return r;
 }
-inline double law_range(const LawCoefficients& c, EffectSet effects) { return range_of(LawTerms{}, c, effects); }
 
 // What one contact's springs hold (J/m, and the conservative part of F_n),
 // from every term compiled in for `effects` that stores energy.
-template <class... T>
-Stored stored_of(TermList<T...>, const ContactLaw& law, EffectSet effects, const StoredState& state) {
-  Stored out;
-  (
-      [&] {
-        if constexpr (requires(Stored& o) { T::stored(law, effects, state, o); })
-          if (term_active<T>(effects)) T::stored(law, effects, state, out);
-      }(),
-      ...);
-  return out;
-}
 inline Stored spring_energy(const ContactLaw& law, EffectSet effects, double overlap, double ft, double mr) {
-  return stored_of(LawTerms{}, law, effects, StoredState{overlap, ft, mr});
+  const StoredState state{overlap, ft, mr};
+  Stored out;
+  for_each_term(effects, [&]<class T>() {
+    if constexpr (requires { T::stored(law, effects, state, out); }) T::stored(law, effects, state, out);
+  });
+  return out;
 }
 
 // The springs and dashpots of a touching pair with this effective mass and
 // inertia, from every term compiled in for `effects` (contact/stability.hpp).
-template <class... T>
-Rows rows_of(TermList<T...>, const ContactLaw& law, EffectSet effects, const Inertia& m) {
-  Rows out;
-  (
-      [&] {
-        if constexpr (requires(Rows& o) { T::rows(law, effects, m, o); })
-          if (term_active<T>(effects)) T::rows(law, effects, m, out);
-      }(),
-      ...);
-  return out;
-}
 inline Rows contact_rows(const ContactLaw& law, EffectSet effects, const Inertia& m) {
-  return rows_of(LawTerms{}, law, effects, m);
+  Rows out;
+  for_each_term(effects, [&]<class T>() {
+    if constexpr (requires { T::rows(law, effects, m, out); }) T::rows(law, effects, m, out);
+  });
+  return out;
 }
 
 // The load that presses a contact's surfaces together and caps its friction
 // (N/m): F_n plus what the terms compiled in for `effects` pull with, for a
 // touching contact (overlap > 0, m); F_n otherwise.
-template <class... T>
-double load_of(TermList<T...>, const LawCoefficients& c, EffectSet effects, double fn, double overlap) {
+inline double friction_load(const LawCoefficients& c, EffectSet effects, double fn, double overlap) {
   double load = fn;
   if (!(overlap > 0.0)) return load;
-  (
-      [&] {
-        if constexpr (requires { T::pull(c, -overlap); })
-          if (term_active<T>(effects)) load += T::pull(c, -overlap);
-      }(),
-      ...);
+  for_each_term(effects, [&]<class T>() {
+    if constexpr (requires { T::pull(c, -overlap); }) load += T::pull(c, -overlap);
+  });
   return load;
-}
-inline double friction_load(const LawCoefficients& c, EffectSet effects, double fn, double overlap) {
-  return load_of(LawTerms{}, c, effects, fn, overlap);
 }
 
 // The slip state as the run file reports it: the tangential force sits on the cone.

@@ -53,11 +53,16 @@ inline constexpr std::array<MotionKindSpec, 5> kMotionKinds{{
     {"triangle", MotionKind::triangle, false, false, true, true, true},
 }};
 
-// The row of kMotionKinds for a kind.
+// The row of kMotionKinds for a kind, and for a name (nullptr: none).
 constexpr const MotionKindSpec& motion_kind(MotionKind kind) {
   for (const MotionKindSpec& s : kMotionKinds)
     if (s.kind == kind) return s;
   return kMotionKinds[0];
+}
+constexpr const MotionKindSpec* motion_kind_named(std::string_view name) {
+  for (const MotionKindSpec& s : kMotionKinds)
+    if (s.name == name) return &s;
+  return nullptr;
 }
 
 class MotionSchedule {

@@ -5,7 +5,5 @@
 namespace dem2d {
 
 inline constexpr const char* kRunFileFormat = "dem2d-run-2";
-// The format before bodies had shapes (sphero-lines as /.../body_ends [rows, B, 4]): still read.
-inline constexpr const char* kRunFileFormatSegments = "dem2d-run-1";
 
 }  // namespace dem2d

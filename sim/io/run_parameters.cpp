@@ -86,9 +86,7 @@ std::vector<MotionSegment> read_motion(const Reader& r, const std::string& group
   for (std::int64_t j = 0; j < n; ++j) {
     const std::string g = group + "/motion/" + std::to_string(j);
     const std::string kind = r.text(g, "kind");
-    const MotionKindSpec* spec = nullptr;
-    for (const MotionKindSpec& k : kMotionKinds)
-      if (k.name == kind) spec = &k;
+    const MotionKindSpec* spec = motion_kind_named(kind);
     if (!spec) r.fail(g + "@kind", "unknown motion kind '" + kind + "'");
     MotionSegment m;
     m.kind = spec->kind;

@@ -8,10 +8,10 @@
 #include <tuple>
 #include <type_traits>
 
-#include "io/run_parameters.hpp"
 #include "core/body_roles.hpp"
 #include "core/number_text.hpp"
 #include "io/run_format.hpp"
+#include "io/run_parameters.hpp"
 
 namespace dem2d {
 
@@ -178,10 +178,8 @@ void RunReader::fail(const std::string& what) const { throw std::runtime_error(p
 RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
   const std::string format =
       h5::has_attr(file_, "/", "format") ? h5::read_attr_string(file_, "/", "format") : "(none)";
-  legacy_bodies_ = format == kRunFileFormatSegments;
-  if (format != kRunFileFormat && !legacy_bodies_)
-    fail("not a dem2d run file: format attribute is " + format + ", expected " + kRunFileFormat + " (or " +
-         kRunFileFormatSegments + ")");
+  if (format != kRunFileFormat)
+    fail("not a dem2d run file: format attribute is " + format + ", expected " + kRunFileFormat);
   if (!has_parameters(file_)) {
     const std::string by = h5::has_attr(file_, "/", "code_version") ? h5::read_attr_string(file_, "/", "code_version")
                                                                     : "an unknown version";
@@ -212,26 +210,17 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
   thickness_ = checked<double>("bodies/thickness", {B});
   for (std::size_t b = 0; b < B; ++b)
     if (thickness_[b] < 0.0) fail("dataset /bodies/thickness: body " + std::to_string(b) + " has a negative thickness");
-  if (h5::exists(file_, "bodies/role")) {
-    body_roles_ = h5::read_strings(file_, "bodies/role");
-    if (body_roles_.size() != B) fail("/bodies/role must have one entry per body (" + std::to_string(B) + ")");
-  } else {
-    for (const std::string& name : body_names_) body_roles_.push_back(legacy_body_role(name));
-  }
-  if (legacy_bodies_) {
-    body_shapes_.assign(B, "segment");
-    vertex_count_.assign(B, 2);
-  } else {
-    need("bodies/shape");
-    body_shapes_ = h5::read_strings(file_, "bodies/shape");
-    if (body_shapes_.size() != B) fail("/bodies/shape must have one entry per body (" + std::to_string(B) + ")");
-    vertex_count_ = checked<std::int32_t>("bodies/vertex_count", {B});
-    max_vertices_ = 1;
-    for (const std::int32_t n : vertex_count_) {
-      if (n < 1 || n > Shape::kMaxVertices)
-        fail("/bodies/vertex_count has " + std::to_string(n) + ", expected 1.." + std::to_string(Shape::kMaxVertices));
-      max_vertices_ = std::max<hsize_t>(max_vertices_, static_cast<hsize_t>(n));
-    }
+  need("bodies/role");
+  body_roles_ = h5::read_strings(file_, "bodies/role");
+  if (body_roles_.size() != B) fail("/bodies/role must have one entry per body (" + std::to_string(B) + ")");
+  need("bodies/shape");
+  body_shapes_ = h5::read_strings(file_, "bodies/shape");
+  if (body_shapes_.size() != B) fail("/bodies/shape must have one entry per body (" + std::to_string(B) + ")");
+  vertex_count_ = checked<std::int32_t>("bodies/vertex_count", {B});
+  for (const std::int32_t n : vertex_count_) {
+    if (n < 1 || n > Shape::kMaxVertices)
+      fail("/bodies/vertex_count has " + std::to_string(n) + ", expected 1.." + std::to_string(Shape::kMaxVertices));
+    max_vertices_ = std::max<hsize_t>(max_vertices_, static_cast<hsize_t>(n));
   }
   const hsize_t S = length("snapshots/time");
   times_ = checked<double>("snapshots/time", {S});
@@ -309,14 +298,9 @@ std::vector<Vec2> RunReader::body_velocities() const {
   return out;
 }
 
-std::string RunReader::vertices_dataset(const std::string& group) const {
-  return group + (legacy_bodies_ ? "/body_ends" : "/body_vertices");
-}
+std::string RunReader::vertices_dataset(const std::string& group) const { return group + "/body_vertices"; }
 
-std::vector<hsize_t> RunReader::vertices_dims(hsize_t rows) const {
-  if (legacy_bodies_) return {rows, bodies(), 4};
-  return {rows, bodies(), max_vertices_, 2};
-}
+std::vector<hsize_t> RunReader::vertices_dims(hsize_t rows) const { return {rows, bodies(), max_vertices_, 2}; }
 
 Body RunReader::body_of(const std::vector<double>& flat, std::size_t row, std::size_t b) const {
   Body body;

@@ -147,8 +147,7 @@ class RunReader {
 
   std::size_t bodies() const { return body_names_.size(); }
   const std::vector<std::string>& body_names() const { return body_names_; }
-  // Roles (core/body_roles.hpp; "" none). Files written before roles: from
-  // the names the study's scenes gave them (legacy_body_role).
+  // Roles (core/body_roles.hpp; "" none).
   const std::vector<std::string>& body_roles() const { return body_roles_; }
   // Index of the body with this role; an error naming the run's bodies and
   // roles if none.
@@ -170,7 +169,7 @@ class RunReader {
   std::vector<T> checked(const std::string& name, const std::vector<hsize_t>& dims) const;
 
   h5::File file_;
-  // group's body outline dataset, [rows, B, K, 2] (format 1: body_ends [rows, B, 4], K = 2)
+  // group's body outline dataset, [rows, B, K, 2]
   std::string vertices_dataset(const std::string& group) const;
   std::vector<hsize_t> vertices_dims(hsize_t rows) const;  // its shape for `rows` rows
   // body b at `row` of such a dataset, read as `flat`
@@ -179,8 +178,7 @@ class RunReader {
   std::vector<double> diameter_, mass_, thickness_;
   std::vector<std::string> body_names_, body_roles_, body_shapes_;
   std::vector<std::int32_t> vertex_count_;
-  hsize_t max_vertices_ = 2;
-  bool legacy_bodies_ = false;  // format dem2d-run-1: sphero-lines as /.../body_ends
+  hsize_t max_vertices_ = 1;
   std::vector<double> times_, series_times_;
   std::vector<std::int64_t> steps_, contact_start_;
 };

@@ -438,9 +438,8 @@ class SceneParser {
       const TableReader& m = segments[k];
       const auto kind = m.string("kind");
       if (!kind) m.missing("kind", "one of " + join(kinds));
-      const auto spec = std::find_if(kMotionKinds.begin(), kMotionKinds.end(),
-                                     [&](const MotionKindSpec& s) { return s.name == *kind; });
-      if (spec == kMotionKinds.end()) m.fail("kind", "unknown motion kind (allowed: " + join(kinds) + ")");
+      const MotionKindSpec* spec = motion_kind_named(*kind);
+      if (!spec) m.fail("kind", "unknown motion kind (allowed: " + join(kinds) + ")");
       MotionSegment seg;
       seg.kind = spec->kind;
       const std::string why = " (" + *kind + ")";

@@ -229,7 +229,7 @@ class Suite:
 
     # Records a run file may lack (files written before they existed): their
     # deletion is not damage a reader must see.
-    OPTIONAL = ("particles/id", "particles/inertia", "snapshots/theta", "snapshots/displacement", "bodies/role",
+    OPTIONAL = ("particles/id", "particles/inertia", "snapshots/theta", "snapshots/displacement",
                 "bodies/velocity", "lost/", "events/")
 
     def must_fail(self, consumer, kind, name, where):
