@@ -62,13 +62,9 @@ LabMeasure measure(const Setup& su, const Fields& f, std::size_t set, const Snap
   return m;
 }
 
-}  // namespace
-
-CgResult compute_cg_lab(const SnapshotSource& run, const CgInput& in) {
+Setup lab_setup(const SnapshotSource& run, const CgInput& in) {
   const CgConfig& c = in.config;
   const std::string& path = run.path();
-  const auto t_start = std::chrono::steady_clock::now();
-  const std::size_t S = run.snapshots();
   const Snapshot s0 = run.snapshot(0);
   Setup su;
   try {
@@ -79,52 +75,67 @@ CgResult compute_cg_lab(const SnapshotSource& run, const CgInput& in) {
   }
   kernel_and_grid(in, path, s0, su);
   // The bed's reference solid fraction where it is packed: at the last snapshot.
-  su.phi_ref = bulk_solid_fraction(su, run.snapshot(S - 1), path, in.config_path);
+  su.phi_ref = bulk_solid_fraction(su, run.snapshot(run.snapshots() - 1), path, in.config_path);
   su.min_phi = c.mask_fraction * su.phi_ref;
   su.v_ref = c.reference_speed_mm_s / kMm;
   su.levels = {c.immobile_below, c.dragged_above};
   su.window = run.displacement_window();
-  const bool has_piv = run.has_displacements();
-  const std::size_t set = c.velocity == "piv" && has_piv ? kPiv : kInst;
+  return su;
+}
 
-  // Full fields for at most field_max_snapshots snapshots, evenly spaced (and the last).
+// Full fields for at most field_max_snapshots snapshots, evenly spaced (and the last).
+std::vector<std::size_t> lab_fields_at(std::size_t S, int max_snapshots) {
   std::vector<std::size_t> fields_at;
-  if (c.field_max_snapshots > 0) {
-    const auto room = static_cast<std::size_t>(c.field_max_snapshots);
+  if (max_snapshots > 0) {
+    const auto room = static_cast<std::size_t>(max_snapshots);
     fields_at = every_kth(S, std::max<std::size_t>(1, (S + room - 1) / room));
     if (fields_at.size() > room) fields_at.erase(fields_at.end() - 2);  // the last one stays
   }
+  return fields_at;
+}
 
-  // Snapshots in batches: read serially (HDF5), coarse-grained and measured in
-  // parallel; each result depends on its own snapshot only (any thread count).
-  const int threads = in.threads > 0 ? in.threads : omp_get_max_threads();
-  const std::size_t batch = static_cast<std::size_t>(std::max(1, 2 * threads));
-  std::vector<LabMeasure> ms(S);
-  std::vector<double> times(S);
-  std::vector<std::uint8_t> piv_ok(S, 0);
+struct LabRun {
+  Setup su;
+  std::size_t set = kInst;  // the velocity set of the measures
+  std::vector<std::size_t> fields_at;
+  std::vector<LabMeasure> ms;
+  std::vector<double> times;
+  std::vector<std::uint8_t> piv_ok;
+  int threads = 1;
+  double seconds = 0.0;
+};
+
+// Snapshots in batches: read serially (HDF5), coarse-grained and measured in
+// parallel; each result depends on its own snapshot only (any thread count).
+void measure_lab(const SnapshotSource& run, bool has_piv, LabRun& L) {
+  const std::size_t S = run.snapshots();
+  const std::size_t batch = static_cast<std::size_t>(std::max(1, 2 * L.threads));
+  L.ms.resize(S), L.times.resize(S), L.piv_ok.assign(S, 0);
   for (std::size_t k0 = 0; k0 < S; k0 += batch) {
     const std::size_t k1 = std::min(S, k0 + batch);
-    const auto [snaps, piv] = read_batch(run, k0, k1, has_piv, su.window);
-    for (std::size_t k = k0; k < k1; ++k) times[k] = snaps[k - k0].time, piv_ok[k] = piv[k - k0].ok;
+    const auto [snaps, piv] = read_batch(run, k0, k1, has_piv, L.su.window);
+    for (std::size_t k = k0; k < k1; ++k) L.times[k] = snaps[k - k0].time, L.piv_ok[k] = piv[k - k0].ok;
     std::vector<std::string> errors(snaps.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(L.threads)
     for (std::size_t q = 0; q < snaps.size(); ++q) {
       const std::size_t k = k0 + q;
       try {
         // A snapshot without PIV-like velocities (the first ones) uses the instantaneous ones.
-        const Fields f = coarse_grain(su.grid, su.kernel, grains_of(snaps[q], has_piv ? &piv[q].v : nullptr));
-        ms[k] = measure(su, f, piv[q].ok ? set : kInst, snaps[q], std::binary_search(fields_at.begin(), fields_at.end(), k));
+        const Fields f = coarse_grain(L.su.grid, L.su.kernel, grains_of(snaps[q], has_piv ? &piv[q].v : nullptr));
+        const bool full = std::binary_search(L.fields_at.begin(), L.fields_at.end(), k);
+        L.ms[k] = measure(L.su, f, piv[q].ok ? L.set : kInst, snaps[q], full);
       } catch (const std::exception& e) {
-        errors[q] = path + ": snapshot " + std::to_string(k) + ": " + e.what();
+        errors[q] = run.path() + ": snapshot " + std::to_string(k) + ": " + e.what();
       }
     }
     for (const std::string& e : errors)
       if (!e.empty()) throw CgError(e);
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+}
 
-  // ---- metrics ----
-  const LabMeasure& last = ms.back();
+json lab_metrics(const LabRun& L, const std::string& path, const CgInput& in) {
+  const Setup& su = L.su;
+  const LabMeasure& last = L.ms.back();
   const bool zones = su.v_ref > 0.0;
   const auto zone_fraction = [&](double area) { return zones && last.area > 0.0 ? json(area / last.area) : json(nullptr); };
   json m;
@@ -139,13 +150,13 @@ CgResult compute_cg_lab(const SnapshotSource& run, const CgInput& in) {
                {"w_mm", su.kernel.w * kMm}, {"cutoff_mm", su.kernel.radius() * kMm},
                {"mean_diameter_mm", su.d * kMm}, {"phi_ref", su.phi_ref}, {"mask_phi", su.min_phi}};
   m["phi_ref_source"] = "bulk of the bed at the last snapshot";
-  m["velocity_source"] = set == kPiv ? "piv" : "instantaneous";
-  m["snapshots"] = S;
-  m["snapshots_with_piv"] = static_cast<std::size_t>(std::count(piv_ok.begin(), piv_ok.end(), 1));
-  m["field_snapshots"] = fields_at.size();
+  m["velocity_source"] = L.set == kPiv ? "piv" : "instantaneous";
+  m["snapshots"] = L.ms.size();
+  m["snapshots_with_piv"] = static_cast<std::size_t>(std::count(L.piv_ok.begin(), L.piv_ok.end(), 1));
+  m["field_snapshots"] = L.fields_at.size();
   m["reference_speed_mm_s"] = zones ? json(su.v_ref * kMm) : json(nullptr);
   if (!zones) m["zones_note"] = "no zones.reference_speed_mm_s: v* = |V| / V_ref needs a reference speed without an intruder";
-  m["final"] = {{"time_s", times.back()},
+  m["final"] = {{"time_s", L.times.back()},
                 {"bed_height_mm", last.surface * kMm},
                 {"bed_area_mm2", last.area * kMm * kMm},
                 {"bed_solid_fraction", number_or_null(last.phi)},
@@ -154,48 +165,69 @@ CgResult compute_cg_lab(const SnapshotSource& run, const CgInput& in) {
                 {"immobile_fraction", zone_fraction(last.zones.immobile)},
                 {"intermediate_fraction", zone_fraction(last.zones.cone)},
                 {"mobile_fraction", zone_fraction(last.zones.dragged)}};
-  m["cost"] = {{"seconds", seconds}, {"threads", threads}};
+  m["cost"] = {{"seconds", L.seconds}, {"threads", L.threads}};
+  return m;
+}
 
-  // ---- cg.h5 ----
-  DatasetList D;
+H5Output lab_h5(const LabRun& L, const std::string& path, const json& metrics) {
+  const Setup& su = L.su;
+  const std::vector<LabMeasure>& ms = L.ms;
+  H5Output h("cg", path);
+  h.note("format", std::string("dem2d-cg-lab-2"));
+  h.note("frame", std::string("lab"));
+  h.note("velocity_source", metrics["cg"]["velocity_source"].get<std::string>());
+  h.note("metrics", metrics.dump());
+  h.note("floor_y", su.cell.floor);
   const auto per = [&](auto get) {
-    std::vector<double> v(S);
-    for (std::size_t k = 0; k < S; ++k) v[k] = get(ms[k]);
+    std::vector<double> v(ms.size());
+    for (std::size_t k = 0; k < ms.size(); ++k) v[k] = get(ms[k]);
     return v;
   };
-  D.grid(su.grid, "node y (run-file frame)");
-  D.f64("snapshots/time", "s", times, {}, "snapshot time");
-  D.f64("snapshots/bed_height", "m", per([](const LabMeasure& x) { return x.surface; }), {}, "free surface above the floor's inner face");
-  D.f64("snapshots/bed_area", "m^2", per([](const LabMeasure& x) { return x.area; }), {}, "area of the nodes with phi >= mask_phi");
-  D.f64("snapshots/bed_solid_fraction", "-", per([](const LabMeasure& x) { return x.phi; }), {}, "mean phi of the bed nodes");
-  D.f64("snapshots/mean_speed", "m/s", per([](const LabMeasure& x) { return x.mean_speed; }), {}, "mean |V| of the bed nodes");
-  D.f64("snapshots/max_speed", "m/s", per([](const LabMeasure& x) { return x.max_speed; }), {}, "largest |V| of the bed nodes");
-  if (zones) {
-    D.f64("zones/immobile_area", "m^2", per([](const LabMeasure& x) { return x.zones.immobile; }), {}, "bed nodes with v* < zones.immobile_below");
-    D.f64("zones/intermediate_area", "m^2", per([](const LabMeasure& x) { return x.zones.cone; }), {}, "bed nodes in between");
-    D.f64("zones/mobile_area", "m^2", per([](const LabMeasure& x) { return x.zones.dragged; }), {}, "bed nodes with v* > zones.dragged_above");
+  add_grid(h, su.grid, "node y (run-file frame)");
+  h.add("snapshots/time", L.times, "s", "snapshot time");
+  h.add("snapshots/bed_height", per([](const LabMeasure& x) { return x.surface; }), "m", "free surface above the floor's inner face");
+  h.add("snapshots/bed_area", per([](const LabMeasure& x) { return x.area; }), "m^2", "area of the nodes with phi >= mask_phi");
+  h.add("snapshots/bed_solid_fraction", per([](const LabMeasure& x) { return x.phi; }), "-", "mean phi of the bed nodes");
+  h.add("snapshots/mean_speed", per([](const LabMeasure& x) { return x.mean_speed; }), "m/s", "mean |V| of the bed nodes");
+  h.add("snapshots/max_speed", per([](const LabMeasure& x) { return x.max_speed; }), "m/s", "largest |V| of the bed nodes");
+  if (su.v_ref > 0.0) {
+    h.add("zones/immobile_area", per([](const LabMeasure& x) { return x.zones.immobile; }), "m^2", "bed nodes with v* < zones.immobile_below");
+    h.add("zones/intermediate_area", per([](const LabMeasure& x) { return x.zones.cone; }), "m^2", "bed nodes in between");
+    h.add("zones/mobile_area", per([](const LabMeasure& x) { return x.zones.dragged; }), "m^2", "bed nodes with v* > zones.dragged_above");
   }
   {
     std::vector<double> at;
     std::vector<float> phi, vx, vy;
-    for (const std::size_t k : fields_at) {
+    for (const std::size_t k : L.fields_at) {
       at.push_back(static_cast<double>(k));
       phi.insert(phi.end(), ms[k].phi_field.begin(), ms[k].phi_field.end());
       vx.insert(vx.end(), ms[k].vx_field.begin(), ms[k].vx_field.end());
       vy.insert(vy.end(), ms[k].vy_field.begin(), ms[k].vy_field.end());
     }
-    const std::vector<hsize_t> dims = {fields_at.size(), su.grid.ny, su.grid.nx};
-    D.f64("fields/snapshot", "-", at, {}, "snapshot index of each stored field");
-    D.f32("fields/phi", "-", std::move(phi), dims, "solid fraction [field, y, x]");
-    D.f32("fields/vx", "m/s", std::move(vx), dims, "lab-frame velocity x (NaN outside the bed)");
-    D.f32("fields/vy", "m/s", std::move(vy), dims, "lab-frame velocity y (NaN outside the bed)");
+    const std::vector<hsize_t> dims = {L.fields_at.size(), su.grid.ny, su.grid.nx};
+    h.add("fields/snapshot", at, "-", "snapshot index of each stored field");
+    h.add("fields/phi", std::move(phi), "-", "solid fraction [field, y, x]", dims);
+    h.add("fields/vx", std::move(vx), "m/s", "lab-frame velocity x (NaN outside the bed)", dims);
+    h.add("fields/vy", std::move(vy), "m/s", "lab-frame velocity y (NaN outside the bed)", dims);
   }
+  return h;
+}
+
+}  // namespace
+
+CgResult compute_cg_lab(const SnapshotSource& run, const CgInput& in) {
+  const auto t_start = std::chrono::steady_clock::now();
+  LabRun L;
+  L.su = lab_setup(run, in);
+  const bool has_piv = run.has_displacements();
+  L.set = in.config.velocity == "piv" && has_piv ? kPiv : kInst;
+  L.fields_at = lab_fields_at(run.snapshots(), in.config.field_max_snapshots);
+  L.threads = in.threads > 0 ? in.threads : omp_get_max_threads();
+  measure_lab(run, has_piv, L);
+  L.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   CgResult r;
-  r.metrics = {{"cg", m}};
-  r.datasets = std::move(D.items);
-  r.attributes = {{"format", "dem2d-cg-lab-1"}, {"run_file", path}, {"frame", "lab"},
-                  {"velocity_source", m["velocity_source"].get<std::string>()}, {"metrics", r.metrics.dump()},
-                  {"floor_y", shortest(su.cell.floor)}};
+  r.metrics = {{"cg", lab_metrics(L, run.path(), in)}};
+  r.h5 = lab_h5(L, run.path(), r.metrics);
   return r;
 }
 

@@ -615,58 +615,57 @@ json cg_metrics(const StageRecord& r) {
   return m;
 }
 
-std::vector<Dataset> cg_datasets(const StageRecord& r) {
+namespace {
+
+// Per snapshot: the values of every snapshot's measure, as one column.
+template <class Get>
+std::vector<double> per_snapshot(const StageRecord& r, Get get) {
+  std::vector<double> v(r.ms.size());
+  for (std::size_t k = 0; k < r.ms.size(); ++k) v[k] = get(r.ms[k]);
+  return v;
+}
+
+// /snapshots: one value per snapshot, and per velocity set.
+void add_snapshot_series(H5Output& h, const StageRecord& r) {
   const Setup& su = r.setup;
-  const std::vector<SnapshotMeasure>& ms = r.ms;
-  const std::size_t S = ms.size();
-  const double dx = su.grid.dx;
-  const std::size_t cone0 = su.cone0(), wall0 = su.wall_fixed();
-  DatasetList D;
-  const auto per = [&](auto get) {
-    std::vector<double> v(S);
-    for (std::size_t k = 0; k < S; ++k) v[k] = get(ms[k]);
-    return v;
-  };
-  const Grid& g = su.grid;
-  const auto S_ = static_cast<hsize_t>(S), NX = static_cast<hsize_t>(g.nx), NY = static_cast<hsize_t>(g.ny);
-  D.grid(g, "node y (run-file frame); the floor's face is at attribute floor_y");
-  D.f64("snapshots/time", "s", r.times);
-  D.f64("snapshots/intruder_height", "m", per([](const SnapshotMeasure& x) { return x.height; }), {},
-      "intruder centre above the floor's face");
-  D.f64("snapshots/surface_height", "m", per([](const SnapshotMeasure& x) { return x.surface; }), {},
-      "free surface above the floor: mean over columns ~d wide of the highest grain top");
-  D.f64("snapshots/phi_region", "-", per([&](const SnapshotMeasure& x) { return x.phi_follow[su.height0]; }), {},
-      "solid fraction in the dilatancy region following the intruder");
-  D.i64("snapshots/piv_valid", std::vector<std::int64_t>(r.piv_ok.begin(), r.piv_ok.end()),
-      "1 if the snapshot has PIV-like velocities (every active grain has a displacement)");
+  const std::size_t S = r.ms.size(), cone0 = su.cone0(), wall0 = su.wall_fixed();
+  const auto per = [&](auto get) { return per_snapshot(r, get); };
+  h.add("snapshots/time", r.times, "s", "snapshot time");
+  h.add("snapshots/intruder_height", per([](const SnapshotMeasure& x) { return x.height; }), "m", "intruder centre above the floor's face");
+  h.add("snapshots/surface_height", per([](const SnapshotMeasure& x) { return x.surface; }), "m", "free surface above the floor: mean over columns ~d wide of the highest grain top");
+  h.add("snapshots/phi_region", per([&](const SnapshotMeasure& x) { return x.phi_follow[su.height0]; }), "-", "solid fraction in the dilatancy region following the intruder");
+  h.add("snapshots/piv_valid", std::vector<std::int64_t>(r.piv_ok.begin(), r.piv_ok.end()), "-", "1 if the snapshot has PIV-like velocities (every active grain has a displacement)");
   {
     std::vector<std::int64_t> ev(S, -1);
     for (std::size_t e = 0; e < r.pre.size(); ++e)
       if (r.pre[e] >= 0) ev[static_cast<std::size_t>(r.pre[e])] = static_cast<std::int64_t>(e);
-    D.i64("snapshots/pre_rupture_event", ev, "event whose loading phase this snapshot ends, -1 if none");
+    h.add("snapshots/pre_rupture_event", ev, "-", "event whose loading phase this snapshot ends, -1 if none");
   }
   for (const std::size_t set : {kInst, kPiv}) {
     const std::string p = std::string("snapshots/") + kSourceName[set] + "/";
     const auto src = [&](auto get) {
       return per([&](const SnapshotMeasure& x) { return x.src[set].valid ? get(x.src[set]) : kNaN; });
     };
-    D.f64(p + "area_immobile", "m^2", src([](const SourceMeasure& s) { return s.zones.immobile; }));
-    D.f64(p + "area_cone", "m^2", src([](const SourceMeasure& s) { return s.zones.cone; }));
-    D.f64(p + "area_dragged", "m^2", src([](const SourceMeasure& s) { return s.zones.dragged; }));
-    D.f64(p + "red_extent", "m", src([](const SourceMeasure& s) { return s.red.height; }), {},
-        "highest node of the dragged zone grown from the intruder, above its top face");
-    D.f64(p + "beta", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].beta_deg(kVerticalEdgeDeg); }), {},
-        "mean of the snapshot's edge angles that widen upwards (<= 90 deg); NaN if none");
-    D.f64(p + "beta_left", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].left.beta_deg; }), {},
-        "fitted edge angle from the horizontal, narrowing edges (> 90 deg) included");
-    D.f64(p + "beta_right", "deg", src([&](const SourceMeasure& s) { return s.cone[cone0].right.beta_deg; }));
-    D.f64(p + "wall_meet_y", "m", src([&](const SourceMeasure& s) { return s.cone[cone0].wall_y(kVerticalEdgeDeg); }), {},
-        "y where the cone's edge reaches the wall column (mean of the sides that do, narrowing edges left out)");
-    D.f64(p + "wall_mobile_left", "m", src([&](const SourceMeasure& s) { return s.wall_left[wall0]; }), {},
-          "height above the intruder's centre where the left wall band's v* >= cone.level (the fixed level)");
-    D.f64(p + "wall_mobile_right", "m", src([&](const SourceMeasure& s) { return s.wall_right[wall0]; }));
-    D.f64(p + "median_vstar", "-", src([](const SourceMeasure& s) { return s.median_vstar; }));
+    h.add(p + "area_immobile", src([](const SourceMeasure& s) { return s.zones.immobile; }), "m^2", "area of the nodes with v* < zones.immobile_below");
+    h.add(p + "area_cone", src([](const SourceMeasure& s) { return s.zones.cone; }), "m^2", "area of the nodes in between (the cone)");
+    h.add(p + "area_dragged", src([](const SourceMeasure& s) { return s.zones.dragged; }), "m^2", "area of the nodes with v* > zones.dragged_above");
+    h.add(p + "red_extent", src([](const SourceMeasure& s) { return s.red.height; }), "m", "highest node of the dragged zone grown from the intruder, above its top face");
+    h.add(p + "beta", src([&](const SourceMeasure& s) { return s.cone[cone0].beta_deg(kVerticalEdgeDeg); }), "deg", "mean of the snapshot's edge angles that widen upwards (<= 90 deg); NaN if none");
+    h.add(p + "beta_left", src([&](const SourceMeasure& s) { return s.cone[cone0].left.beta_deg; }), "deg", "fitted edge angle from the horizontal, narrowing edges (> 90 deg) included");
+    h.add(p + "beta_right", src([&](const SourceMeasure& s) { return s.cone[cone0].right.beta_deg; }), "deg", "as beta_left, the right edge");
+    h.add(p + "wall_meet_y", src([&](const SourceMeasure& s) { return s.cone[cone0].wall_y(kVerticalEdgeDeg); }), "m", "y where the cone's edge reaches the wall column (mean of the sides that do, narrowing edges left out)");
+    h.add(p + "wall_mobile_left", src([&](const SourceMeasure& s) { return s.wall_left[wall0]; }), "m", "height above the intruder's centre where the left wall band's v* >= cone.level (the fixed level)");
+    h.add(p + "wall_mobile_right", src([&](const SourceMeasure& s) { return s.wall_right[wall0]; }), "m", "as wall_mobile_left, the right wall");
+    h.add(p + "median_vstar", src([](const SourceMeasure& s) { return s.median_vstar; }), "-", "median v* over the bed nodes (the ringing)");
   }
+}
+
+// /profiles: one node column per snapshot [S, ny].
+void add_profiles(H5Output& h, const StageRecord& r) {
+  const std::vector<SnapshotMeasure>& ms = r.ms;
+  const Grid& g = r.setup.grid;
+  const auto S_ = static_cast<hsize_t>(ms.size()), NY = static_cast<hsize_t>(g.ny);
+  const std::size_t S = ms.size();
   const auto rows = [&](auto get) {
     std::vector<float> v;
     v.reserve(S * g.ny);
@@ -676,68 +675,87 @@ std::vector<Dataset> cg_datasets(const StageRecord& r) {
     }
     return v;
   };
-  D.f32("profiles/centre_vy_instantaneous", "m/s", rows([](const SnapshotMeasure& x) -> const auto& { return x.centre_vy[kInst]; }), {S_, NY},
-      "vertical velocity (lab frame) along the node column through the intruder's centre (attribute centre_x)");
-  D.f32("profiles/centre_vy_piv", "m/s", rows([](const SnapshotMeasure& x) -> const auto& { return x.centre_vy[kPiv]; }), {S_, NY});
-  D.f32("profiles/centre_phi", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.centre_phi; }), {S_, NY});
-  D.f32("profiles/wall_vstar_left", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_vstar[0]; }), {S_, NY},
-      "mean v* of the nodes within wall.band_d of the left wall, per row (velocity_source)");
-  D.f32("profiles/wall_vstar_right", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_vstar[1]; }), {S_, NY});
-  D.f32("profiles/wall_local_left", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_local[0]; }), {S_, NY},
-      "v* along the column wall.band_d / 2 from the left wall by local-linear regression of the grains' velocities "
-      "(kernel wall.kernel_w x w; velocity_source): what the walls' mobility is judged on");
-  D.f32("profiles/wall_local_right", "-", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_local[1]; }), {S_, NY});
-  {
-    std::vector<double> tx(su.tip_nx), ty(su.tip_ny);
-    for (std::size_t a = 0; a < su.tip_nx; ++a) tx[a] = (static_cast<double>(a) - static_cast<double>(su.tip_nx / 2)) * dx;
-    for (std::size_t b = 0; b < su.tip_ny; ++b) ty[b] = (static_cast<double>(b) - static_cast<double>(su.tip_ny / 2)) * dx;
-    D.f64("tips/dx", "m", tx, {}, "node offsets from the intruder's centre (window snapped to the nearest node)");
-    D.f64("tips/dy", "m", ty);
-    const hsize_t TY = su.tip_ny, TX = su.tip_nx;
-    for (const std::size_t set : {kInst, kPiv})
-      for (int comp = 0; comp < 2; ++comp) {
-        std::vector<float> v;
-        for (const SnapshotMeasure& x : ms) v.insert(v.end(), x.tip[set][comp].begin(), x.tip[set][comp].end());
-        D.f32(std::string("tips/") + (comp ? "vy_" : "vx_") + kSourceName[set], "m/s", std::move(v), {S_, TY, TX},
-            "velocity in the intruder's frame (V - V_intruder) around the intruder");
-      }
-  }
-  {
-    const auto F = static_cast<hsize_t>(r.fields_at.size());
-    std::vector<std::int64_t> idx(r.fields_at.begin(), r.fields_at.end());
-    D.i64("fields/snapshot", idx, "snapshot index of each stored field");
-    std::vector<float> phi;
-    std::vector<float> v[2][2];
-    for (const std::size_t k : r.fields_at) {
-      phi.insert(phi.end(), ms[k].phi_field.begin(), ms[k].phi_field.end());
-      for (int set = 0; set < 2; ++set)
-        for (int comp = 0; comp < 2; ++comp) v[set][comp].insert(v[set][comp].end(), ms[k].v_field[set][comp].begin(), ms[k].v_field[set][comp].end());
+  h.add("profiles/centre_vy_instantaneous", rows([](const SnapshotMeasure& x) -> const auto& { return x.centre_vy[kInst]; }), "m/s", "vertical velocity (lab frame) along the node column through the intruder's centre (attribute centre_x)", {S_, NY});
+  h.add("profiles/centre_vy_piv", rows([](const SnapshotMeasure& x) -> const auto& { return x.centre_vy[kPiv]; }), "m/s", "as centre_vy_instantaneous, PIV-like velocities", {S_, NY});
+  h.add("profiles/centre_phi", rows([](const SnapshotMeasure& x) -> const auto& { return x.centre_phi; }), "-", "solid fraction along the node column through the intruder's centre", {S_, NY});
+  h.add("profiles/wall_vstar_left", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_vstar[0]; }), "-", "mean v* of the nodes within wall.band_d of the left wall, per row (velocity_source)", {S_, NY});
+  h.add("profiles/wall_vstar_right", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_vstar[1]; }), "-", "as wall_vstar_left, the right wall", {S_, NY});
+  h.add("profiles/wall_local_left", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_local[0]; }), "-", "v* along the column wall.band_d / 2 from the left wall by local-linear regression of the grains' velocities "
+      "(kernel wall.kernel_w x w; velocity_source): what the walls' mobility is judged on", {S_, NY});
+  h.add("profiles/wall_local_right", rows([](const SnapshotMeasure& x) -> const auto& { return x.wall_local[1]; }), "-", "as wall_local_left, the right wall", {S_, NY});
+}
+
+// /tips: the velocity around the intruder, in its frame [S, tip_ny, tip_nx].
+void add_tips(H5Output& h, const StageRecord& r) {
+  const Setup& su = r.setup;
+  const std::vector<SnapshotMeasure>& ms = r.ms;
+  const double dx = su.grid.dx;
+  const auto S_ = static_cast<hsize_t>(ms.size());
+  std::vector<double> tx(su.tip_nx), ty(su.tip_ny);
+  for (std::size_t a = 0; a < su.tip_nx; ++a) tx[a] = (static_cast<double>(a) - static_cast<double>(su.tip_nx / 2)) * dx;
+  for (std::size_t b = 0; b < su.tip_ny; ++b) ty[b] = (static_cast<double>(b) - static_cast<double>(su.tip_ny / 2)) * dx;
+  h.add("tips/dx", tx, "m", "node offsets from the intruder's centre (window snapped to the nearest node)");
+  h.add("tips/dy", ty, "m", "node offsets from the intruder's centre, y");
+  const hsize_t TY = su.tip_ny, TX = su.tip_nx;
+  for (const std::size_t set : {kInst, kPiv})
+    for (int comp = 0; comp < 2; ++comp) {
+      std::vector<float> v;
+      for (const SnapshotMeasure& x : ms) v.insert(v.end(), x.tip[set][comp].begin(), x.tip[set][comp].end());
+      h.add(std::string("tips/") + (comp ? "vy_" : "vx_") + kSourceName[set], std::move(v), "m/s", "velocity in the intruder's frame (V - V_intruder) around the intruder", {S_, TY, TX});
     }
-    D.f32("fields/phi", "-", std::move(phi), {F, NY, NX}, "solid fraction; the mass density is rho = grain_density (root attribute) * phi");
-    for (const std::size_t set : {kInst, kPiv})
-      for (int comp = 0; comp < 2; ++comp)
-        D.f32(std::string("fields/") + (comp ? "vy_" : "vx_") + kSourceName[set], "m/s", std::move(v[set][comp]),
-            {F, NY, NX}, "lab-frame velocity V = p/rho, NaN where phi < mask_phi");
+}
+
+// /fields: the full fields of the chosen snapshots [F, ny, nx].
+void add_fields(H5Output& h, const StageRecord& r) {
+  const std::vector<SnapshotMeasure>& ms = r.ms;
+  const auto NX = static_cast<hsize_t>(r.setup.grid.nx), NY = static_cast<hsize_t>(r.setup.grid.ny);
+  const auto F = static_cast<hsize_t>(r.fields_at.size());
+  std::vector<std::int64_t> idx(r.fields_at.begin(), r.fields_at.end());
+  h.add("fields/snapshot", idx, "-", "snapshot index of each stored field");
+  std::vector<float> phi;
+  std::vector<float> v[2][2];
+  for (const std::size_t k : r.fields_at) {
+    phi.insert(phi.end(), ms[k].phi_field.begin(), ms[k].phi_field.end());
+    for (int set = 0; set < 2; ++set)
+      for (int comp = 0; comp < 2; ++comp) v[set][comp].insert(v[set][comp].end(), ms[k].v_field[set][comp].begin(), ms[k].v_field[set][comp].end());
   }
+  h.add("fields/phi", std::move(phi), "-", "solid fraction; the mass density is rho = grain_density (root attribute) * phi", {F, NY, NX});
+  for (const std::size_t set : {kInst, kPiv})
+    for (int comp = 0; comp < 2; ++comp)
+      h.add(std::string("fields/") + (comp ? "vy_" : "vx_") + kSourceName[set], std::move(v[set][comp]), "m/s", "lab-frame velocity V = p/rho, NaN where phi < mask_phi", {F, NY, NX});
+}
+
+}  // namespace
+
+void add_grid(H5Output& h, const Grid& g, std::string y_about) {
+  std::vector<double> gx(g.nx), gy(g.ny);
+  for (std::size_t i = 0; i < g.nx; ++i) gx[i] = g.x(i);
+  for (std::size_t j = 0; j < g.ny; ++j) gy[j] = g.y(j);
+  h.add("grid/x", std::move(gx), "m", "node x (run-file frame)");
+  h.add("grid/y", std::move(gy), "m", std::move(y_about));
+}
+
+H5Output cg_h5(const StageRecord& r, const json& metrics) {
+  const Grid& g = r.setup.grid;
+  H5Output h("cg", r.run_path);
+  h.note("format", std::string("dem2d-cg-2"));
+  h.note("velocity_source", std::string(kSourceName[r.primary]));
+  h.note("metrics", metrics.dump());
+  h.note("floor_y", r.setup.cell.floor);
+  h.note("grain_density", r.setup.grain_density);
+  h.note("centre_x", g.x(r.setup.centre_i));
+  add_grid(h, g, "node y (run-file frame); the floor's face is at attribute floor_y");
+  add_snapshot_series(h, r);
+  add_profiles(h, r);
+  add_tips(h, r);
+  add_fields(h, r);
   if (r.have_events) {
     std::vector<double> peak;
     for (const RuptureEvent& e : r.events) peak.push_back(e.peak_time);
-    D.f64("events/peak_time", "s", std::move(peak));
-    D.i64("events/pre_rupture_snapshot", r.pre, "the snapshot just before the rupture, -1 if none");
+    h.add("events/peak_time", std::move(peak), "s", "time of each event's drag peak (the events file)");
+    h.add("events/pre_rupture_snapshot", r.pre, "-", "the snapshot just before the rupture, -1 if none");
   }
-  return std::move(D.items);
+  return h;
 }
-
-std::vector<std::pair<std::string, std::string>> cg_attributes(const StageRecord& r, const json& metrics) {
-  const Grid& g = r.setup.grid;
-  return {{"format", "dem2d-cg-1"},
-          {"run_file", r.run_path},
-          {"velocity_source", kSourceName[r.primary]},
-          {"metrics", metrics.dump()},
-          {"floor_y", shortest(r.setup.cell.floor)},
-          {"grain_density", shortest(r.setup.grain_density)},
-          {"centre_x", shortest(g.x(r.setup.centre_i))}};
-}
-
 
 }  // namespace dem2d::analysis

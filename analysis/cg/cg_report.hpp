@@ -38,7 +38,7 @@ struct StageRecord {
 std::int64_t first_after_travel(const std::vector<double>& heights, double travel);
 
 nlohmann::ordered_json cg_metrics(const StageRecord& r);   // the object under "cg"
-std::vector<Dataset> cg_datasets(const StageRecord& r);
-std::vector<std::pair<std::string, std::string>> cg_attributes(const StageRecord& r, const nlohmann::ordered_json& metrics);
+// cg.h5: the per-snapshot series, profiles, intruder-frame windows and fields; `metrics` goes in as an attribute.
+H5Output cg_h5(const StageRecord& r, const nlohmann::ordered_json& metrics);
 
 }  // namespace dem2d::analysis

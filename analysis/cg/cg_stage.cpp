@@ -69,28 +69,6 @@ std::vector<std::size_t> field_snapshots(const std::vector<double>& heights, con
 
 }  // namespace
 
-void DatasetList::f64(std::string name, std::string unit, std::vector<double> v, std::vector<hsize_t> dims,
-                      std::string about) {
-  items.push_back({Dataset::Type::f64, std::move(name), std::move(unit), std::move(about), std::move(dims), {}, std::move(v), {}});
-}
-
-void DatasetList::f32(std::string name, std::string unit, std::vector<float> v, std::vector<hsize_t> dims,
-                      std::string about) {
-  items.push_back({Dataset::Type::f32, std::move(name), std::move(unit), std::move(about), std::move(dims), std::move(v), {}, {}});
-}
-
-void DatasetList::i64(std::string name, std::vector<std::int64_t> v, std::string about) {
-  items.push_back({Dataset::Type::i64, std::move(name), "", std::move(about), {}, {}, {}, std::move(v)});
-}
-
-void DatasetList::grid(const Grid& g, std::string y_about) {
-  std::vector<double> gx(g.nx), gy(g.ny);
-  for (std::size_t i = 0; i < g.nx; ++i) gx[i] = g.x(i);
-  for (std::size_t j = 0; j < g.ny; ++j) gy[j] = g.y(j);
-  f64("grid/x", "m", std::move(gx), {}, "node x (run-file frame)");
-  f64("grid/y", "m", std::move(gy), {}, std::move(y_about));
-}
-
 Grains grains_of(const Snapshot& s, const std::vector<Vec2>* piv) {
   Grains g{s.position, s.mass, s.diameter, s.active, {s.velocity}};
   if (piv) g.velocities.emplace_back(*piv);
@@ -381,29 +359,13 @@ CgResult compute_cg(const SnapshotSource& run, const std::vector<RuptureEvent>* 
                   path, in.events_path, in.config_path};
   CgResult r;
   r.metrics = {{"cg", cg_metrics(rec)}};
-  r.datasets = cg_datasets(rec);
-  r.attributes = cg_attributes(rec, r.metrics);
+  r.h5 = cg_h5(rec, r.metrics);
   return r;
 }
 
 void write_cg(const CgResult& r, const std::string& out_dir) {
   namespace fs = std::filesystem;
-  std::error_code ec;
-  fs::create_directories(out_dir, ec);
-  const std::string h5_path = (fs::path(out_dir) / "cg.h5").string();
-  h5::write_atomically(h5_path, [&](const h5::File& f) {
-    for (const Dataset& d : r.datasets) {
-      const std::string name = "/" + d.name;
-      switch (d.type) {
-        case Dataset::Type::f32: h5::write(f, name, d.f32, d.dims); break;
-        case Dataset::Type::f64: h5::write(f, name, d.f64, d.dims); break;
-        case Dataset::Type::i64: h5::write(f, name, d.i64, d.dims); break;
-      }
-      if (!d.unit.empty()) h5::write_attr(f, name, "unit", d.unit);
-      if (!d.about.empty()) h5::write_attr(f, name, "about", d.about);
-    }
-    for (const auto& [k, v] : r.attributes) h5::write_attr(f, "/", k, v);
-  });
+  r.h5.write((fs::path(out_dir) / "cg.h5").string());
   write_file_atomic((fs::path(out_dir) / "metrics.json").string(), r.metrics.dump(2) + "\n");
 }
 

@@ -1,4 +1,4 @@
-// The stage `cg` (issue 5): coarse-grained fields of a pull-off run, the
+// The stage `cg`: coarse-grained fields of a pull-off run, the
 // mobility zones, the cone angle (R5), the wall-mobility length (R6) and the
 // dilatancy at the onset (R11); on a run without an intruder (a box, a silo)
 // the lab-frame fields and zones only (cg_lab.cpp). Definitions: analysis/cg/README.md.
@@ -17,6 +17,7 @@
 #include "cg/cg_snapshot.hpp"
 #include "common/events.hpp"
 #include "common/snapshot_source.hpp"
+#include "common/stage_output.hpp"
 #include "common/study.hpp"
 
 namespace dem2d::analysis {
@@ -37,32 +38,12 @@ struct CgInput {
   int threads = 0;          // OpenMP threads (0: OpenMP's default); results do not depend on it
 };
 
-// A named array for cg.h5: float32, float64 or int64 data (the one that is
-// used), its shape (empty: 1-D) and unit.
-struct Dataset {
-  enum class Type { f32, f64, i64 } type = Type::f64;
-  std::string name, unit, about;
-  std::vector<hsize_t> dims;
-  std::vector<float> f32;
-  std::vector<double> f64;
-  std::vector<std::int64_t> i64;
-};
-
-// cg.h5's datasets as they are collected (cg_report.cpp, cg_lab.cpp).
-struct DatasetList {
-  std::vector<Dataset> items;
-  void f64(std::string name, std::string unit, std::vector<double> v, std::vector<hsize_t> dims = {},
-           std::string about = "");
-  void f32(std::string name, std::string unit, std::vector<float> v, std::vector<hsize_t> dims, std::string about = "");
-  void i64(std::string name, std::vector<std::int64_t> v, std::string about = "");
-  // grid/x and grid/y: the nodes' coordinates (m); y_about describes grid/y.
-  void grid(const Grid& g, std::string y_about);
-};
+// cg.h5's grid/x and grid/y: the nodes' coordinates (m); y_about describes grid/y.
+void add_grid(H5Output& h, const Grid& g, std::string y_about);
 
 struct CgResult {
   nlohmann::ordered_json metrics;  // {"cg": {...}}
-  std::vector<Dataset> datasets;   // the content of cg.h5
-  std::vector<std::pair<std::string, std::string>> attributes;  // root attributes of cg.h5
+  H5Output h5;                     // cg.h5
 };
 
 // Everything, in memory. CgError (or std::runtime_error from the reader) on bad input.

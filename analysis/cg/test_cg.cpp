@@ -522,19 +522,22 @@ TEST(CgStage, QuickPulloffRun) {
   auto a = one.metrics, b = two.metrics;
   for (auto* x : {&a, &b}) (*x)["cg"].erase("cost");
   EXPECT_EQ(a.dump(), b.dump());
-  ASSERT_EQ(one.datasets.size(), two.datasets.size());
-  for (std::size_t k = 0; k < one.datasets.size(); ++k) {
-    const auto bits = [](const Dataset& d) {
-      std::string s(reinterpret_cast<const char*>(d.f32.data()), d.f32.size() * sizeof(float));
-      s.append(reinterpret_cast<const char*>(d.f64.data()), d.f64.size() * sizeof(double));
-      return s;
+  const auto& d1 = one.h5.datasets();
+  const auto& d2 = two.h5.datasets();
+  ASSERT_EQ(d1.size(), d2.size());
+  for (std::size_t k = 0; k < d1.size(); ++k) {
+    const auto bits = [](const H5Output::Dataset& d) {
+      return std::visit([](const auto& v) {
+        return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(v[0]));
+      }, d.data);
     };
-    EXPECT_EQ(bits(one.datasets[k]), bits(two.datasets[k])) << one.datasets[k].name;
+    EXPECT_EQ(bits(d1[k]), bits(d2[k])) << d1[k].name;
+    EXPECT_FALSE(d1[k].units.empty() || d1[k].description.empty()) << d1[k].name;
   }
   // outputs
   write_cg(one, dir.path().string());
   const h5::File f = h5::File::open_read((dir.path() / "cg.h5").string());
-  EXPECT_EQ(h5::read_attr_string(f, "/", "format"), "dem2d-cg-1");
+  EXPECT_EQ(h5::read_attr_string(f, "/", "format"), "dem2d-cg-2");
   const std::size_t S = h5::shape(f, "snapshots/time")[0];
   EXPECT_EQ(h5::shape(f, "profiles/centre_vy_piv"), (std::vector<hsize_t>{S, m["grid"]["ny"].get<hsize_t>()}));
   EXPECT_EQ(h5::shape(f, "fields/phi")[1], m["grid"]["ny"].get<hsize_t>());

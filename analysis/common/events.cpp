@@ -10,34 +10,27 @@ namespace dem2d::analysis {
 
 const std::vector<EventColumn>& event_columns() {
   static const std::vector<EventColumn> columns = {
-      {"load_start_time", "s", &RuptureEvent::load_start_time, true},
-      {"load_start_height", "m", &RuptureEvent::load_start_height, false},
-      {"peak_time", "s", &RuptureEvent::peak_time, true},
-      {"peak_height", "m", &RuptureEvent::peak_height, true},
-      {"peak_drag", "N/m", &RuptureEvent::peak_drag, false},
-      {"drop_end_time", "s", &RuptureEvent::drop_end_time, true},
-      {"drop_end_height", "m", &RuptureEvent::drop_end_height, false},
-      {"drop", "N/m", &RuptureEvent::drop, false},
+      {"load_start_time", "s", "time of the drag minimum the event loads from", &RuptureEvent::load_start_time, true},
+      {"load_start_height", "m", "intruder height then", &RuptureEvent::load_start_height, false},
+      {"peak_time", "s", "time of the drag peak (the rupture)", &RuptureEvent::peak_time, true},
+      {"peak_height", "m", "intruder height at the peak", &RuptureEvent::peak_height, true},
+      {"peak_drag", "N/m", "drag at the peak", &RuptureEvent::peak_drag, false},
+      {"drop_end_time", "s", "time of the drag minimum the drop ends at", &RuptureEvent::drop_end_time, true},
+      {"drop_end_height", "m", "intruder height then", &RuptureEvent::drop_end_height, false},
+      {"drop", "N/m", "peak drag minus the drag at drop_end", &RuptureEvent::drop, false},
   };
   return columns;
 }
 
-namespace {
-void put(const h5::File& f, const std::string& name, const std::vector<double>& v, const char* unit) {
-  h5::write(f, name, v);
-  h5::write_attr(f, name, "unit", std::string(unit));
-}
-}  // namespace
-
-void write_events(const h5::File& f, const std::vector<RuptureEvent>& events) {
+void add_events(H5Output& h, const std::vector<RuptureEvent>& events) {
   for (const EventColumn& c : event_columns()) {
     std::vector<double> v;
     for (const RuptureEvent& e : events) v.push_back(e.*c.field);
-    put(f, std::string("events/") + c.name, v, c.unit);
+    h.add(std::string("events/") + c.name, std::move(v), c.unit, c.description);
   }
   std::vector<double> duration;
   for (const RuptureEvent& e : events) duration.push_back(e.peak_time - e.load_start_time);
-  put(f, "events/duration", duration, "s");
+  h.add("events/duration", std::move(duration), "s", "loading time: peak_time - load_start_time");
 }
 
 std::vector<RuptureEvent> read_events(const std::string& path) {

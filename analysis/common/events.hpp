@@ -1,13 +1,14 @@
 // The events file: the loading/rupture events of a pull-off's drag, group
 // /events of the spectrum stage's spectrum.h5. One schema, written by the
 // spectrum stage and read by the stages cg and network: one row per event,
-// every column float64 [E] with a `unit` attribute (analysis/spectrum/README.md).
+// every column float64 [E] with `units` and `description` (analysis/spectrum/README.md).
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "common/stage_error.hpp"
+#include "common/stage_output.hpp"
 #include "io/h5.hpp"
 
 namespace dem2d::analysis {
@@ -26,13 +27,14 @@ struct RuptureEvent {
 struct EventColumn {
   const char* name;
   const char* unit;
+  const char* description;
   double RuptureEvent::*field;
   bool required;
 };
 const std::vector<EventColumn>& event_columns();
 
 // /events/<column> for every column, plus /events/duration (peak - load start, s).
-void write_events(const h5::File& f, const std::vector<RuptureEvent>& events);
+void add_events(H5Output& h, const std::vector<RuptureEvent>& events);
 
 // The events of the file at `path`. StageError naming the file and the column
 // unless every required column is there, float64, of one length, finite, and

@@ -16,11 +16,12 @@ void H5Output::write(const std::string& path) const {
   try {
     h5::write_atomically(path, [&](const h5::File& f) {
       for (const Dataset& d : datasets_) {
-        std::visit([&](const auto& v) { h5::write(f, d.name, v); }, d.data);
+        std::visit([&](const auto& v) { h5::write(f, d.name, v, d.shape); }, d.data);
         h5::write_attr(f, d.name, "units", d.units);
         h5::write_attr(f, d.name, "description", d.description);
       }
-      for (const auto& [name, value] : notes_) h5::write_attr(f, "/", name, value);
+      for (const Attribute& a : attributes_)
+        std::visit([&](const auto& v) { h5::write_attr(f, a.object, a.name, v); }, a.value);
     });
   } catch (const std::exception& e) {
     const std::string what = e.what();

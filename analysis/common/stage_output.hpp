@@ -1,6 +1,8 @@
 // A stage's HDF5 output, collected in memory and written at the end under a
-// temporary name, then renamed (it exists only when complete). Each dataset
-// is 1-D and carries the attributes `units` and `description`.
+// temporary name, then renamed (it exists only when complete). Every dataset
+// carries the attributes `units` and `description`, as the run file's do; a
+// dataset is 1-D unless it is given a shape. Attributes go on the root or on
+// any group or dataset of the file.
 #pragma once
 
 #include <cstdint>
@@ -8,17 +10,24 @@
 #include <variant>
 #include <vector>
 
+#include <hdf5.h>
 #include <nlohmann/json.hpp>
 
 namespace dem2d::analysis {
 
 class H5Output {
  public:
-  using Column = std::variant<std::vector<double>, std::vector<std::int64_t>, std::vector<std::int32_t>,
-                              std::vector<std::uint8_t>>;
+  using Column = std::variant<std::vector<double>, std::vector<float>, std::vector<std::int64_t>,
+                              std::vector<std::int32_t>, std::vector<std::uint8_t>>;
+  using Value = std::variant<std::string, double, std::int64_t>;
   struct Dataset {
     std::string name, units, description;
     Column data;
+    std::vector<hsize_t> shape;  // empty: 1-D
+  };
+  struct Attribute {
+    std::string object, name;  // object "/" is the file
+    Value value;
   };
 
   H5Output() = default;
@@ -28,20 +37,24 @@ class H5Output {
     note("run_file", run_file);
     note("definitions", "analysis/" + stage + "/README.md");
   }
-
-  void add(std::string name, Column data, std::string units, std::string description) {
-    datasets_.push_back({std::move(name), std::move(units), std::move(description), std::move(data)});
+  void add(std::string name, Column data, std::string units, std::string description,
+           std::vector<hsize_t> shape = {}) {
+    datasets_.push_back({std::move(name), std::move(units), std::move(description), std::move(data), std::move(shape)});
   }
-  // A string attribute on the root group.
-  void note(std::string name, std::string value) { notes_.emplace_back(std::move(name), std::move(value)); }
+  // An attribute of the root group.
+  void note(std::string name, Value value) { attr("/", std::move(name), std::move(value)); }
+  // An attribute of a group or dataset added before write().
+  void attr(std::string object, std::string name, Value value) {
+    attributes_.push_back({std::move(object), std::move(name), std::move(value)});
+  }
   const std::vector<Dataset>& datasets() const { return datasets_; }
-
+  const std::vector<Attribute>& attributes() const { return attributes_; }
   // Writes path + ".tmp" and renames it to path; std::runtime_error naming the file on failure.
   void write(const std::string& path) const;
 
  private:
   std::vector<Dataset> datasets_;
-  std::vector<std::pair<std::string, std::string>> notes_;
+  std::vector<Attribute> attributes_;
 };
 
 // NaN and infinities become JSON null (nlohmann would write null anyway, but

@@ -308,16 +308,21 @@ TEST(NetworkEvents, SchemaWrittenIsSchemaRead) {
   const std::vector<RuptureEvent> rows = {{0.10, 0.020, 0.30, 0.021, 5.0, 0.35, 0.0212, 2.0},
                                           {0.40, 0.022, 0.60, 0.024, 7.5, 0.62, 0.0241, 3.5}};
   const std::string path = (dir.path() / "spectrum.h5").string();
-  write_events(h5::File::create(path), rows);
+  const auto write_schema = [](const std::string& to, const std::vector<RuptureEvent>& events) {
+    H5Output h;
+    add_events(h, events);
+    h.write(to);
+  };
+  write_schema(path, rows);
   const std::vector<RuptureEvent> back = read_events(path);
   ASSERT_EQ(back.size(), rows.size());
   for (std::size_t k = 0; k < rows.size(); ++k)
     for (const EventColumn& c : event_columns()) EXPECT_EQ(back[k].*c.field, rows[k].*c.field) << c.name;
-  EXPECT_EQ(h5::read_attr_string(h5::File::open_read(path), "events/peak_drag", "unit"), "N/m");
+  EXPECT_EQ(h5::read_attr_string(h5::File::open_read(path), "events/peak_drag", "units"), "N/m");
   std::vector<RuptureEvent> bad = rows;
   bad[1].drop_end_time = 0.5;  // before its peak
   const std::string out_of_order = (dir.path() / "bad.h5").string();
-  write_events(h5::File::create(out_of_order), bad);
+  write_schema(out_of_order, bad);
   try {
     read_events(out_of_order);
     FAIL() << "no error";

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "common/output.hpp"
+#include "common/stage_output.hpp"
 #include "common/events.hpp"
 #include "io/h5.hpp"
 #include "io/run_parameters.hpp"
@@ -51,72 +52,68 @@ double fill_bed_height(const std::string& path) {
   return 1e-3 * (*v)["bed_height_mm"].get<double>();
 }
 
-void put(const h5::File& f, const std::string& name, const std::vector<double>& v, const char* unit) {
-  h5::write(f, name, v);
-  h5::write_attr(f, name, "unit", std::string(unit));
-}
+using I64 = std::int64_t;
 
 // A spectrum's peak as attributes of its group (travel or time spectrum alike).
-void write_peak(const h5::File& f, const std::string& group, const Psd& psd, const DominantPeak& k) {
-  h5::write_attr(f, group, "dof", psd.dof);
-  h5::write_attr(f, group, "peak_to_background", k.peak_to_background);
-  h5::write_attr(f, group, "significance_threshold", k.threshold);
-  h5::write_attr(f, group, "significant", static_cast<std::int64_t>(k.significant));
+void add_peak(H5Output& h, const std::string& group, const Psd& psd, const DominantPeak& k) {
+  h.attr(group, "dof", psd.dof);
+  h.attr(group, "peak_to_background", k.peak_to_background);
+  h.attr(group, "significance_threshold", k.threshold);
+  h.attr(group, "significant", static_cast<I64>(k.significant));
 }
 
-void write_psd(const h5::File& f, const std::string& group, const Band& b, const SpectrumScales& s, double speed) {
+void add_psd(H5Output& h, const std::string& group, const Band& b, const SpectrumScales& s, double speed) {
   std::vector<double> wavelength, f_paper, f_run;
   for (const double k : b.psd.frequency) {
     wavelength.push_back(1.0 / k);
     f_paper.push_back(k * s.paper_speed / s.d);
     f_run.push_back(k * speed / s.d);
   }
-  put(f, group + "/wavenumber_per_d", b.psd.frequency, "cycles per d of travel");
-  put(f, group + "/wavelength_d", wavelength, "d of travel");
-  put(f, group + "/frequency_hz_at_paper_v", f_paper, "Hz");
-  put(f, group + "/frequency_hz_at_run_v", f_run, "Hz");
-  put(f, group + "/power", b.psd.power, "(N/m)^2 per (cycle per d)");
-  h5::write_attr(f, group, "low_m", b.low);
-  h5::write_attr(f, group, "high_m", b.high);
-  h5::write_attr(f, group, "segments", static_cast<std::int64_t>(b.psd.segments));
-  h5::write_attr(f, group, "dominant_period_d", b.peak.period);
-  write_peak(f, group, b.psd, b.peak);
+  h.add(group + "/wavenumber_per_d", b.psd.frequency, "cycles per d of travel", "travel wavenumber of each bin");
+  h.add(group + "/wavelength_d", std::move(wavelength), "d of travel", "1 / wavenumber");
+  h.add(group + "/frequency_hz_at_paper_v", std::move(f_paper), "Hz", "the wavenumber at the paper's pull speed");
+  h.add(group + "/frequency_hz_at_run_v", std::move(f_run), "Hz", "the wavenumber at the run's pull speed");
+  h.add(group + "/power", b.psd.power, "(N/m)^2 per (cycle per d)", "Welch power spectral density of the fluctuation");
+  h.attr(group, "low_m", b.low);
+  h.attr(group, "high_m", b.high);
+  h.attr(group, "segments", static_cast<I64>(b.psd.segments));
+  h.attr(group, "dominant_period_d", b.peak.period);
+  add_peak(h, group, b.psd, b.peak);
 }
 
-void write_h5(const h5::File& f, const SpectrumStage& st) {
+void add_profile(H5Output& h, const SpectrumResult& r) {
+  const DragProfile& p = r.profile;
+  h.add("profile/time", p.time, "s", "time of each drag sample");
+  h.add("profile/height", p.height, "m", "intruder centre above the floor's face");
+  h.add("profile/drag", p.drag, "N/m", "drag on the intruder (the pulling force less its weight)");
+  h.add("profile/trend", r.trend, "N/m", "the drag's slow trend (removed before the spectra)");
+  h.add("profile/fluctuation", r.fluctuation, "N/m", "drag - trend");
+  h.add("profile/envelope", r.envelope, "N/m", "running rms of the fluctuation");
+  h.add("profile/local_noise", r.local_noise, "N/m", "local noise of the fluctuation from first differences");
+}
+
+void add_ringing(H5Output& h, const SpectrumResult& r) {
+  h.add("ringing/frequency_hz", r.ringing.psd.frequency, "Hz", "time frequency of each bin");
+  h.add("ringing/power", r.ringing.psd.power, "(N/m)^2 per Hz", "power spectral density of the second part's drag");
+  h.attr("ringing", "nyquist_hz", r.ringing.nyquist);
+  h.attr("ringing", "searched", static_cast<I64>(r.ringing.searched));
+  h.attr("ringing", "frequency_hz", r.ringing.peak.frequency);
+  add_peak(h, "ringing", r.ringing.psd, r.ringing.peak);
+  h.attr("ringing", "line_rms_N_per_m", r.ringing.line_rms);
+  h.attr("ringing", "geometric_cutoff_hz", r.geometric_cutoff);
+}
+
+// /events: the events file's one schema (common/events.hpp), read by cg and
+// network, and the rupture catalogue's further columns.
+void add_events(H5Output& h, const SpectrumStage& st) {
   const SpectrumResult& r = st.result;
   const DragProfile& p = r.profile;
-  h5::write_attr(f, "/", "format", std::string("dem2d-spectrum-1"));
-  h5::write_attr(f, "/", "run_file", st.metrics["spectrum"]["run_file"].get<std::string>());
-  h5::write_attr(f, "/", "bed_height_m", st.scales.bed_height);
-  h5::write_attr(f, "/", "mean_diameter_m", st.scales.d);
-  put(f, "profile/time", p.time, "s");
-  put(f, "profile/height", p.height, "m");
-  put(f, "profile/drag", p.drag, "N/m");
-  put(f, "profile/trend", r.trend, "N/m");
-  put(f, "profile/fluctuation", r.fluctuation, "N/m");
-  put(f, "profile/envelope", r.envelope, "N/m");
-  put(f, "profile/local_noise", r.local_noise, "N/m");
-  write_psd(f, "psd", r.second_part, st.scales, r.speed);
-  h5::write_attr(f, "psd", "search_min_period_d", r.min_period_d);  // the bands' search too
-  for (const Band& b : r.bands) write_psd(f, "psd/bands/" + b.name, b, st.scales, r.speed);
-  // /ringing: the second part's spectrum against time frequency and its peak
-  put(f, "ringing/frequency_hz", r.ringing.psd.frequency, "Hz");
-  put(f, "ringing/power", r.ringing.psd.power, "(N/m)^2 per Hz");
-  h5::write_attr(f, "ringing", "nyquist_hz", r.ringing.nyquist);
-  h5::write_attr(f, "ringing", "searched", static_cast<std::int64_t>(r.ringing.searched));
-  h5::write_attr(f, "ringing", "frequency_hz", r.ringing.peak.frequency);
-  write_peak(f, "ringing", r.ringing.psd, r.ringing.peak);
-  h5::write_attr(f, "ringing", "line_rms_N_per_m", r.ringing.line_rms);
-  h5::write_attr(f, "ringing", "geometric_cutoff_hz", r.geometric_cutoff);
-  // /events: the events file's one schema (common/events.hpp), read by cg and network
   std::vector<RuptureEvent> events;
   for (const Event& e : r.events)
     events.push_back({p.time[e.load_start], p.height[e.load_start], p.time[e.peak], p.height[e.peak], p.drag[e.peak],
                       p.time[e.drop_end], p.height[e.drop_end], p.drag[e.peak] - p.drag[e.drop_end]});
-  write_events(f, events);
-  h5::write_attr(f, "events", "drop_delta_N_per_m", r.drop_delta);
-  // the rupture catalogue's further columns (extras of the events schema)
+  analysis::add_events(h, events);
+  h.attr("events", "drop_delta_N_per_m", r.drop_delta);
   std::vector<double> drop_duration, rise, stiffness, relative, counted;
   for (std::size_t i = 0; i < r.events.size(); ++i) {
     const Event& e = r.events[i];
@@ -127,14 +124,19 @@ void write_h5(const h5::File& f, const SpectrumStage& st) {
     relative.push_back(r.event_load[i] > 0.0 ? (p.drag[e.peak] - p.drag[e.drop_end]) / r.event_load[i] : kNaN);
     counted.push_back(r.counted[i]);
   }
-  put(f, "events/drop_duration", drop_duration, "s");
-  put(f, "events/loading_rise", rise, "N/m");
-  put(f, "events/loading_stiffness", stiffness, "N/m per mm of travel");
-  put(f, "events/load", r.event_load, "N/m");
-  put(f, "events/relative_drop", relative, "1");
-  put(f, "events/counted", counted, "1");
-  h5::write_attr(f, "events", "rupture_rule", st.metrics["spectrum"]["rupture_rule"].get<std::string>());
-  // /top_layer: drag against depth and its linear fit
+  h.add("events/drop_duration", std::move(drop_duration), "s", "drop_end_time - peak_time");
+  h.add("events/loading_rise", std::move(rise), "N/m", "peak drag - drag at load_start");
+  h.add("events/loading_stiffness", std::move(stiffness), "N/m per mm of travel", "loading_rise over the travel from load_start to the peak");
+  h.add("events/load", r.event_load, "N/m", "the drag's trend at the peak");
+  h.add("events/relative_drop", std::move(relative), "1", "drop / load");
+  h.add("events/counted", std::move(counted), "1", "1 if the rupture rule counts the event (attribute rupture_rule)");
+  h.attr("events", "rupture_rule", st.metrics["spectrum"]["rupture_rule"].get<std::string>());
+}
+
+// /top_layer: drag against depth and its linear fit, the change-point model's blocks.
+void add_top_layer(H5Output& h, const SpectrumStage& st) {
+  const SpectrumResult& r = st.result;
+  const DragProfile& p = r.profile;
   std::vector<double> depth, height, drag, fit;
   for (std::size_t k = r.top_begin; k < r.top_end; ++k) {
     height.push_back(p.height[k]);
@@ -142,24 +144,40 @@ void write_h5(const h5::File& f, const SpectrumStage& st) {
     drag.push_back(p.drag[k]);
     fit.push_back(r.top_fit.intercept + r.top_fit.slope * 1e3 * depth.back());
   }
-  put(f, "top_layer/depth", depth, "m");
-  put(f, "top_layer/height", height, "m");
-  put(f, "top_layer/drag", drag, "N/m");
-  put(f, "top_layer/fit_drag", fit, "N/m");
-  h5::write_attr(f, "top_layer", "top_layer_height_m", r.top_height);
-  h5::write_attr(f, "top_layer", "outcome", r.top.outcome);
-  h5::write_attr(f, "top_layer", "model", r.top.model);
-  h5::write_attr(f, "top_layer", "change_point_m", r.top.best.height);
-  h5::write_attr(f, "top_layer", "interval_low_m", r.top.low);
-  h5::write_attr(f, "top_layer", "interval_high_m", r.top.high);
-  h5::write_attr(f, "top_layer", "envelope_height_m", r.envelope_top_height);
-  put(f, "top_layer/block_height", r.top.block_height, "m");
-  put(f, "top_layer/block_variance", r.top.block_variance, "(N/m)^2");
-  put(f, "top_layer/block_model", r.top.block_model, "(N/m)^2");
-  put(f, "top_layer/block_load", r.top.block_load, "N/m");
-  h5::write_attr(f, "top_layer", "slope_N_per_m_per_mm", r.top_fit.slope);
-  h5::write_attr(f, "top_layer", "intercept_N_per_m", r.top_fit.intercept);
-  h5::write_attr(f, "top_layer", "r2", r.top_fit.r2);
+  h.add("top_layer/depth", std::move(depth), "m", "intruder depth below the bed surface");
+  h.add("top_layer/height", std::move(height), "m", "intruder centre above the floor's face");
+  h.add("top_layer/drag", std::move(drag), "N/m", "drag in the top layer");
+  h.add("top_layer/fit_drag", std::move(fit), "N/m", "the linear fit of drag against depth");
+  h.add("top_layer/block_height", r.top.block_height, "m", "intruder height at each block's middle");
+  h.add("top_layer/block_variance", r.top.block_variance, "(N/m)^2", "fluctuation variance in each block");
+  h.add("top_layer/block_model", r.top.block_model, "(N/m)^2", "the change-point model's variance in each block");
+  h.add("top_layer/block_load", r.top.block_load, "N/m", "mean drag trend in each block");
+  h.attr("top_layer", "top_layer_height_m", r.top_height);
+  h.attr("top_layer", "outcome", r.top.outcome);
+  h.attr("top_layer", "model", r.top.model);
+  h.attr("top_layer", "change_point_m", r.top.best.height);
+  h.attr("top_layer", "interval_low_m", r.top.low);
+  h.attr("top_layer", "interval_high_m", r.top.high);
+  h.attr("top_layer", "envelope_height_m", r.envelope_top_height);
+  h.attr("top_layer", "slope_N_per_m_per_mm", r.top_fit.slope);
+  h.attr("top_layer", "intercept_N_per_m", r.top_fit.intercept);
+  h.attr("top_layer", "r2", r.top_fit.r2);
+}
+
+H5Output spectrum_h5(const SpectrumStage& st) {
+  const SpectrumResult& r = st.result;
+  H5Output h("spectrum", st.metrics["spectrum"]["run_file"].get<std::string>());
+  h.note("format", std::string("dem2d-spectrum-2"));
+  h.note("bed_height_m", st.scales.bed_height);
+  h.note("mean_diameter_m", st.scales.d);
+  add_profile(h, r);
+  add_psd(h, "psd", r.second_part, st.scales, r.speed);
+  h.attr("psd", "search_min_period_d", r.min_period_d);  // the bands' search too
+  for (const Band& b : r.bands) add_psd(h, "psd/bands/" + b.name, b, st.scales, r.speed);
+  add_ringing(h, r);
+  add_events(h, st);
+  add_top_layer(h, st);
+  return h;
 }
 
 }  // namespace
@@ -205,12 +223,7 @@ void write_spectrum_outputs(const std::string& dir, const SpectrumStage& stage) 
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(dir, ec);
-  const std::string h5_path = (fs::path(dir) / "spectrum.h5").string();
-  try {
-    h5::write_atomically(h5_path, [&](const h5::File& f) { write_h5(f, stage); });
-  } catch (const std::exception& e) {
-    throw std::runtime_error(std::string(e.what()) + " (cannot write " + h5_path + ")");
-  }
+  spectrum_h5(stage).write((fs::path(dir) / "spectrum.h5").string());
   write_file_atomic((fs::path(dir) / "metrics.json").string(), stage.metrics.dump(2) + "\n");
 }
 
