@@ -325,66 +325,85 @@ std::int64_t first_after_travel(const std::vector<double>& heights, double trave
   return -1;
 }
 
-json cg_metrics(const StageRecord& r) {
+namespace {
+
+// What every section of the metrics uses: the record, the snapshot selections
+// and the headline fits (the cone's angle, the wall losses and their noise).
+struct Summary {
+  explicit Summary(const StageRecord& rec)
+      : r(rec), all(selection(rec, true)), sel(selection(rec, false)), cone0(rec.setup.cone0()),
+        gate(rec.setup.cone_gate()), gap(half_gap(rec.setup)) {}
+  const StageRecord& r;
+  std::vector<std::size_t> all, sel;  // every snapshot; the loading ones
+  std::size_t cone0 = 0, gate = 0;
+  double gap = 0.0;
+  BetaStats beta, every_edge;
+  WallLoss fixed_wall, wall;
+  WallNoise noise;
+  double loss_p = kNaN;
+  bool loss_significant = false;
+};
+
+Summary summarise(const StageRecord& r) {
   const Setup& su = r.setup;
   const CgConfig& c = r.config;
-  const std::vector<SnapshotMeasure>& ms = r.ms;
-  const std::vector<double>& times = r.times;
-  const std::vector<double>& heights = r.heights;
-  const std::size_t S = ms.size(), primary = r.primary;
-  const std::vector<std::size_t> all = selection(r, true), sel = selection(r, false);
-  const std::size_t nstart = su.starts.size(), nband = su.bands.size();
-  const std::size_t cone0 = su.cone0(), gate = su.cone_gate();
-  const double gap = half_gap(su), dx = su.grid.dx;
-  const BetaStats beta = beta_stats(ms, sel, primary, cone0, gap, kVerticalEdgeDeg, gate);
-  const BetaStats every_edge = beta_stats(ms, sel, primary, cone0, gap, kEveryEdgeDeg, gate);
-  const double hc_beta = gap * std::tan(beta.mean / kDeg);
-  const WallLoss fixed_wall = wall_loss(ms, sel, primary, su.wall_fixed(), c.wall_min_mobile_d * su.d);
+  Summary x(r);
+  x.beta = beta_stats(r.ms, x.sel, r.primary, x.cone0, x.gap, kVerticalEdgeDeg, x.gate);
+  x.every_edge = beta_stats(r.ms, x.sel, r.primary, x.cone0, x.gap, kEveryEdgeDeg, x.gate);
+  x.fixed_wall = wall_loss(r.ms, x.sel, r.primary, su.wall_fixed(), c.wall_min_mobile_d * su.d);
   // each snapshot alone, unless the noise lifts the walls' level above cone.level somewhere:
   // then pooled over wall.pool_d of travel (steady mobility is kept, intermittent mobility
   // averaged; at the study's noise the snapshots stand alone)
-  WallNoise noise = wall_noise(r, 0.0);
-  WallLoss wall = calibrated_wall_loss(r, sel, noise, c.wall_false_alarm);
-  if (c.wall_pool_d > 0.0 && noise.level_max > c.level) {
-    noise = wall_noise(r, c.wall_pool_d);
-    wall = calibrated_wall_loss(r, sel, noise, c.wall_false_alarm);
+  x.noise = wall_noise(r, 0.0);
+  x.wall = calibrated_wall_loss(r, x.sel, x.noise, c.wall_false_alarm);
+  if (c.wall_pool_d > 0.0 && x.noise.level_max > c.level) {
+    x.noise = wall_noise(r, c.wall_pool_d);
+    x.wall = calibrated_wall_loss(r, x.sel, x.noise, c.wall_false_alarm);
   }
-  const double loss_p = loss_p_value(wall, c.wall_permutations);
-  const bool loss_significant = std::isfinite(wall.fit.height) && loss_p < c.wall_loss_false_alarm;
-  if (!loss_significant) wall.depth = kNaN;
+  x.loss_p = loss_p_value(x.wall, c.wall_permutations);
+  x.loss_significant = std::isfinite(x.wall.fit.height) && x.loss_p < c.wall_loss_false_alarm;
+  if (!x.loss_significant) x.wall.depth = kNaN;
+  return x;
+}
 
-  // dilatancy: the region following the intruder, before (snapshot 0) and after `after_travel`
-  const auto dphi = [&](std::int64_t k, std::size_t h, bool follow) {
-    if (k < 0) return kNaN;
-    const auto& v0 = follow ? ms[0].phi_follow : ms[0].phi_fixed;
-    const auto& v1 = follow ? ms[static_cast<std::size_t>(k)].phi_follow : ms[static_cast<std::size_t>(k)].phi_fixed;
-    return v1[h] - v0[h];
-  };
+// Dilatancy: the change of the solid fraction in region h (following the
+// intruder or fixed at its start) from snapshot 0 to snapshot k; NaN if k < 0.
+double delta_phi(const std::vector<SnapshotMeasure>& ms, std::int64_t k, std::size_t h, bool follow) {
+  if (k < 0) return kNaN;
+  const SnapshotMeasure& m = ms[static_cast<std::size_t>(k)];
+  return (follow ? m.phi_follow[h] : m.phi_fixed[h]) - (follow ? ms[0].phi_follow[h] : ms[0].phi_fixed[h]);
+}
 
-  json m;
-  m["cone_angle_deg"] = nullable(beta.mean);
-  m["wall_mobility_length_mm"] = nullable(wall.depth * kMm);
-  m["dilatancy_delta_phi"] = nullable(dphi(r.after, su.height0, true));
-  m["velocity_source"] = kSourceName[primary];
+void add_headline(json& m, const Summary& x) {
+  const StageRecord& r = x.r;
+  m["cone_angle_deg"] = nullable(x.beta.mean);
+  m["wall_mobility_length_mm"] = nullable(x.wall.depth * kMm);
+  m["dilatancy_delta_phi"] = nullable(delta_phi(r.ms, r.after, r.setup.height0, true));
+  m["velocity_source"] = kSourceName[r.primary];
   m["velocity_note"] =
-      primary == kPiv ? "every metric uses PIV-like velocities: each grain's displacement over the displacement_window "
-                        "before the snapshot divided by it; the instantaneous ones appear in the sensitivity tables"
+      r.primary == kPiv ? "every metric uses PIV-like velocities: each grain's displacement over the displacement_window "
+                          "before the snapshot divided by it; the instantaneous ones appear in the sensitivity tables"
       : r.has_piv ? "every metric uses the instantaneous velocities (/snapshots/velocity), as configured"
-                : "the run file has no displacements (/snapshots/displacement absent or displacement_window = 0): "
-                  "every metric uses the instantaneous velocities (/snapshots/velocity), which carry the bed's ringing";
+                  : "the run file has no displacements (/snapshots/displacement absent or displacement_window = 0): "
+                    "every metric uses the instantaneous velocities (/snapshots/velocity), which carry the bed's ringing";
   m["loading_selection"] = r.have_events ? "pre_rupture" : "all_snapshots";
   m["loading_note"] =
       r.have_events ? "cone and wall metrics over the snapshots just before each rupture: the last snapshot k with "
-                    "load_start_time <= t_k - displacement_window and t_k <= peak_time of each event"
-                  : "no --events file: cone and wall metrics over all snapshots (loading and slip frames mixed)";
+                      "load_start_time <= t_k - displacement_window and t_k <= peak_time of each event"
+                    : "no --events file: cone and wall metrics over all snapshots (loading and slip frames mixed)";
   m["events"] = r.have_events ? json(r.events.size()) : json();
-  m["events_with_snapshot"] = r.have_events ? sel.size() : 0;
+  m["events_with_snapshot"] = r.have_events ? x.sel.size() : 0;
+}
+
+void add_cone(json& m, const Summary& x) {
+  const BetaStats& beta = x.beta;
   m["cone_angle_sd_deg"] = nullable(beta.sd);
   m["cone_angle_snapshots"] = beta.count;
   m["cone_angle_left_deg"] = nullable(beta.left);
   m["cone_angle_right_deg"] = nullable(beta.right);
   m["cone_opening_angle_deg"] = nullable(180.0 - 2.0 * beta.mean);
-  m["cone_angle_all_snapshots_deg"] = nullable(beta_stats(ms, all, primary, cone0, gap, kVerticalEdgeDeg, gate).mean);
+  m["cone_angle_all_snapshots_deg"] =
+      nullable(beta_stats(x.r.ms, x.all, x.r.primary, x.cone0, x.gap, kVerticalEdgeDeg, x.gate).mean);
   m["cone_edge_note"] = "every cone number (angle, sides, bands, wall meeting, chord, offset, H_c from beta) uses "
                         "the fitted edges that do not narrow upwards (beta <= 90 deg; vertical kept); the narrowing "
                         "ones (beta > 90) are left out, counted and described by the metrics named *narrowing*";
@@ -398,35 +417,43 @@ json cg_metrics(const StageRecord& r) {
   m["cone_narrowing_snapshot_fraction"] = nullable(fraction(beta.with_excluded, beta.fitted_snapshots));
   m["cone_snapshots_only_narrowing"] = beta.all_excluded;
   m["cone_excluded_snapshot_fraction"] = nullable(fraction(beta.all_excluded, beta.fitted_snapshots));
-  m["cone_angle_including_narrowing_deg"] = nullable(every_edge.mean);
-  m["cone_angle_including_narrowing_sd_deg"] = nullable(every_edge.sd);
+  m["cone_angle_including_narrowing_deg"] = nullable(x.every_edge.mean);
+  m["cone_angle_including_narrowing_sd_deg"] = nullable(x.every_edge.sd);
   m["cone_wall_meet_above_intruder_mm"] = nullable(beta.meet * kMm);
   m["cone_wall_meet_snapshots"] = beta.meet_count;
   m["cone_angle_from_wall_meet_deg"] = nullable(beta.chord);
   m["cone_edge_offset_at_intruder_mm"] = nullable(beta.offset * kMm);
-  m["wall_mobility_length_from_beta_mm"] = nullable(hc_beta * kMm);
+  m["wall_mobility_length_from_beta_mm"] = nullable(x.gap * std::tan(beta.mean / kDeg) * kMm);
+}
+
+void add_wall(json& m, const Summary& x) {
+  const WallLoss& wall = x.wall;
   m["wall_mobility_loss_height_mm"] = nullable(wall.fit.height * kMm);
   m["wall_mobility_surface_mm"] = nullable(wall.surface * kMm);
   m["wall_mobility_snapshots"] = wall.fit.count;
   m["wall_mobility_mobile_snapshots"] = wall.mobile;
   m["wall_mobility_misclassified"] = wall.fit.misclassified;
-  m["wall_mobility_loss_p_value"] = nullable(loss_p);
+  m["wall_mobility_loss_p_value"] = nullable(x.loss_p);
   m["wall_mobility_outcome"] =
-      loss_significant ? "found"
+      x.loss_significant ? "found"
       : std::isfinite(wall.fit.height) ? "no significant loss: the split of mobile from immobile snapshots is not "
                                          "better than the same flags shuffled over the heights"
                                        : "no loss: the walls are mobile in every loading snapshot or in none";
-  m["wall_mobility_level_range"] = {nullable(noise.level_min), nullable(noise.level_max)};
-  m["wall_mobility_pool_d"] = noise.pool_d;
+  m["wall_mobility_level_range"] = {nullable(x.noise.level_min), nullable(x.noise.level_max)};
+  m["wall_mobility_pool_d"] = x.noise.pool_d;
   m["wall_mobility_level_note"] = "per window: max(cone.level, q x the local-linear fit's noise gain there), q the "
                                   "(1 - noise.wall_false_alarm / M) quantile of the windowed v* per unit gain at "
                                   "rest, M the independent windows scanned; the profiles pooled over "
                                   "wall_mobility_pool_d of travel (0: each snapshot alone) only when the noise "
                                   "lifts a level above cone.level";
-  m["wall_mobility_length_fixed_level_mm"] = nullable(fixed_wall.depth * kMm);
+  m["wall_mobility_length_fixed_level_mm"] = nullable(x.fixed_wall.depth * kMm);
   m["wall_mobility_fixed_level_note"] =
       "the definition before the noise calibration: mobile where the mean of the two walls' lengths with v* >= "
       "cone.level is at least wall.min_mobile_d; no significance test";
+}
+
+void add_noise(json& m, const Summary& x) {
+  const Setup& su = x.r.setup;
   m["cone_level"] = su.levels[su.level0];
   m["cone_level_note"] = "max(cone.level, the (1 - noise.cone_false_alarm) quantile of v* at single nodes at rest)";
   m["piv_noise"] = {{"region", "rows from noise.rest_margin_w x w above the floor to as far below the intruder's "
@@ -436,155 +463,197 @@ json cg_metrics(const StageRecord& r) {
                     {"node_vstar_median", nullable(upper_quantile(su.rest_nodes, 0.5))},
                     {"node_vstar_q99", nullable(upper_quantile(su.rest_nodes, 0.99))},
                     {"node_vstar_q999", nullable(upper_quantile(su.rest_nodes, 0.999))},
-                    {"rest_wall_windows", noise.rest.size()},
-                    {"wall_window_vstar_median", nullable(upper_quantile(noise.rest, 0.5))},
-                    {"wall_window_vstar_q99", nullable(upper_quantile(noise.rest, 0.99))},
-                    {"grain_rms_over_v", nullable(noise.grain_rms)},
-                    {"grain_samples", noise.grains},
+                    {"rest_wall_windows", x.noise.rest.size()},
+                    {"wall_window_vstar_median", nullable(upper_quantile(x.noise.rest, 0.5))},
+                    {"wall_window_vstar_q99", nullable(upper_quantile(x.noise.rest, 0.99))},
+                    {"grain_rms_over_v", nullable(x.noise.grain_rms)},
+                    {"grain_samples", x.noise.grains},
                     {"unit", "x V_ref (the intruder's speed)"}};
-  m["half_gap_mm"] = gap * kMm;
-  {
-    const std::size_t h0 = su.height0;
-    const std::int64_t k_after = r.after;
-    m["dilatancy_phi_before"] = nullable(ms[0].phi_follow[h0]);
-    m["dilatancy_phi_after"] = k_after >= 0 ? nullable(ms[static_cast<std::size_t>(k_after)].phi_follow[h0]) : json();
-    m["dilatancy_time_after_s"] = k_after >= 0 ? json(times[static_cast<std::size_t>(k_after)]) : json();
-    m["dilatancy_travel_after_mm"] =
-        k_after >= 0 ? json((heights[static_cast<std::size_t>(k_after)] - heights[0]) * kMm) : json();
-    m["dilatancy_region_mm"] = {c.region_width_L * su.start.length() * kMm, c.region_offset_w * su.kernel.w * kMm,
-                                su.heights[h0] * kMm};
-    if (r.have_events && r.events.size() > 0) {
-      // the first snapshot after the end of the first rupture's drop
-      const RuptureEvent& first = *std::min_element(
-          r.events.begin(), r.events.end(), [](const RuptureEvent& a, const RuptureEvent& b) { return a.peak_time < b.peak_time; });
-      std::int64_t k_drop = -1;
-      for (std::size_t k = 0; k < S && k_drop < 0; ++k)
-        if (times[k] >= first.drop_end_time) k_drop = static_cast<std::int64_t>(k);
-      m["dilatancy_delta_phi_after_first_rupture"] = nullable(dphi(k_drop, h0, true));
-    }
+  m["half_gap_mm"] = x.gap * kMm;
+}
+
+void add_dilatancy(json& m, const Summary& x) {
+  const StageRecord& r = x.r;
+  const Setup& su = r.setup;
+  const std::vector<SnapshotMeasure>& ms = r.ms;
+  const std::size_t h0 = su.height0;
+  const std::int64_t k_after = r.after;
+  const auto after = static_cast<std::size_t>(std::max<std::int64_t>(k_after, 0));
+  m["dilatancy_phi_before"] = nullable(ms[0].phi_follow[h0]);
+  m["dilatancy_phi_after"] = k_after >= 0 ? nullable(ms[after].phi_follow[h0]) : json();
+  m["dilatancy_time_after_s"] = k_after >= 0 ? json(r.times[after]) : json();
+  m["dilatancy_travel_after_mm"] = k_after >= 0 ? json((r.heights[after] - r.heights[0]) * kMm) : json();
+  m["dilatancy_region_mm"] = {r.config.region_width_L * su.start.length() * kMm,
+                              r.config.region_offset_w * su.kernel.w * kMm, su.heights[h0] * kMm};
+  if (r.have_events && r.events.size() > 0) {
+    // the first snapshot after the end of the first rupture's drop
+    const RuptureEvent& first = *std::min_element(
+        r.events.begin(), r.events.end(), [](const RuptureEvent& a, const RuptureEvent& b) { return a.peak_time < b.peak_time; });
+    std::int64_t k_drop = -1;
+    for (std::size_t k = 0; k < ms.size() && k_drop < 0; ++k)
+      if (r.times[k] >= first.drop_end_time) k_drop = static_cast<std::int64_t>(k);
+    m["dilatancy_delta_phi_after_first_rupture"] = nullable(delta_phi(ms, k_drop, h0, true));
   }
-  // zones over the selected snapshots
-  {
-    std::vector<double> im, co, dr, red, mob;
-    for (const std::size_t k : sel) {
-      const SourceMeasure& s = ms[k].src[primary];
-      if (!s.valid) continue;
-      im.push_back(s.zones.immobile), co.push_back(s.zones.cone), dr.push_back(s.zones.dragged);
-      red.push_back(s.red.height), mob.push_back(s.mobile.area);
-    }
-    m["zone_area_immobile_mm2"] = nullable(mean_of(im) * kMm * kMm);
-    m["zone_area_cone_mm2"] = nullable(mean_of(co) * kMm * kMm);
-    m["zone_area_dragged_mm2"] = nullable(mean_of(dr) * kMm * kMm);
-    m["red_zone_extent_mm"] = nullable(mean_of(red) * kMm);
-    m["mobilised_zone_area_mm2"] = nullable(mean_of(mob) * kMm * kMm);
+}
+
+// Zone areas over the selected snapshots, then per band of intruder height.
+void add_zones(json& m, const Summary& x) {
+  const std::vector<SnapshotMeasure>& ms = x.r.ms;
+  std::vector<double> im, co, dr, red, mob;
+  for (const std::size_t k : x.sel) {
+    const SourceMeasure& s = ms[k].src[x.r.primary];
+    if (!s.valid) continue;
+    im.push_back(s.zones.immobile), co.push_back(s.zones.cone), dr.push_back(s.zones.dragged);
+    red.push_back(s.red.height), mob.push_back(s.mobile.area);
   }
-  // per band of intruder height
-  {
-    json bands = json::array();
-    for (std::size_t b = 0; b + 1 < c.bands_mm.size(); ++b) {
-      std::vector<std::size_t> in_band;
-      std::vector<double> red, cone_area;
-      for (const std::size_t k : sel)
-        if (ms[k].height * kMm >= c.bands_mm[b] && ms[k].height * kMm < c.bands_mm[b + 1]) {
-          in_band.push_back(k);
-          if (ms[k].src[primary].valid)
-            red.push_back(ms[k].src[primary].red.height), cone_area.push_back(ms[k].src[primary].zones.cone);
-        }
-      const BetaStats bs = beta_stats(ms, in_band, primary, cone0, gap, kVerticalEdgeDeg, gate);
-      bands.push_back({{"height_mm", {c.bands_mm[b], c.bands_mm[b + 1]}},
-                       {"snapshots", in_band.size()},
-                       {"cone_angle_deg", nullable(bs.mean)},
-                       {"cone_angle_sd_deg", nullable(bs.sd)},
-                       {"cone_angle_snapshots", bs.count},
-                       {"narrowing_edge_fraction", nullable(fraction(bs.excluded, bs.edges))},
-                       {"red_zone_extent_mm", nullable(mean_of(red) * kMm)},
-                       {"zone_area_cone_mm2", nullable(mean_of(cone_area) * kMm * kMm)}});
-    }
-    m["by_height_band"] = bands;
+  m["zone_area_immobile_mm2"] = nullable(mean_of(im) * kMm * kMm);
+  m["zone_area_cone_mm2"] = nullable(mean_of(co) * kMm * kMm);
+  m["zone_area_dragged_mm2"] = nullable(mean_of(dr) * kMm * kMm);
+  m["red_zone_extent_mm"] = nullable(mean_of(red) * kMm);
+  m["mobilised_zone_area_mm2"] = nullable(mean_of(mob) * kMm * kMm);
+}
+
+json height_bands(const Summary& x) {
+  const std::vector<SnapshotMeasure>& ms = x.r.ms;
+  const std::vector<double>& edges = x.r.config.bands_mm;
+  const std::size_t primary = x.r.primary;
+  json bands = json::array();
+  for (std::size_t b = 0; b + 1 < edges.size(); ++b) {
+    std::vector<std::size_t> in_band;
+    std::vector<double> red, cone_area;
+    for (const std::size_t k : x.sel)
+      if (ms[k].height * kMm >= edges[b] && ms[k].height * kMm < edges[b + 1]) {
+        in_band.push_back(k);
+        if (ms[k].src[primary].valid)
+          red.push_back(ms[k].src[primary].red.height), cone_area.push_back(ms[k].src[primary].zones.cone);
+      }
+    const BetaStats bs = beta_stats(ms, in_band, primary, x.cone0, x.gap, kVerticalEdgeDeg, x.gate);
+    bands.push_back({{"height_mm", {edges[b], edges[b + 1]}},
+                     {"snapshots", in_band.size()},
+                     {"cone_angle_deg", nullable(bs.mean)},
+                     {"cone_angle_sd_deg", nullable(bs.sd)},
+                     {"cone_angle_snapshots", bs.count},
+                     {"narrowing_edge_fraction", nullable(fraction(bs.excluded, bs.edges))},
+                     {"red_zone_extent_mm", nullable(mean_of(red) * kMm)},
+                     {"zone_area_cone_mm2", nullable(mean_of(cone_area) * kMm * kMm)}});
   }
-  // ringing: the median v* over the bed (most of it immobile) in the selected snapshots
+  return bands;
+}
+
+// ---- sensitivity: one parameter at a time around the configured values ----
+
+json edge_cutoff_rows(const Summary& x) {
+  json rows = json::array();
+  for (const double max_deg : x.r.config.max_edge_angles_deg) {
+    const BetaStats a = beta_stats(x.r.ms, x.sel, x.r.primary, x.cone0, x.gap, max_deg, x.gate);
+    rows.push_back({{"max_edge_angle_deg", max_deg},
+                    {"excluded_edge_fraction", nullable(fraction(a.excluded, a.edges))},
+                    {"cone_angle_deg", nullable(a.mean)},
+                    {"sd_deg", nullable(a.sd)},
+                    {"snapshots", a.count},
+                    {"cone_angle_from_wall_meet_deg", nullable(a.chord)},
+                    {"wall_meet_snapshots", a.meet_count},
+                    {"wall_mobility_length_from_beta_mm", nullable(x.gap * std::tan(a.mean / kDeg) * kMm)}});
+  }
+  return rows;
+}
+
+// The cone angle by velocity set, level and fit start (each varied alone).
+void add_cone_rows(json& rows, const Summary& x, std::size_t set) {
+  const Setup& su = x.r.setup;
+  const std::size_t nstart = su.starts.size();
+  for (std::size_t l = 0; l < su.levels.size(); ++l)
+    for (std::size_t st = 0; st < nstart; ++st) {
+      if (l != su.level0 && st != su.start0) continue;
+      const BetaStats a = beta_stats(x.r.ms, x.sel, set, l * nstart + st, x.gap, kVerticalEdgeDeg);
+      const BetaStats b = beta_stats(x.r.ms, x.all, set, l * nstart + st, x.gap, kVerticalEdgeDeg);
+      rows.push_back({{"velocity", kSourceName[set]},
+                      {"level", su.levels[l]},
+                      {"fit_start_w", su.starts[st] / su.kernel.w},
+                      {"cone_angle_deg", nullable(a.mean)},
+                      {"sd_deg", nullable(a.sd)},
+                      {"snapshots", a.count},
+                      {"narrowing_edge_fraction", nullable(fraction(a.excluded, a.edges))},
+                      {"cone_angle_all_snapshots_deg", nullable(b.mean)},
+                      {"cone_angle_from_wall_meet_deg", nullable(a.chord)},
+                      {"wall_meet_snapshots", a.meet_count},
+                      {"wall_mobility_length_from_beta_mm", nullable(x.gap * std::tan(a.mean / kDeg) * kMm)}});
+    }
+}
+
+// The fixed-level wall loss by velocity set, level and band width (each varied alone).
+void add_wall_rows(json& rows, const Summary& x, std::size_t set) {
+  const Setup& su = x.r.setup;
+  const std::size_t nband = su.bands.size();
+  for (std::size_t l = 0; l < su.levels.size(); ++l)
+    for (std::size_t b = 0; b < nband; ++b) {
+      if (l != su.level0 && b != su.band0) continue;
+      const WallLoss w = wall_loss(x.r.ms, x.sel, set, l * nband + b, x.r.config.wall_min_mobile_d * su.d);
+      rows.push_back({{"velocity", kSourceName[set]},
+                      {"level", su.levels[l]},
+                      {"band_d", su.bands[b] / su.d},
+                      {"wall_mobility_length_mm", nullable(w.depth * kMm)},
+                      {"loss_height_mm", nullable(w.fit.height * kMm)},
+                      {"misclassified", w.fit.misclassified},
+                      {"snapshots", w.fit.count}});
+    }
+}
+
+json dilatancy_rows(const Summary& x) {
+  const Setup& su = x.r.setup;
+  const CgConfig& c = x.r.config;
+  json rows = json::array();
+  for (const double t : c.after_travels_d)
+    for (std::size_t h = 0; h < su.heights.size(); ++h)
+      for (const bool follow : {true, false}) {
+        if ((t != c.after_travel_d && h != su.height0) || (!follow && (t != c.after_travel_d || h != su.height0)))
+          continue;
+        rows.push_back({{"after_travel_d", t},
+                        {"region_height_d", su.heights[h] / su.d},
+                        {"region", follow ? "following the intruder" : "fixed at its start position"},
+                        {"delta_phi", nullable(delta_phi(x.r.ms, first_after_travel(x.r.heights, t * su.d), h, follow))}});
+      }
+  return rows;
+}
+
+json false_alarm_rows(const Summary& x) {
+  const CgConfig& c = x.r.config;
+  json rows = json::array();
+  for (const double a : c.wall_false_alarms) {
+    WallNoise nq = x.noise;
+    const WallLoss w = calibrated_wall_loss(x.r, x.sel, nq, a);
+    const double p = loss_p_value(w, c.wall_permutations);
+    const bool sig = std::isfinite(w.fit.height) && p < c.wall_loss_false_alarm;
+    rows.push_back({{"wall_false_alarm", a},
+                    {"level_range", {nullable(nq.level_min), nullable(nq.level_max)}},
+                    {"wall_mobility_length_mm", sig ? nullable(w.depth * kMm) : json()},
+                    {"loss_height_mm", nullable(w.fit.height * kMm)},
+                    {"loss_p_value", nullable(p)},
+                    {"misclassified", w.fit.misclassified},
+                    {"snapshots", w.fit.count}});
+  }
+  return rows;
+}
+
+json sensitivity(const Summary& x) {
+  json cone_rows = json::array(), wall_rows = json::array();
   for (const std::size_t set : {kInst, kPiv}) {
-    std::vector<double> med;
-    for (const std::size_t k : sel)
-      if (ms[k].src[set].valid) med.push_back(ms[k].src[set].median_vstar);
-    m[std::string("median_vstar_") + kSourceName[set]] = nullable(mean_of(med));
+    if (set == kPiv && !x.r.has_piv) continue;
+    add_cone_rows(cone_rows, x, set);
+    add_wall_rows(wall_rows, x, set);
   }
-  // sensitivity: one parameter at a time around the configured values
-  {
-    json beta_rows = json::array(), cut_rows = json::array(), wall_rows = json::array(), dil_rows = json::array();
-    for (const double max_deg : c.max_edge_angles_deg) {
-      const BetaStats a = beta_stats(ms, sel, primary, cone0, gap, max_deg, gate);
-      cut_rows.push_back({{"max_edge_angle_deg", max_deg},
-                          {"excluded_edge_fraction", nullable(fraction(a.excluded, a.edges))},
-                          {"cone_angle_deg", nullable(a.mean)},
-                          {"sd_deg", nullable(a.sd)},
-                          {"snapshots", a.count},
-                          {"cone_angle_from_wall_meet_deg", nullable(a.chord)},
-                          {"wall_meet_snapshots", a.meet_count},
-                          {"wall_mobility_length_from_beta_mm", nullable(gap * std::tan(a.mean / kDeg) * kMm)}});
-    }
-    for (const std::size_t set : {kInst, kPiv}) {
-      if (set == kPiv && !r.has_piv) continue;
-      for (std::size_t l = 0; l < su.levels.size(); ++l)
-        for (std::size_t st = 0; st < nstart; ++st) {
-          if (l != su.level0 && st != su.start0) continue;
-          const BetaStats a = beta_stats(ms, sel, set, l * nstart + st, gap, kVerticalEdgeDeg);
-          const BetaStats b = beta_stats(ms, all, set, l * nstart + st, gap, kVerticalEdgeDeg);
-          beta_rows.push_back({{"velocity", kSourceName[set]},
-                               {"level", su.levels[l]},
-                               {"fit_start_w", su.starts[st] / su.kernel.w},
-                               {"cone_angle_deg", nullable(a.mean)},
-                               {"sd_deg", nullable(a.sd)},
-                               {"snapshots", a.count},
-                               {"narrowing_edge_fraction", nullable(fraction(a.excluded, a.edges))},
-                               {"cone_angle_all_snapshots_deg", nullable(b.mean)},
-                               {"cone_angle_from_wall_meet_deg", nullable(a.chord)},
-                               {"wall_meet_snapshots", a.meet_count},
-                               {"wall_mobility_length_from_beta_mm", nullable(gap * std::tan(a.mean / kDeg) * kMm)}});
-        }
-      for (std::size_t l = 0; l < su.levels.size(); ++l)
-        for (std::size_t b = 0; b < nband; ++b) {
-          if (l != su.level0 && b != su.band0) continue;
-          const WallLoss w = wall_loss(ms, sel, set, l * nband + b, c.wall_min_mobile_d * su.d);
-          wall_rows.push_back({{"velocity", kSourceName[set]},
-                               {"level", su.levels[l]},
-                               {"band_d", su.bands[b] / su.d},
-                               {"wall_mobility_length_mm", nullable(w.depth * kMm)},
-                               {"loss_height_mm", nullable(w.fit.height * kMm)},
-                               {"misclassified", w.fit.misclassified},
-                               {"snapshots", w.fit.count}});
-        }
-    }
-    for (const double t : c.after_travels_d)
-      for (std::size_t h = 0; h < su.heights.size(); ++h)
-        for (const bool follow : {true, false}) {
-          if ((t != c.after_travel_d && h != su.height0) || (!follow && (t != c.after_travel_d || h != su.height0)))
-            continue;
-          dil_rows.push_back({{"after_travel_d", t},
-                              {"region_height_d", su.heights[h] / su.d},
-                              {"region", follow ? "following the intruder" : "fixed at its start position"},
-                              {"delta_phi", nullable(dphi(first_after_travel(heights, t * su.d), h, follow))}});
-        }
-    json noise_rows = json::array();
-    for (const double a : c.wall_false_alarms) {
-      WallNoise nq = noise;
-      WallLoss w = calibrated_wall_loss(r, sel, nq, a);
-      const double p = loss_p_value(w, c.wall_permutations);
-      const bool sig = std::isfinite(w.fit.height) && p < c.wall_loss_false_alarm;
-      noise_rows.push_back({{"wall_false_alarm", a},
-                            {"level_range", {nullable(nq.level_min), nullable(nq.level_max)}},
-                            {"wall_mobility_length_mm", sig ? nullable(w.depth * kMm) : json()},
-                            {"loss_height_mm", nullable(w.fit.height * kMm)},
-                            {"loss_p_value", nullable(p)},
-                            {"misclassified", w.fit.misclassified},
-                            {"snapshots", w.fit.count}});
-    }
-    m["sensitivity"] = {{"cone_angle", beta_rows},
-                        {"cone_angle_edge_cutoff", cut_rows},
-                        {"wall_mobility", wall_rows},
-                        {"wall_mobility_false_alarm", noise_rows},
-                        {"dilatancy", dil_rows}};
-  }
+  return {{"cone_angle", cone_rows},
+          {"cone_angle_edge_cutoff", edge_cutoff_rows(x)},
+          {"wall_mobility", wall_rows},
+          {"wall_mobility_false_alarm", false_alarm_rows(x)},
+          {"dilatancy", dilatancy_rows(x)}};
+}
+
+// The grid, the speeds and the cost; where the inputs came from.
+void add_setup(json& m, const StageRecord& r) {
+  const Setup& su = r.setup;
+  const double dx = su.grid.dx;
+  const double S = static_cast<double>(r.ms.size());
   m["grid"] = {{"nx", su.grid.nx},
                {"ny", su.grid.ny},
                {"spacing_mm", dx * kMm},
@@ -601,17 +670,39 @@ json cg_metrics(const StageRecord& r) {
   m["intruder_speed_mm_s"] = su.intruder_speed * kMm;
   m["reference_speed_mm_s"] = su.v_ref * kMm;
   m["displacement_window_s"] = su.window;
-  m["snapshots"] = S;
+  m["snapshots"] = r.ms.size();
   m["snapshots_with_piv"] = static_cast<std::size_t>(std::count(r.piv_ok.begin(), r.piv_ok.end(), 1));
   m["field_snapshots"] = r.fields_at.size();
   m["cost"] = {{"seconds", r.seconds},
-               {"seconds_per_snapshot", r.seconds / static_cast<double>(S)},
-               {"coarse_graining_seconds_per_snapshot", r.cg_seconds / static_cast<double>(S)},
+               {"seconds_per_snapshot", r.seconds / S},
+               {"coarse_graining_seconds_per_snapshot", r.cg_seconds / S},
                {"threads", r.threads}};
   m["run_file"] = r.run_path;
   m["events_file"] = r.events_path;
   m["config_file"] = r.config_path;
+}
 
+}  // namespace
+
+json cg_metrics(const StageRecord& r) {
+  const Summary x = summarise(r);
+  json m;
+  add_headline(m, x);
+  add_cone(m, x);
+  add_wall(m, x);
+  add_noise(m, x);
+  add_dilatancy(m, x);
+  add_zones(m, x);
+  m["by_height_band"] = height_bands(x);
+  // ringing: the median v* over the bed (most of it immobile) in the selected snapshots
+  for (const std::size_t set : {kInst, kPiv}) {
+    std::vector<double> med;
+    for (const std::size_t k : x.sel)
+      if (r.ms[k].src[set].valid) med.push_back(r.ms[k].src[set].median_vstar);
+    m[std::string("median_vstar_") + kSourceName[set]] = nullable(mean_of(med));
+  }
+  m["sensitivity"] = sensitivity(x);
+  add_setup(m, r);
   return m;
 }
 
