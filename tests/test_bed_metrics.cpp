@@ -264,29 +264,29 @@ TEST(BedMetrics, MissingWallIsAnErrorNamingIt) {
   s.bodies.erase(s.bodies.begin() + 1);  // no left wall
   try {
     fill_metrics(s, BedConfig{});
-    FAIL() << "expected BedError";
-  } catch (const BedError& e) {
+    FAIL() << "expected StageError";
+  } catch (const StageError& e) {
     EXPECT_NE(std::string(e.what()).find("no body has the role 'left_wall'"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("floor (floor), right (right_wall)"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("role = \"left_wall\""), std::string::npos) << e.what();
   }
   s.bodies.clear();
-  EXPECT_THROW(fill_metrics(s, BedConfig{}), BedError);
+  EXPECT_THROW(fill_metrics(s, BedConfig{}), StageError);
 }
 
 TEST(BedMetrics, EmptySnapshotIsAnError) {
   Snapshot s = box(0.05, 0.05);
-  EXPECT_THROW(fill_metrics(s, BedConfig{}), BedError);
+  EXPECT_THROW(fill_metrics(s, BedConfig{}), StageError);
   add_grain(s, 0.01, 0.01, kD);
   s.active[0] = 0;  // all lost
   try {
     fill_metrics(s, BedConfig{});
-    FAIL() << "expected BedError";
-  } catch (const BedError& e) {
+    FAIL() << "expected StageError";
+  } catch (const StageError& e) {
     EXPECT_NE(std::string(e.what()).find("no active grains"), std::string::npos) << e.what();
   }
   s.active[0] = 1;  // one grain: a bed too shallow for a bulk region
-  EXPECT_THROW(fill_metrics(s, BedConfig{}), BedError);
+  EXPECT_THROW(fill_metrics(s, BedConfig{}), StageError);
 }
 
 // ---- the config file ---------------------------------------------------------

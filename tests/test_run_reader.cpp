@@ -16,7 +16,7 @@
 #include "io/run_file.hpp"
 #include "io/run_parameters.hpp"
 #include "io/run_reader.hpp"
-#include "pulloff/drag_profile.hpp"
+#include "frame/drag_profile.hpp"
 #include "scene_builder.hpp"
 #include "temp_dir.hpp"
 

@@ -16,7 +16,7 @@
 #include "io/h5.hpp"
 #include "io/run_reader.hpp"
 #include "pulloff/drag_cycles.hpp"
-#include "pulloff/drag_profile.hpp"
+#include "frame/drag_profile.hpp"
 #include "run/progress.hpp"
 #include "run/run.hpp"
 #include "run/stop_criteria.hpp"

@@ -4,11 +4,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/stage_error.hpp"
+
 namespace dem2d::analysis {
 
 // A problem with the input: the run file's contents or the configuration.
-struct BedError : std::runtime_error {
-  using std::runtime_error::runtime_error;
+struct BedError : StageError {
+  using StageError::StageError;
 };
 
 struct BedConfig {

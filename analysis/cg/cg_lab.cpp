@@ -13,7 +13,7 @@
 
 #include "cg/cg_stage.hpp"
 #include "core/number_text.hpp"
-#include "common/pulloff_frame.hpp"  // every_kth
+#include "frame/height_bins.hpp"  // every_kth
 #include "common/stage_output.hpp"   // number_or_null
 #include "io/h5.hpp"
 
@@ -70,7 +70,7 @@ Setup lab_setup(const SnapshotSource& run, const CgInput& in) {
   try {
     su.cell = find_cell(s0);
     su.d = mean_active_diameter(s0);
-  } catch (const BedError& e) {
+  } catch (const StageError& e) {
     throw CgError(path + ": " + e.what());
   }
   kernel_and_grid(in, path, s0, su);

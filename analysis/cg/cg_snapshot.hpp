@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "bed/bed_metrics.hpp"
+#include "frame/cell.hpp"
 #include "cg/cg_config.hpp"
 #include "cg/cg_field.hpp"
 #include "cg/cg_measure.hpp"

@@ -116,7 +116,7 @@ double bulk_solid_fraction(const Setup& su, const Snapshot& s, const std::string
   Region bulk;
   try {
     bulk = bulk_region(su.cell, bed_surface(s, su.cell, su.d).height, su.kernel.radius());
-  } catch (const BedError& e) {
+  } catch (const StageError& e) {
     throw CgError(path + ": snapshot " + std::to_string(s.index) + ": the bed is too small for the kernel of " +
                   (config.empty() ? std::string("the default settings") : config) + " (cut-off " +
                   mm(su.kernel.radius()) + "): " + e.what());
@@ -145,7 +145,7 @@ Setup make_setup(const SnapshotSource& run, const Snapshot& s0, const CgInput& i
     su.cell = find_cell(s0);
     su.d = mean_active_diameter(s0);
     su.grain_density = s0.mass.empty() ? 0.0 : s0.mass[0] / (std::numbers::pi * s0.diameter[0] * s0.diameter[0] / 4.0);
-  } catch (const BedError& e) {
+  } catch (const StageError& e) {
     throw CgError(path + ": " + e.what());
   }
   su.start = intruder_of(intruder_body(s0, path));

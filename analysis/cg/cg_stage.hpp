@@ -18,7 +18,7 @@
 #include "common/events.hpp"
 #include "common/snapshot_source.hpp"
 #include "common/stage_output.hpp"
-#include "common/study.hpp"
+#include "frame/study.hpp"
 
 namespace dem2d::analysis {
 

@@ -160,7 +160,7 @@ void track_snapshot(const Snapshot& s, std::size_t k, const FrictionLaws& mu, co
       if (!bulk && !wall) continue;
       std::vector<double>& sum = bulk ? t.depth_sum_bulk : t.depth_sum_wall;
       std::vector<std::int64_t>& n = bulk ? t.depth_n_bulk : t.depth_n_wall;
-      const std::size_t z = depth_bins.index(contact_point(s, c).y - geo.y_floor);
+      const std::size_t z = depth_bins.index(contact_point(s, c).y - geo.cell.floor);
       if (z >= sum.size()) sum.resize(z + 1, 0.0), n.resize(z + 1, 0);
       sum[z] += ms[c], ++n[z];
     }

@@ -12,10 +12,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/study.hpp"
+#include "frame/study.hpp"
 #include "contact/contact_law.hpp"
 #include "io/run_parameters.hpp"
-#include "common/pulloff_frame.hpp"
+#include "frame/height_bins.hpp"
+#include "frame/pulloff_frame.hpp"
 #include "common/stage_output.hpp"
 
 namespace dem2d::analysis {

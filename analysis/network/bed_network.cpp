@@ -57,7 +57,7 @@ NetworkResult run_bed_network(const SnapshotSource& run, const NetworkInputs& in
     const Snapshot s = run.snapshot(k);
     try {
       const PulloffGeometry geo = pulloff_geometry(s);
-      if (k == 0) measured_d = mean_diameter(s);
+      if (k == 0) measured_d = mean_active_diameter(s);
       const std::vector<Partner> partners = classify_contacts(s, geo);
       const ContactGraph g = build_contact_graph(s, partners);
       const double strong = cfg.strong_threshold * g.mean_fn;
@@ -70,7 +70,7 @@ NetworkResult run_bed_network(const SnapshotSource& run, const NetworkInputs& in
       span_whole.push_back(percolation(g, 0.0, rule, g.left()).right);
       for (std::size_t v = 0; v < variants; ++v)
         span_sens[v].push_back(percolation(g, cfg.sensitivity_strong_threshold[v] * g.mean_fn, rule, g.left()).right);
-      const Fabric f = region_fabric(s, partners, strong, geo.y_floor, std::numeric_limits<double>::infinity(), min_contacts);
+      const Fabric f = region_fabric(s, partners, strong, geo.cell.floor, std::numeric_limits<double>::infinity(), min_contacts);
       aniso.push_back(f.anisotropy), aniso_debiased.push_back(f.debiased), angle.push_back(f.angle_deg);
       fabric_contacts.push_back(f.contacts);
       const BodyLoads load = body_loads(s, partners);

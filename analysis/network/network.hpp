@@ -14,7 +14,8 @@
 #include <vector>
 
 #include "common/events.hpp"  // RuptureEvent, read_events
-#include "common/pulloff_frame.hpp"
+#include "frame/height_bins.hpp"
+#include "frame/pulloff_frame.hpp"
 #include "common/stage_output.hpp"
 
 namespace dem2d::analysis {

@@ -271,7 +271,7 @@ void track_snapshot(const Snapshot& s, std::size_t k, const NetworkConfig& cfg, 
   const FloorRule rule = floor_rule_from_name(cfg.floor_rule);
   const PulloffGeometry geo = pulloff_geometry(s);
   if (k == 0) {
-    out.measured_d = mean_diameter(s);
+    out.measured_d = mean_active_diameter(s);
     out.bed0 = bed_height(s, geo);
     out.end_to_wall = geo.end_to_wall();
     out.diameter = s.diameter;

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/snapshot_source.hpp"
-#include "common/study.hpp"
+#include "frame/study.hpp"
 #include "network/network.hpp"
 #include "common/stage_output.hpp"
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "pulloff/drag_profile.hpp"
+#include "frame/drag_profile.hpp"
 
 namespace dem2d::analysis {
 

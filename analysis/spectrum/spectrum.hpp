@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "pulloff/drag_profile.hpp"
+#include "frame/drag_profile.hpp"
 #include "spectrum/size_distribution.hpp"
 #include "spectrum/spectrum_config.hpp"
 #include "spectrum/top_layer.hpp"

@@ -13,7 +13,7 @@
 #include "io/h5.hpp"
 #include "io/run_parameters.hpp"
 #include "io/run_reader.hpp"
-#include "pulloff/drag_profile.hpp"
+#include "frame/drag_profile.hpp"
 
 namespace dem2d::analysis {
 

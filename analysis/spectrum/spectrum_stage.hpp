@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "common/study.hpp"
+#include "frame/study.hpp"
 #include "spectrum/spectrum.hpp"
 
 namespace dem2d::analysis {

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <limits>
 
-#include "common/pulloff_frame.hpp"  // StageError
+#include "frame/pulloff_frame.hpp"  // StageError
 #include "common/stage_config.hpp"
 #include "common/stage_output.hpp"   // format_number
 

@@ -3,7 +3,7 @@
 
 #include <set>
 
-#include "common/pulloff_frame.hpp"  // StageError
+#include "frame/pulloff_frame.hpp"  // StageError
 #include "paper_targets.hpp"
 #include "temp_dir.hpp"
 

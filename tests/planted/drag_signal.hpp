@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "pulloff/drag_profile.hpp"
+#include "frame/drag_profile.hpp"
 
 namespace dem2d::planted {
 

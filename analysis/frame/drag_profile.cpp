@@ -1,4 +1,4 @@
-#include "pulloff/drag_profile.hpp"
+#include "frame/drag_profile.hpp"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,10 +1,9 @@
-#include "common/pulloff_frame.hpp"
+#include "frame/pulloff_frame.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "bed/bed_metrics.hpp"
 #include "common/stage_output.hpp"  // format_number
 
 namespace dem2d::analysis {
@@ -54,21 +53,12 @@ void intruder_axis(const Body& in, PulloffGeometry& g) {
 }  // namespace
 
 PulloffGeometry pulloff_geometry(const Snapshot& s) {
-  // The walls' inner faces as bed_metrics finds them.
-  Cell cell;
-  try {
-    cell = find_cell(s);
-  } catch (const BedError& e) {
-    throw StageError(e.what());
-  }
   PulloffGeometry g;
+  g.cell = find_cell(s);
   g.left = s.find_role("left_wall");
   g.right = s.find_role("right_wall");
   g.floor = s.find_role("floor");
   g.intruder = s.find_role("intruder");
-  g.x_left = cell.left;
-  g.x_right = cell.right;
-  g.y_floor = cell.floor;
   if (g.intruder < 0) return g;
   const Body& in = s.bodies[static_cast<std::size_t>(g.intruder)];
   g.centre = in.centre();
@@ -98,63 +88,8 @@ Vec2 contact_point(const Snapshot& s, std::size_t c) {
   return {s.position[i].x - s.contacts.nx[c] * reach, s.position[i].y - s.contacts.ny[c] * reach};
 }
 
-double mean_diameter(const Snapshot& s) {
-  try {
-    return mean_active_diameter(s);
-  } catch (const BedError& e) {
-    throw StageError(e.what());
-  }
-}
-
 double bed_height(const Snapshot& s, const PulloffGeometry& g) {
-  Cell cell;
-  cell.left = g.x_left;
-  cell.right = g.x_right;
-  cell.floor = g.y_floor;
-  return bed_surface(s, cell, mean_diameter(s)).height;
-}
-
-std::size_t HeightBins::index(double height) const {
-  const double k = height > 0.0 ? std::floor(height / width) : 0.0;
-  if (!(k < static_cast<double>(kMaxBins)))  // (NaN too)
-    throw StageError("height " + format_number(height) + " m falls in bin " + format_number(k) + " of width " +
-                     format_number(width) + " m: more than " + std::to_string(kMaxBins) +
-                     " height bins (a bin width too small for this run?)");
-  return static_cast<std::size_t>(k);
-}
-
-BinnedMean binned_mean(const HeightBins& bins, const std::vector<double>& heights, const std::vector<double>& values) {
-  BinnedMean out;
-  std::vector<double> sum;
-  for (std::size_t k = 0; k < heights.size() && k < values.size(); ++k) {
-    if (std::isnan(values[k])) continue;
-    const std::size_t b = bins.index(heights[k]);
-    if (b >= sum.size()) sum.resize(b + 1, 0.0), out.count.resize(b + 1, 0);
-    sum[b] += values[k];
-    ++out.count[b];
-  }
-  out.mean.resize(sum.size());
-  for (std::size_t b = 0; b < sum.size(); ++b)
-    out.mean[b] = out.count[b] > 0 ? sum[b] / static_cast<double>(out.count[b]) : std::numeric_limits<double>::quiet_NaN();
-  return out;
-}
-
-double mean_in_band(const std::vector<double>& heights, const std::vector<double>& values, double lo, double hi,
-                    std::int64_t* used) {
-  double sum = 0.0;
-  std::int64_t n = 0;
-  for (std::size_t k = 0; k < heights.size() && k < values.size(); ++k)
-    if (heights[k] >= lo && heights[k] < hi && !std::isnan(values[k])) sum += values[k], ++n;
-  if (used) *used = n;
-  return n > 0 ? sum / static_cast<double>(n) : std::numeric_limits<double>::quiet_NaN();
-}
-
-std::vector<std::size_t> every_kth(std::size_t snapshots, std::size_t every) {
-  std::vector<std::size_t> out;
-  if (snapshots == 0) return out;
-  for (std::size_t k = 0; k < snapshots; k += std::max<std::size_t>(every, 1)) out.push_back(k);
-  if (out.back() != snapshots - 1) out.push_back(snapshots - 1);
-  return out;
+  return bed_surface(s, g.cell, mean_active_diameter(s)).height;
 }
 
 }  // namespace dem2d::analysis

@@ -1,4 +1,4 @@
-#include "common/study.hpp"
+#include "frame/study.hpp"
 
 #include "common/stage_config.hpp"
 

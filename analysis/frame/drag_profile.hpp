@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "common/study.hpp"
+#include "frame/study.hpp"
 #include "io/run_reader.hpp"
 
 namespace dem2d::analysis {
