@@ -14,6 +14,7 @@
 #include "cg/cg_stage.hpp"
 #include "core/number_text.hpp"
 #include "frame/height_bins.hpp"  // every_kth
+#include "common/snapshot_loop.hpp"
 #include "common/stage_output.hpp"   // number_or_null
 #include "io/h5.hpp"
 
@@ -105,32 +106,26 @@ struct LabRun {
   double seconds = 0.0;
 };
 
-// Snapshots in batches: read serially (HDF5), coarse-grained and measured in
-// parallel; each result depends on its own snapshot only (any thread count).
+// Every snapshot through the stages' snapshot loop (common/snapshot_loop.hpp):
+// each result depends on its own snapshot only (any thread count).
 void measure_lab(const SnapshotSource& run, bool has_piv, LabRun& L) {
   const std::size_t S = run.snapshots();
-  const std::size_t batch = static_cast<std::size_t>(std::max(1, 2 * L.threads));
   L.ms.resize(S), L.times.resize(S), L.piv_ok.assign(S, 0);
-  for (std::size_t k0 = 0; k0 < S; k0 += batch) {
-    const std::size_t k1 = std::min(S, k0 + batch);
-    const auto [snaps, piv] = read_batch(run, k0, k1, has_piv, L.su.window);
-    for (std::size_t k = k0; k < k1; ++k) L.times[k] = snaps[k - k0].time, L.piv_ok[k] = piv[k - k0].ok;
-    std::vector<std::string> errors(snaps.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(L.threads)
-    for (std::size_t q = 0; q < snaps.size(); ++q) {
-      const std::size_t k = k0 + q;
-      try {
+  struct Measured {
+    LabMeasure m;
+    double time = 0.0;
+    bool piv_ok = false;
+  };
+  for_each_snapshot(
+      run, all_snapshots(run), L.threads,
+      [&](std::size_t k, const Snapshot& s, const std::vector<Vec2>& disp) {
+        const PivVelocities piv = has_piv ? piv_velocities(s, disp, L.su.window) : PivVelocities{false, {}};
         // A snapshot without PIV-like velocities (the first ones) uses the instantaneous ones.
-        const Fields f = coarse_grain(L.su.grid, L.su.kernel, grains_of(snaps[q], has_piv ? &piv[q].v : nullptr));
+        const Fields f = coarse_grain(L.su.grid, L.su.kernel, grains_of(s, has_piv ? &piv.v : nullptr));
         const bool full = std::binary_search(L.fields_at.begin(), L.fields_at.end(), k);
-        L.ms[k] = measure(L.su, f, piv[q].ok ? L.set : kInst, snaps[q], full);
-      } catch (const std::exception& e) {
-        errors[q] = run.path() + ": snapshot " + std::to_string(k) + ": " + e.what();
-      }
-    }
-    for (const std::string& e : errors)
-      if (!e.empty()) throw CgError(e);
-  }
+        return Measured{measure(L.su, f, piv.ok ? L.set : kInst, s, full), s.time, piv.ok};
+      },
+      [&](std::size_t k, Measured&& x) { L.ms[k] = std::move(x.m), L.times[k] = x.time, L.piv_ok[k] = x.piv_ok; });
 }
 
 json lab_metrics(const LabRun& L, const std::string& path, const CgInput& in) {

@@ -12,6 +12,7 @@
 
 #include "cg/cg_report.hpp"
 #include "common/output.hpp"
+#include "common/snapshot_loop.hpp"
 #include "io/h5.hpp"
 #include "io/run_reader.hpp"
 
@@ -190,37 +191,28 @@ std::vector<double> rest_node_vstar(const SnapshotSource& run, const Setup& su, 
     const std::size_t k = n == 1 ? 0 : static_cast<std::size_t>(std::llround(static_cast<double>(q * (S - 1)) / static_cast<double>(n - 1)));
     if (ks.empty() || ks.back() != k) ks.push_back(k);
   }
-  std::vector<std::vector<double>> found(ks.size());
-  const std::size_t batch = static_cast<std::size_t>(std::max(1, 2 * threads));
-  for (std::size_t q0 = 0; q0 < ks.size(); q0 += batch) {
-    const std::size_t q1 = std::min(ks.size(), q0 + batch);
-    std::vector<Snapshot> snaps;
-    std::vector<PivVelocities> piv;
-    for (std::size_t q = q0; q < q1; ++q) {
-      snaps.push_back(run.snapshot(ks[q]));
-      piv.push_back(has_piv ? piv_velocities(snaps.back(), run.displacement(ks[q]), su.window) : PivVelocities{false, {}});
-    }
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (std::size_t q = q0; q < q1; ++q) {
-      const Snapshot& s = snaps[q - q0];
-      const PivVelocities& p = piv[q - q0];
-      if (primary == kPiv && !p.ok) continue;
-      const Fields f = coarse_grain(su.grid, su.kernel, grains_of(s, primary == kPiv ? &p.v : nullptr));
-      const std::vector<double> vstar = speed_ratio(velocity(f, primary, su.min_phi), 0.0, 0.0, su.v_ref);
-      const Intruder in = intruder_of(s.bodies[static_cast<std::size_t>(s.find_role("intruder"))]);
-      const RestRows rows = rest_rows(su, c, in);
-      const double reach = 0.5 * in.length() + su.kernel.radius();
-      for (std::size_t j = 0; j < su.grid.ny; ++j) {
-        if (su.grid.y(j) < rows.low || su.grid.y(j) >= rows.high) continue;
-        for (std::size_t i = 0; i < su.grid.nx; ++i) {
-          const double v = vstar[su.grid.at(i, j)];
-          if (std::abs(su.grid.x(i) - in.xc) >= reach && std::isfinite(v)) found[q].push_back(v);
-        }
-      }
-    }
-  }
   std::vector<double> out;
-  for (const auto& f : found) out.insert(out.end(), f.begin(), f.end());
+  for_each_snapshot(
+      run, ks, threads,
+      [&](std::size_t, const Snapshot& s, const std::vector<Vec2>& disp) {
+        std::vector<double> found;
+        const PivVelocities p = has_piv ? piv_velocities(s, disp, su.window) : PivVelocities{false, {}};
+        if (primary == kPiv && !p.ok) return found;
+        const Fields f = coarse_grain(su.grid, su.kernel, grains_of(s, primary == kPiv ? &p.v : nullptr));
+        const std::vector<double> vstar = speed_ratio(velocity(f, primary, su.min_phi), 0.0, 0.0, su.v_ref);
+        const Intruder in = intruder_of(s.bodies[static_cast<std::size_t>(s.find_role("intruder"))]);
+        const RestRows rows = rest_rows(su, c, in);
+        const double reach = 0.5 * in.length() + su.kernel.radius();
+        for (std::size_t j = 0; j < su.grid.ny; ++j) {
+          if (su.grid.y(j) < rows.low || su.grid.y(j) >= rows.high) continue;
+          for (std::size_t i = 0; i < su.grid.nx; ++i) {
+            const double v = vstar[su.grid.at(i, j)];
+            if (std::abs(su.grid.x(i) - in.xc) >= reach && std::isfinite(v)) found.push_back(v);
+          }
+        }
+        return found;
+      },
+      [&](std::size_t, std::vector<double>&& found) { out.insert(out.end(), found.begin(), found.end()); });
   std::sort(out.begin(), out.end());
   return out;
 }
@@ -228,7 +220,8 @@ std::vector<double> rest_node_vstar(const SnapshotSource& run, const Setup& su, 
 // Every snapshot, in batches: read serially (HDF5), coarse-grained and measured
 // in parallel. Each snapshot's result depends on its own data only (and, with
 // averaging, on the previous snapshots' fields, summed serially): the same for
-// any thread count.
+// any thread count. Not common/snapshot_loop.hpp: the trailing average is a
+// serial step between two parallel ones.
 struct Measured {
   std::vector<SnapshotMeasure> ms;
   std::vector<std::uint8_t> piv_ok;  // the snapshot has PIV-like velocities

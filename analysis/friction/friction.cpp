@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "io/run_reader.hpp"
+#include "common/snapshot_loop.hpp"
 #include "common/stage_config.hpp"
 
 namespace dem2d::analysis {
@@ -128,25 +129,54 @@ std::vector<double> series_of(const std::vector<SnapshotFriction>& snap, Get get
   return v;
 }
 
-// Snapshot k's measures: its mu* per contact summarised, histogrammed and
-// binned by contact height while in the bed, and kept for the figure.
-void track_snapshot(const Snapshot& s, std::size_t k, const FrictionLaws& mu, const FrictionConfig& cfg,
-                    const HeightBins& depth_bins, bool to_figure, FrictionTrack& t) {
+// Snapshot k's measures: mu* per contact, summarised, and where each contact
+// touches (for the height bins and the figure); the cell's at the first snapshot.
+struct SnapshotMu {
+  double time = 0.0, height = 0.0;  // (s), intruder centre above the floor (m; 0 without one)
+  std::vector<Partner> partners;
+  std::vector<double> mu;           // mu* per contact (NaN: not a touching contact)
+  std::vector<Vec2> point;          // contact points (m)
+  std::vector<double> fn, ft;       // (N/m)
+  double floor = 0.0;               // the floor's inner face (m)
+  SnapshotFriction summary;
+  double bed0 = 0.0, end_to_wall = 0.0;  // k = 0 only
+  bool with_intruder = false;
+};
+
+SnapshotMu measure_snapshot(const Snapshot& s, std::size_t k, const FrictionLaws& mu,
+                            const std::vector<double>& thresholds) {
+  SnapshotMu m;
   const PulloffGeometry geo = pulloff_geometry(s);
+  m.with_intruder = geo.has_intruder();
+  if (k == 0) m.bed0 = bed_height(s, geo), m.end_to_wall = geo.end_to_wall();
+  m.partners = classify_contacts(s, geo);
+  m.mu = mu_star(s.contacts, m.partners, mu);
+  m.time = s.time;
+  m.height = m.with_intruder ? geo.height() : 0.0;
+  m.summary = summarise_friction(s.contacts, m.partners, m.mu, thresholds);
+  m.floor = geo.cell.floor;
+  for (std::size_t c = 0; c < m.mu.size(); ++c) m.point.push_back(contact_point(s, c));
+  m.fn = s.contacts.fn, m.ft = s.contacts.ft;
+  return m;
+}
+
+// mu* histogrammed and binned by contact height while in the bed, and kept for the figure.
+void fold_snapshot(std::size_t k, SnapshotMu&& m, const FrictionConfig& cfg, const HeightBins& depth_bins,
+                   bool to_figure, FrictionTrack& t) {
   if (k == 0) {
-    t.bed0 = bed_height(s, geo);
-    t.with_intruder = geo.has_intruder();
+    t.bed0 = m.bed0;
+    t.with_intruder = m.with_intruder;
     if (t.with_intruder) {
       t.top = t.bed0;
       t.hc = cfg.critical_height_mm ? *cfg.critical_height_mm / kMm
-                                    : geo.end_to_wall() * std::tan(cfg.cone_angle_deg * std::numbers::pi / 180.0);
+                                    : m.end_to_wall * std::tan(cfg.cone_angle_deg * std::numbers::pi / 180.0);
     }
   }
-  const std::vector<Partner> partners = classify_contacts(s, geo);
-  const std::vector<double> ms = mu_star(s.contacts, partners, mu);
-  t.time.push_back(s.time);
-  t.height.push_back(t.with_intruder ? geo.height() : 0.0);
-  t.snap.push_back(summarise_friction(s.contacts, partners, ms, t.thresholds));
+  const std::vector<double>& ms = m.mu;
+  const std::vector<Partner>& partners = m.partners;
+  t.time.push_back(m.time);
+  t.height.push_back(m.height);
+  t.snap.push_back(m.summary);
   const std::size_t nbins = t.hist_all.size();
   if (t.height.back() < t.top) {
     for (std::size_t c = 0; c < ms.size(); ++c) {
@@ -160,7 +190,7 @@ void track_snapshot(const Snapshot& s, std::size_t k, const FrictionLaws& mu, co
       if (!bulk && !wall) continue;
       std::vector<double>& sum = bulk ? t.depth_sum_bulk : t.depth_sum_wall;
       std::vector<std::int64_t>& n = bulk ? t.depth_n_bulk : t.depth_n_wall;
-      const std::size_t z = depth_bins.index(contact_point(s, c).y - geo.cell.floor);
+      const std::size_t z = depth_bins.index(m.point[c].y - m.floor);
       if (z >= sum.size()) sum.resize(z + 1, 0.0), n.resize(z + 1, 0);
       sum[z] += ms[c], ++n[z];
     }
@@ -169,8 +199,7 @@ void track_snapshot(const Snapshot& s, std::size_t k, const FrictionLaws& mu, co
     t.fig_index.push_back(static_cast<std::int64_t>(k));
     for (std::size_t c = 0; c < ms.size(); ++c) {
       if (std::isnan(ms[c])) continue;
-      const Vec2 p = contact_point(s, c);
-      t.fx.push_back(p.x), t.fy.push_back(p.y), t.ffn.push_back(s.contacts.fn[c]), t.fft.push_back(s.contacts.ft[c]);
+      t.fx.push_back(m.point[c].x), t.fy.push_back(m.point[c].y), t.ffn.push_back(m.fn[c]), t.fft.push_back(m.ft[c]);
       t.fmu.push_back(ms[c]), t.fpartner.push_back(static_cast<std::uint8_t>(partners[c]));
     }
     t.fig_start.push_back(static_cast<std::int64_t>(t.fx.size()));
@@ -178,7 +207,8 @@ void track_snapshot(const Snapshot& s, std::size_t k, const FrictionLaws& mu, co
 }
 
 // The loop over the run's snapshots.
-FrictionTrack track(const RunReader& run, const FrictionLaws& mu, const FrictionConfig& cfg, const HeightBins& depth_bins) {
+FrictionTrack track(const SnapshotSource& run, const FrictionLaws& mu, const FrictionConfig& cfg,
+                    const HeightBins& depth_bins) {
   const std::size_t S = run.snapshots();
   FrictionTrack t;
   t.thresholds = {cfg.slip_threshold};
@@ -187,14 +217,11 @@ FrictionTrack track(const RunReader& run, const FrictionLaws& mu, const Friction
   const auto nbins = static_cast<std::size_t>(cfg.histogram_bins);
   t.hist_bulk.assign(nbins, 0), t.hist_wall.assign(nbins, 0), t.hist_all.assign(nbins, 0);
   const std::vector<std::size_t> figure = every_kth(S, static_cast<std::size_t>(cfg.figure_every));
-  for (std::size_t k = 0; k < S; ++k) {
-    const Snapshot s = run.snapshot(k);
-    try {
-      track_snapshot(s, k, mu, cfg, depth_bins, std::binary_search(figure.begin(), figure.end(), k), t);
-    } catch (const StageError& e) {
-      throw StageError(run.path() + ": snapshot " + std::to_string(k) + ": " + e.what());
-    }
-  }
+  for_each_snapshot(
+      run, all_snapshots(run), 1, [&](std::size_t k, const Snapshot& s) { return measure_snapshot(s, k, mu, t.thresholds); },
+      [&](std::size_t k, SnapshotMu&& m) {
+        fold_snapshot(k, std::move(m), cfg, depth_bins, std::binary_search(figure.begin(), figure.end(), k), t);
+      });
   return t;
 }
 
@@ -383,14 +410,15 @@ void write_histograms_and_figure(H5Output& h, const FrictionTrack& t) {
 
 FrictionResult run_friction(const std::string& run_path, const std::string& config_path, const FrictionConfig& cfg,
                             const Study& study) {
-  const RunReader run(run_path);
+  const RunFileSource source(run_path);
+  const RunReader& run = source.run();
   const std::size_t S = run.snapshots();
   if (S == 0) throw StageError(run.path() + ": the run file has no snapshots");
   const FrictionLaws mu = friction_laws(run.parameters(), cfg.mu_grain, cfg.mu_wall, run.path());
   const std::string mu_source =
       cfg.mu_grain ? "config " + config_path : "the run's scene ([contact] friction, [contact.wall] friction)";
   const HeightBins bins{cfg.bin_width_d * study.mean_diameter};  // contact and intruder heights alike
-  const FrictionTrack t = track(run, mu, cfg, bins);
+  const FrictionTrack t = track(source, mu, cfg, bins);
 
   json m;
   m["run_file"] = run.path();

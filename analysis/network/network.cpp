@@ -174,6 +174,16 @@ void ForceSegments::add(const Snapshot& s, const std::vector<Partner>& partners,
   start.push_back(static_cast<std::int64_t>(x0.size()));
 }
 
+void ForceSegments::append(const ForceSegments& o) {
+  const std::int64_t base = start.back();
+  snapshot.insert(snapshot.end(), o.snapshot.begin(), o.snapshot.end());
+  for (std::size_t m = 1; m < o.start.size(); ++m) start.push_back(base + o.start[m]);
+  for (auto [to, from] : {std::pair{&x0, &o.x0}, {&y0, &o.y0}, {&x1, &o.x1}, {&y1, &o.y1}, {&fn, &o.fn}})
+    to->insert(to->end(), from->begin(), from->end());
+  partner.insert(partner.end(), o.partner.begin(), o.partner.end());
+  strong.insert(strong.end(), o.strong.begin(), o.strong.end());
+}
+
 void ForceSegments::write(H5Output& h) const {
   h.add("figure/snapshot", snapshot, "-", "snapshots with force-network segments");
   h.add("figure/start", start, "-", "segments of figure/snapshot[m]: rows start[m] .. start[m+1]-1");

@@ -111,6 +111,8 @@ struct ForceSegments {
   std::vector<std::uint8_t> partner, strong;
   // Appends snapshot s's contacts; strong: fn > this (N/m).
   void add(const Snapshot& s, const std::vector<Partner>& partners, double strong_fn);
+  // Appends another collection's snapshots after these.
+  void append(const ForceSegments& o);
   void write(H5Output& h) const;  // figure/...
 };
 

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "io/run_reader.hpp"
+#include "common/snapshot_loop.hpp"
 #include "common/stage_config.hpp"
 
 namespace dem2d::analysis {
@@ -264,62 +265,83 @@ struct Tracked {
 };
 
 // Snapshot k's measures: its contact graph's percolation for every variant,
-// the fabric above the intruder, the grains touching it, its keystones.
-void track_snapshot(const Snapshot& s, std::size_t k, const NetworkConfig& cfg, double d_mean, bool to_figure,
-                    Tracked& out) {
-  Track& t = out.t;
+// the fabric above the intruder, the grains touching it, its keystones, its
+// force segments if it goes to the figure; the cell's at the first snapshot.
+struct NetworkSnapshot {
+  double time = 0.0, height = 0.0, intruder_y = 0.0, mean_fn = 0.0;
+  std::int64_t contacts = 0, strong_contacts = 0;
+  std::vector<Percolation> percolation;  // per variant
+  Fabric fabric_strong, fabric_all;
+  std::vector<Fabric> fabric_region;
+  std::vector<std::int32_t> touching;
+  KeystoneAnalysis keystones;
+  std::vector<Vec2> position;
+  ForceSegments segments;               // empty unless to the figure
+  double measured_d = 0.0, bed0 = 0.0, end_to_wall = 0.0;  // k = 0 only
+  std::vector<double> diameter;                             // k = 0 only
+};
+
+NetworkSnapshot measure_snapshot(const Snapshot& s, std::size_t k, const NetworkConfig& cfg, double d_mean,
+                                 bool to_figure, const std::vector<Variant>& variants) {
+  NetworkSnapshot n;
   const FloorRule rule = floor_rule_from_name(cfg.floor_rule);
   const PulloffGeometry geo = pulloff_geometry(s);
   if (k == 0) {
-    out.measured_d = mean_active_diameter(s);
-    out.bed0 = bed_height(s, geo);
-    out.end_to_wall = geo.end_to_wall();
-    out.diameter = s.diameter;
+    n.measured_d = mean_active_diameter(s);
+    n.bed0 = bed_height(s, geo);
+    n.end_to_wall = geo.end_to_wall();
+    n.diameter = s.diameter;
   }
   const std::vector<Partner> partners = classify_contacts(s, geo);
   const ContactGraph g = build_contact_graph(s, partners);
   const double strong = cfg.strong_threshold * g.mean_fn;
-  t.time.push_back(s.time);
-  t.height.push_back(geo.height());
-  t.intruder_y.push_back(geo.centre.y);
-  t.mean_fn.push_back(g.mean_fn);
-  t.contacts.push_back(static_cast<std::int64_t>(g.edges()));
-  t.strong_contacts.push_back(g.edges_above(strong));
-  for (Variant& v : out.variants) {
-    const Percolation p = percolation(g, v.factor * g.mean_fn, v.rule, g.intruder());
-    v.left[k] = p.left, v.right[k] = p.right;
-  }
-  const double y0 = t.intruder_y.back(), y1 = y0 + cfg.anisotropy_region_height * geo.end_to_wall();
+  n.time = s.time, n.height = geo.height(), n.intruder_y = geo.centre.y, n.mean_fn = g.mean_fn;
+  n.contacts = static_cast<std::int64_t>(g.edges());
+  n.strong_contacts = g.edges_above(strong);
+  for (const Variant& v : variants) n.percolation.push_back(percolation(g, v.factor * g.mean_fn, v.rule, g.intruder()));
+  const double y0 = n.intruder_y, y1 = y0 + cfg.anisotropy_region_height * geo.end_to_wall();
   const auto min_contacts = static_cast<std::size_t>(cfg.anisotropy_min_contacts);
-  t.fabric_strong.push_back(region_fabric(s, partners, strong, y0, y1, min_contacts));
-  t.fabric_all.push_back(region_fabric(s, partners, 0.0, y0, y1, min_contacts));
-  t.fabric_region.resize(cfg.sensitivity_anisotropy_region_height.size());
-  for (std::size_t r = 0; r < t.fabric_region.size(); ++r)
-    t.fabric_region[r].push_back(region_fabric(
-        s, partners, strong, y0, y0 + cfg.sensitivity_anisotropy_region_height[r] * geo.end_to_wall(), min_contacts));
-  t.touching.emplace_back();
+  n.fabric_strong = region_fabric(s, partners, strong, y0, y1, min_contacts);
+  n.fabric_all = region_fabric(s, partners, 0.0, y0, y1, min_contacts);
+  for (const double h : cfg.sensitivity_anisotropy_region_height)
+    n.fabric_region.push_back(region_fabric(s, partners, strong, y0, y0 + h * geo.end_to_wall(), min_contacts));
   for (const auto e : boost::make_iterator_range(boost::out_edges(g.intruder(), g.graph)))
-    if (boost::target(e, g.graph) < g.grains) t.touching.back().push_back(static_cast<std::int32_t>(boost::target(e, g.graph)));
-  t.keystones.push_back(analyse_keystones(g, s, geo, strong, rule, cfg.keystone_end_zone_d * d_mean));
-  t.position.push_back(s.position);
-  if (to_figure) out.segments.add(s, partners, strong);
+    if (boost::target(e, g.graph) < g.grains) n.touching.push_back(static_cast<std::int32_t>(boost::target(e, g.graph)));
+  n.keystones = analyse_keystones(g, s, geo, strong, rule, cfg.keystone_end_zone_d * d_mean);
+  n.position = s.position;
+  if (to_figure) n.segments.add(s, partners, strong);
+  return n;
+}
+
+void fold_snapshot(std::size_t k, NetworkSnapshot&& n, Tracked& out) {
+  Track& t = out.t;
+  if (k == 0) {
+    out.measured_d = n.measured_d, out.bed0 = n.bed0, out.end_to_wall = n.end_to_wall;
+    out.diameter = std::move(n.diameter);
+  }
+  t.time.push_back(n.time), t.height.push_back(n.height), t.intruder_y.push_back(n.intruder_y);
+  t.mean_fn.push_back(n.mean_fn), t.contacts.push_back(n.contacts), t.strong_contacts.push_back(n.strong_contacts);
+  for (std::size_t v = 0; v < out.variants.size(); ++v)
+    out.variants[v].left[k] = n.percolation[v].left, out.variants[v].right[k] = n.percolation[v].right;
+  t.fabric_strong.push_back(n.fabric_strong), t.fabric_all.push_back(n.fabric_all);
+  t.fabric_region.resize(n.fabric_region.size());
+  for (std::size_t r = 0; r < n.fabric_region.size(); ++r) t.fabric_region[r].push_back(n.fabric_region[r]);
+  t.touching.push_back(std::move(n.touching));
+  t.keystones.push_back(std::move(n.keystones));
+  t.position.push_back(std::move(n.position));
+  if (!n.segments.snapshot.empty()) out.segments.append(n.segments);
 }
 
 // The loop over the run's snapshots.
 Tracked track(const SnapshotSource& run, const std::vector<RuptureEvent>& events, const NetworkConfig& cfg,
               double d_mean) {
-  const std::size_t S = run.snapshots();
   Tracked out;
-  out.variants = percolation_variants(cfg, S);
+  out.variants = percolation_variants(cfg, run.snapshots());
   const std::set<std::size_t> figure = figure_snapshots(run, events, cfg);
-  for (std::size_t k = 0; k < S; ++k) {
-    const Snapshot s = run.snapshot(k);
-    try {
-      track_snapshot(s, k, cfg, d_mean, figure.count(k) > 0, out);
-    } catch (const StageError& e) {
-      throw StageError(run.path() + ": snapshot " + std::to_string(k) + ": " + e.what());
-    }
-  }
+  for_each_snapshot(
+      run, all_snapshots(run), 1,
+      [&](std::size_t k, const Snapshot& s) { return measure_snapshot(s, k, cfg, d_mean, figure.count(k) > 0, out.variants); },
+      [&](std::size_t k, NetworkSnapshot&& n) { fold_snapshot(k, std::move(n), out); });
   return out;
 }
 
