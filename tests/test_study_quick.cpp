@@ -119,7 +119,7 @@ TEST_F(QuickStudy, ProgressForecastsThePullOffsEnd) {
 
 TEST_F(QuickStudy, DragIsPositiveWhileBuriedAndVanishesOnceClear) {
   const RunReader run(pull.run_file);
-  const analysis::Study study;
+  const analysis::Study study = analysis::load_study(DEM2D_DATA_DIR "/study.toml");
   const analysis::DragProfile p = analysis::read_drag_profile(run);
   const double bed = analysis::measure_run_file(fill.run_file, analysis::BedConfig{}, "")["fill"]["bed_height_mm"]
                          .get<double>() * 1e-3;
@@ -143,7 +143,7 @@ TEST_F(QuickStudy, DragIsPositiveWhileBuriedAndVanishesOnceClear) {
 // a little larger, by about as much as a row's interval of the pull.
 TEST_F(QuickStudy, StaticLoadIsTheBedsAtRestNotThePullsFirstRow) {
   const RunReader run(pull.run_file), bed(fill.run_file);
-  const analysis::Study study;
+  const analysis::Study study = analysis::load_study(DEM2D_DATA_DIR "/study.toml");
   const double at_rest = analysis::static_load(bed);
   const analysis::DragProfile p = analysis::read_drag_profile(run);
   EXPECT_GT(at_rest, 0.0);  // the grains above press on it

@@ -33,7 +33,7 @@ struct CgInput {
   std::string run_path;
   CgConfig config;
   std::string config_path;  // for the record
-  Study study;              // body names
+  Study study;              // the study's constants (read and checked; cg needs none of them)
   std::string events_path;  // "" : none
   int threads = 0;          // OpenMP threads (0: OpenMP's default); results do not depend on it
 };

@@ -145,7 +145,7 @@ TEST(FrictionConfig, DataFileHoldsTheDefaultsAndBadKeysAreNamed) {
 TEST(FrictionStage, QuickRun) {
   const std::string run = DEM2D_RESULTS_DIR "/quick/pulloff/run.h5";
   if (!std::filesystem::exists(run)) GTEST_SKIP() << run << " does not exist (make reproduce PRESET=quick?)";
-  const FrictionResult r = run_friction(run, "test", FrictionConfig{}, Study{});
+  const FrictionResult r = run_friction(run, "test", FrictionConfig{}, load_study(DEM2D_DATA_DIR "/study.toml"));
   const auto& m = r.metrics["friction"];
   EXPECT_EQ(m["mu_grain"].get<double>(), 0.5);
   const double slip = m["slip_fraction"].get<double>();

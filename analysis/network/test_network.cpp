@@ -368,7 +368,7 @@ TEST(NetworkStage, QuickRun) {
   const std::string events = (dir.path() / "events.h5").string();
   write_events(events, {0.5, 1.0}, {0.56, 1.05});
   const std::string spectrum = dir.file("spectrum.json", R"({"spectrum": {"top_layer_height_mm": 30.0}})");
-  const NetworkResult r = run_network({run, "test", events, spectrum}, NetworkConfig{}, Study{});
+  const NetworkResult r = run_network({run, "test", events, spectrum}, NetworkConfig{}, load_study(DEM2D_DATA_DIR "/study.toml"));
   const auto& m = r.metrics["network"];
   EXPECT_EQ(m["top_layer_height_mm"].get<double>(), 30.0);
   for (const char* key : {"percolation_loss_height_mm", "percolating_fraction_below_top_layer", "keystone_explained_fraction"})
@@ -395,7 +395,7 @@ TEST(NetworkStage, QuickRun) {
   EXPECT_EQ(h5::read_attr_string(h, "figure/fn", "units"), "N/m");
 
   // Without events or spectrum metrics: the check is skipped and the top layer is our loss height.
-  const NetworkResult q = run_network({run, "test", "", ""}, NetworkConfig{}, Study{});
+  const NetworkResult q = run_network({run, "test", "", ""}, NetworkConfig{}, load_study(DEM2D_DATA_DIR "/study.toml"));
   EXPECT_TRUE(q.metrics["network"]["keystone_explained_fraction"].is_null());
   EXPECT_EQ(q.metrics["network"]["top_layer_height_mm"], q.metrics["network"]["percolation_loss_height_mm"]);
 }

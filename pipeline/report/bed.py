@@ -5,67 +5,67 @@ import numpy as np
 from matplotlib.collections import EllipseCollection, LineCollection
 from matplotlib.patches import Polygon
 
+import dem2d
 from common import MM, InputError
 
 
 class Run:
-    """pulloff/run.h5, opened for the whole drawing (close with close())."""
+    """pulloff/run.h5 through the run-file reader (python/dem2d), opened for the
+    whole drawing (close with close())."""
 
     def __init__(self, inp):
-        self.h5 = inp.h5("pulloff", "run.h5")
-        self.path = self.h5.path
-        names = [str(n) for n in self.h5.dset("bodies/name").asstr()[...]]
-        roles = [str(r) for r in self.h5.dset("bodies/role").asstr()[...]]
+        self.path = inp.path("pulloff", "run.h5")
+        if not self.path.is_file():
+            raise inp.missing("pulloff", "run.h5")
+        try:
+            self.run = dem2d.Run(self.path)
+        except (OSError, ValueError) as e:
+            raise InputError(f"{e}: run `{inp.target('pulloff')}`") from e
+        bodies = self.run.bodies
         want = ("left_wall", "right_wall", "floor", "intruder")
         try:
-            self.body = {role: roles.index(role) for role in want}  # role -> body index
-        except ValueError as e:
+            self.body = {role: self.run.body(role) for role in want}  # role -> dem2d.Body
+        except KeyError as e:
             raise InputError(f"{self.path}: no body has one of the roles {list(want)} "
-                             f"(bodies {names}, roles {roles}); the scene declares them: [[body]] role") from e
-        self.code_version = str(self.h5.attr("code_version"))  # the engine that made the run
-        self.thickness = self.h5.read("bodies/thickness")
-        self.diameter = self.h5.read("particles/diameter")
-        self.time = self.h5.read("snapshots/time")
-        self.vertices = self.h5.read("snapshots/body_vertices")  # [S, B, K, 2] m
-        self.vertex_count = self.h5.read("bodies/vertex_count")
-        self.start = self.h5.read("snapshots/contact_start")
-        fl = self.core(0, "floor")
-        self.floor_y = fl[:, 1].max() + self.thickness[self.body["floor"]] / 2
-        vel = self.h5.read("bodies/velocity")[self.body["intruder"]]
+                             f"(bodies {[b.name for b in bodies]}, roles {[b.role for b in bodies]}); "
+                             "the scene declares them: [[body]] role") from e
+        self.code_version = str(self.run.attrs["code_version"])  # the engine that made the run
+        self.diameter = self.run.particles.diameter
+        self.time = self.run.times
+        self.vertices = self.run.dataset("snapshots/body_vertices")  # [S, B, K, 2] m
+        self.floor_y = self.run.floor_top()
+        vel = self.run.dataset("bodies/velocity")[self.body["intruder"].index]
         self.speed = float(np.hypot(*vel))  # V, m/s
 
     def close(self):
-        self.h5.f.close()
+        self.run.close()
 
     def core(self, k, role):
         """The core outline (m) of the body with this role at snapshot k: [n, 2]."""
-        b = self.body[role]
-        return self.vertices[k, b, :self.vertex_count[b]]
+        return self.body[role].core(self.vertices[k])
 
     def heights(self):
         """Intruder centre (mean of its core's vertices) above the floor's face at every snapshot (mm)."""
-        b = self.body["intruder"]
-        return (self.vertices[:, b, :self.vertex_count[b], 1].mean(axis=1) - self.floor_y) * MM
+        return self.run.heights("intruder") * MM
 
     def grains(self, k):
         """Positions (mm, y above the floor) and diameters (mm) of the active grains."""
-        pos = self.h5.read("snapshots/position", k)
-        act = self.h5.read("snapshots/active", k).astype(bool)
-        xy = pos[act] * MM
+        s = self.run.snapshot(k)
+        xy = s.position[s.active] * MM
         xy[:, 1] -= self.floor_y * MM
-        return xy, self.diameter[act] * MM
+        return xy, self.diameter[s.active] * MM
 
     def contacts(self, k):
         """Contacts with F_n > 0 of snapshot k: dict of i, j, fn, ft, nx, ny, overlap."""
-        a, b = self.start[k], self.start[k + 1]
-        c = {n: self.h5.read(f"contacts/{n}", slice(a, b)) for n in ("i", "j", "fn", "ft", "nx", "ny", "overlap")}
-        keep = c["fn"] > 0
-        return {n: v[keep] for n, v in c.items()}
+        c = self.run.contacts(k)
+        keep = c.fn > 0
+        return {"i": c.i[keep], "j": c.j[keep], "fn": c.fn[keep], "ft": c.ft[keep], "nx": c.normal[keep, 0],
+                "ny": c.normal[keep, 1], "overlap": c.overlap[keep]}
 
     def force_segments(self, k):
         """Segments of the normal force network (mm): grain centre to partner centre,
         or to the body's surface; with F_n (N/m)."""
-        pos = self.h5.read("snapshots/position", k)
+        pos = self.run.snapshot(k).position
         c = self.contacts(k)
         i, j = c["i"], c["j"]
         p0 = pos[i]
@@ -83,7 +83,7 @@ class Run:
         """[(role, outline [m, 2] in mm, y above the floor)] of the bodies at snapshot k."""
         out = []
         for role, b in self.body.items():
-            xy = outline(self.core(k, role), self.thickness[b] / 2) * MM
+            xy = outline(b.core(self.vertices[k]), b.thickness / 2) * MM
             xy[:, 1] -= self.floor_y * MM
             out.append((role, xy))
         return out
@@ -140,8 +140,8 @@ def draw_network(ax, seg, fn, fn_max, lw_max=3.0, cmap=None, colour="k", zorder=
 
 def frame(ax, run, k, top_mm, bottom_mm=0.0):
     """Axes limits on the cell (inner faces) from bottom_mm to top_mm, equal aspect, labels."""
-    xl = (run.core(k, "left_wall")[:, 0].max() + run.thickness[run.body["left_wall"]] / 2) * MM
-    xr = (run.core(k, "right_wall")[:, 0].min() - run.thickness[run.body["right_wall"]] / 2) * MM
+    xl = (run.core(k, "left_wall")[:, 0].max() + run.body["left_wall"].thickness / 2) * MM
+    xr = (run.core(k, "right_wall")[:, 0].min() - run.body["right_wall"].thickness / 2) * MM
     ax.set_xlim(xl - 1, xr + 1)
     ax.set_ylim(bottom_mm - 1, top_mm)
     ax.set_aspect("equal")

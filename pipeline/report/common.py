@@ -11,6 +11,8 @@ import matplotlib
 
 from files import stages, write_atomic
 
+import dem2d  # noqa: E402 (on sys.path through files)
+
 matplotlib.use("Agg")
 import h5py  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
@@ -110,7 +112,12 @@ class Inputs:
                 p = self.path(stage, name)
                 if not p.is_file():
                     raise self.missing(stage, name)
-                if name.endswith(".h5"):
+                if name == "run.h5":  # the run-file reader's checks (python/dem2d)
+                    try:
+                        dem2d.Run(p).close()
+                    except (OSError, ValueError) as e:
+                        raise InputError(f"{e}: run `{self.target(stage)}`") from e
+                elif name.endswith(".h5"):
                     self.h5(stage, name).f.close()
                 else:
                     self.metrics(stage)

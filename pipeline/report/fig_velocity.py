@@ -126,7 +126,7 @@ def tip_velocity(inp, cg, run, ev):
                             shading="nearest", rasterized=True)
         ax.streamplot(dx, dy, vx, vy, color="w", linewidth=0.7, density=1.3, arrowsize=0.7)
         core = run.core(k, "intruder")
-        ax.add_patch(plt.Polygon(outline(core - core.mean(axis=0), run.thickness[run.body["intruder"]] / 2) * MM,
+        ax.add_patch(plt.Polygon(outline(core - core.mean(axis=0), run.body["intruder"].thickness / 2) * MM,
                                  fc="0.6", ec="w", zorder=4))
         after = events.seconds(cg.time[k] - ev["peak_time"][e])
         ax.set_title(f"({a}) H = {cg.height[k]:.1f} mm, drop {ev['drop'][e]:.0f} N/m, {after} after its peak")
