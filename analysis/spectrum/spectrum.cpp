@@ -426,78 +426,84 @@ std::vector<double> spacings(const SpectrumResult& r, double low, double high, d
 
 // ---- the analysis ---------------------------------------------------------
 
-SpectrumResult analyse(const DragProfile& profile, const SpectrumScales& s, const SpectrumConfig& c,
-                       const std::string& source) {
-  check_spectrum_config(c, source + " (config)");
-  SpectrumResult r;
-  r.profile = checked_profile(profile, c.uniform_tolerance, source, r);
+namespace {
+
+// What every step of the analysis uses: the bed height, samples per d, the
+// band edges (bottom, middle, upper, top layer) and where the profile came from.
+struct Context {
+  double hb = 0.0, fs = 0.0;  // (m), samples per d
+  double edges[5] = {};       // (m)
+  const std::string& source;
+};
+
+// The trend, the fluctuation about it and its running rms.
+void detrend(SpectrumResult& r, const SpectrumConfig& c, const Context& f) {
+  const DragProfile& p = r.profile;
+  r.trend = running_median(p.drag, samples(0.5 * c.trend_window_d, f.fs));
+  r.fluctuation.resize(p.drag.size());
+  for (std::size_t k = 0; k < p.drag.size(); ++k) r.fluctuation[k] = p.drag[k] - r.trend[k];
+  r.envelope = running_rms(r.fluctuation, samples(0.5 * c.envelope_window_d, f.fs));
+}
+
+// The ringing, against time in the loading/rupture part; a significant one
+// bounds the geometric search: only wavelengths with V / wavelength <= cutoff.
+// Then the second part's spectrum, the noise (global and local) and the bands.
+void spectra(SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& c, const Context& f) {
   const DragProfile& p = r.profile;
   const std::vector<double>& h = p.height;
-  const std::size_t n = h.size();
-  const double hb = s.bed_height, fs = s.d / r.height_step;  // samples per d
-  r.speed = (h.back() - h.front()) / (p.time.back() - p.time.front());
-  if (!(hb > h.front())) bad_profile(source, "the bed height " + mm(hb) + " is not above the first height " + mm(h.front()));
-  if (c.min_period_d * fs < 2.0)
-    bad_profile(source, "psd.min_period_d = " + num(c.min_period_d) +
-                            " d is shorter than two height steps: the series is too coarse");
-
-  r.trend = running_median(p.drag, samples(0.5 * c.trend_window_d, fs));
-  r.fluctuation.resize(n);
-  for (std::size_t k = 0; k < n; ++k) r.fluctuation[k] = p.drag[k] - r.trend[k];
-  const std::size_t env_half = samples(0.5 * c.envelope_window_d, fs);
-  r.envelope = running_rms(r.fluctuation, env_half);
-
-  // The ringing, against time in the loading/rupture part; a significant one
-  // bounds the geometric search: only wavelengths with V / wavelength <= cutoff.
-  const auto [ring_begin, ring_end] = rows_between(h, c.bottom_top * hb, c.upper_top * hb);
+  const auto [ring_begin, ring_end] = rows_between(h, f.edges[1], f.edges[3]);
   r.ringing = find_ringing({r.fluctuation.begin() + static_cast<std::ptrdiff_t>(ring_begin),
                             r.fluctuation.begin() + static_cast<std::ptrdiff_t>(ring_end)},
-                           (p.time.back() - p.time.front()) / dbl(n - 1), c);
+                           (p.time.back() - p.time.front()) / dbl(h.size() - 1), c);
   r.min_period_d = c.min_period_d;
   if (r.ringing.peak.significant) {
     r.geometric_cutoff = c.ringing_cutoff_fraction * r.ringing.peak.frequency;
     r.min_period_d = std::max(c.min_period_d, r.speed / (r.geometric_cutoff * s.d));
   }
-  r.second_part = make_band("second_part", c.bottom_top * hb, c.upper_top * hb, r, fs, c);
-  const double span_d = dbl(r.second_part.end - r.second_part.begin) / fs;
+  r.second_part = make_band("second_part", f.edges[1], f.edges[3], r, f.fs, c);
+  const double span_d = dbl(r.second_part.end - r.second_part.begin) / f.fs;
   if (span_d < 2.0 * c.max_period_d)
-    bad_profile(source, "the drag profile is too short: the loading/rupture part [" + mm(r.second_part.low) + ", " +
-                            mm(r.second_part.high) + ") holds " + num(span_d) + " d of travel, fewer than 2 x psd.max_period_d");
+    bad_profile(f.source, "the drag profile is too short: the loading/rupture part [" + mm(r.second_part.low) + ", " +
+                              mm(r.second_part.high) + ") holds " + num(span_d) + " d of travel, fewer than 2 x psd.max_period_d");
   r.noise = noise_level(r.fluctuation, r.second_part.begin, r.second_part.end);
   if (!(r.noise > 0.0))
-    bad_profile(source, "the fluctuations have no measurable noise (MAD of first differences = 0): "
-                        "the noise-relative thresholds are undefined");
+    bad_profile(f.source, "the fluctuations have no measurable noise (MAD of first differences = 0): "
+                          "the noise-relative thresholds are undefined");
   // the noise follows the load (the bed's ringing grows with it: ~2 % of it in
   // the study's runs), so a drop is judged against the noise where it happens
-  r.local_noise = local_noise_level(r.fluctuation, samples(0.5 * c.trend_window_d, fs));
+  r.local_noise = local_noise_level(r.fluctuation, samples(0.5 * c.trend_window_d, f.fs));
   for (double& v : r.local_noise) v = std::max(v, 1e-3 * r.noise);
   r.drop_delta = c.drop_threshold * r.noise;
-  const double edges[] = {0.0, c.bottom_top * hb, c.middle_top * hb, c.upper_top * hb, hb};
   const char* names[] = {"bottom", "middle", "upper", "top_layer"};
-  for (std::size_t b = 0; b < 4; ++b) r.bands.push_back(make_band(names[b], edges[b], edges[b + 1], r, fs, c));
+  for (std::size_t b = 0; b < 4; ++b) r.bands.push_back(make_band(names[b], f.edges[b], f.edges[b + 1], r, f.fs, c));
+}
 
-  // Events, their spacing in the second part, and their amplitude in the upper part.
-  std::vector<double> delta(n);
-  for (std::size_t k = 0; k < n; ++k) delta[k] = c.drop_threshold * r.local_noise[k];
-  r.events = detect_events(r.fluctuation, delta, samples(c.drop_window_d, fs));
+// Events, their spacing in the second part, and their amplitude in the upper
+// part; the rupture catalogue: the load each event carried, which the paper
+// counts, the size distributions.
+void ruptures(SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& c, const Context& f) {
+  const DragProfile& p = r.profile;
+  const std::vector<double>& h = p.height;
+  std::vector<double> delta(h.size());
+  for (std::size_t k = 0; k < h.size(); ++k) delta[k] = c.drop_threshold * r.local_noise[k];
+  r.events = detect_events(r.fluctuation, delta, samples(c.drop_window_d, f.fs));
   const auto inside = [&h](const Event& e, double low, double high) { return h[e.peak] >= low && h[e.peak] < high; };
-  // the rupture catalogue: the load each event carried, and which the paper counts
   std::vector<double> amp_x, amp_y, drops, relative;
   for (const Event& e : r.events) {
     const double load = r.trend[e.peak], drop = p.drag[e.peak] - p.drag[e.drop_end];
     r.event_load.push_back(load);
     r.counted.push_back(load > 0.0 && drop >= c.min_relative_drop * load ? 1 : 0);
-    if (inside(e, edges[1], edges[3])) {
+    if (inside(e, f.edges[1], f.edges[3])) {
       drops.push_back(drop);
       if (load > 0.0) relative.push_back(drop / load);
     }
-    if (inside(e, edges[2], edges[3])) {
+    if (inside(e, f.edges[2], f.edges[3])) {
       amp_x.push_back(1e3 * h[e.peak]);
       amp_y.push_back(drop);
     }
   }
-  r.spacing_d = spacings(r, edges[1], edges[3], s.d, std::vector<std::uint8_t>(r.events.size(), 1));
-  r.rupture_spacing_d = spacings(r, edges[1], edges[3], s.d, r.counted);
+  r.spacing_d = spacings(r, f.edges[1], f.edges[3], s.d, std::vector<std::uint8_t>(r.events.size(), 1));
+  r.rupture_spacing_d = spacings(r, f.edges[1], f.edges[3], s.d, r.counted);
   const SizeFitSettings sizes{static_cast<std::size_t>(c.size_min_tail), c.size_bootstrap, c.size_significance, 1};
   r.sizes = fit_sizes(drops, sizes);
   r.relative_sizes = fit_sizes(relative, sizes);
@@ -506,32 +512,40 @@ SpectrumResult analyse(const DragProfile& profile, const SpectrumScales& s, cons
   std::vector<double> env_x, env_y;
   for (std::size_t k = upper.begin; k < upper.end; ++k) env_x.push_back(1e3 * h[k]), env_y.push_back(r.envelope[k]);
   r.envelope_fit = linear_fit(env_x, env_y);
+}
 
-  // Bottom zone: the first high peak, the collapse after it, the next loading.
+// Bottom zone: the first high peak, the collapse after it, the next loading.
+void bottom_zone(SpectrumResult& r, const SpectrumConfig& c) {
+  const DragProfile& p = r.profile;
   const Band& bottom = r.bands[0];
-  if (bottom.end > bottom.begin) {
-    r.bottom_peak = argmax(p.drag, bottom.begin, bottom.end);
-    const auto pivots = zigzag(p.drag, c.collapse_fraction * std::abs(p.drag[r.bottom_peak]), r.bottom_peak);
-    const auto trough = std::find_if(pivots.begin(), pivots.end(), [](const Pivot& v) { return !v.peak; });
-    if (trough != pivots.end()) {
-      r.bottom_collapse = trough->index;
-      if (trough + 1 != pivots.end()) r.bottom_reload = (trough + 1)->index;
-    }
+  if (bottom.end <= bottom.begin) return;
+  r.bottom_peak = argmax(p.drag, bottom.begin, bottom.end);
+  const auto pivots = zigzag(p.drag, c.collapse_fraction * std::abs(p.drag[r.bottom_peak]), r.bottom_peak);
+  const auto trough = std::find_if(pivots.begin(), pivots.end(), [](const Pivot& v) { return !v.peak; });
+  if (trough != pivots.end()) {
+    r.bottom_collapse = trough->index;
+    if (trough + 1 != pivots.end()) r.bottom_reload = (trough + 1)->index;
   }
+}
 
-  // Top layer: the change point of the fluctuations' variance, with its interval.
-  const TopLayerSearch search{c.search_from_fraction * hb, hb - c.search_margin_d * s.d, samples(c.block_d, fs),
+// Top layer: the change point of the fluctuations' variance, with its
+// interval; and the envelope's definition, kept beside it: above the last
+// height where the envelope reaches the noise floor.
+void top_layer(SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& c, const Context& f) {
+  const DragProfile& p = r.profile;
+  const std::vector<double>& h = p.height;
+  const std::size_t n = h.size();
+  const TopLayerSearch search{c.search_from_fraction * f.hb, f.hb - c.search_margin_d * s.d, samples(c.block_d, f.fs),
                               c.top_bootstrap, c.top_confidence, c.top_false_alarm, 1};
   r.top = find_top_layer(h, r.fluctuation, r.trend, search);
   r.top_found = r.top.found;
   if (r.top_found) {
     r.top_height = r.top.best.height;
-    std::tie(r.top_begin, r.top_end) = rows_between(h, r.top_height, hb - c.fit_margin_d * s.d);
+    std::tie(r.top_begin, r.top_end) = rows_between(h, r.top_height, f.hb - c.fit_margin_d * s.d);
     std::vector<double> depth, drag;
-    for (std::size_t k = r.top_begin; k < r.top_end; ++k) depth.push_back(1e3 * (hb - h[k])), drag.push_back(p.drag[k]);
+    for (std::size_t k = r.top_begin; k < r.top_end; ++k) depth.push_back(1e3 * (f.hb - h[k])), drag.push_back(p.drag[k]);
     r.top_fit = linear_fit(depth, drag);
   }
-  // The envelope's definition: above the last height where it reaches the noise floor.
   const double floor = c.floor_factor * r.noise;
   std::size_t above = 0;  // rows up to the last one at or above the floor
   for (std::size_t k = n; k-- > 0 && above == 0;)
@@ -539,8 +553,31 @@ SpectrumResult analyse(const DragProfile& profile, const SpectrumScales& s, cons
   r.envelope_top_found = above < n;
   // the window centred on the last row above the floor just reaches the
   // fluctuating part: that part ends half a window lower
+  const std::size_t env_half = samples(0.5 * c.envelope_window_d, f.fs);
   if (r.envelope_top_found)
     r.envelope_top_height = above == 0 ? h.front() : std::max(h.front(), h[above - 1] - dbl(env_half) * r.height_step);
+}
+
+}  // namespace
+
+SpectrumResult analyse(const DragProfile& profile, const SpectrumScales& s, const SpectrumConfig& c,
+                       const std::string& source) {
+  check_spectrum_config(c, source + " (config)");
+  SpectrumResult r;
+  r.profile = checked_profile(profile, c.uniform_tolerance, source, r);
+  const std::vector<double>& h = r.profile.height;
+  const double hb = s.bed_height;
+  const Context f{hb, s.d / r.height_step, {0.0, c.bottom_top * hb, c.middle_top * hb, c.upper_top * hb, hb}, source};
+  r.speed = (h.back() - h.front()) / (r.profile.time.back() - r.profile.time.front());
+  if (!(hb > h.front())) bad_profile(source, "the bed height " + mm(hb) + " is not above the first height " + mm(h.front()));
+  if (c.min_period_d * f.fs < 2.0)
+    bad_profile(source, "psd.min_period_d = " + num(c.min_period_d) +
+                            " d is shorter than two height steps: the series is too coarse");
+  detrend(r, c, f);
+  spectra(r, s, c, f);
+  ruptures(r, s, c, f);
+  bottom_zone(r, c);
+  top_layer(r, s, c, f);
   return r;
 }
 
@@ -684,35 +721,21 @@ Json spacing_by_threshold(const SpectrumResult& r, const SpectrumScales& s, cons
 }
 }  // namespace
 
-nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& c,
-                                        double intruder_depth) {
+namespace {
+
+// A point of the drag profile (row k; nulls for npos).
+Json point_json(const SpectrumResult& r, std::size_t k, double intruder_depth) {
+  if (k == SpectrumResult::npos) return {{"height_mm", nullptr}, {"drag_N_per_m", nullptr}, {"drag_N", nullptr}};
+  const double drag = r.profile.drag[k];
+  return {{"height_mm", 1e3 * r.profile.height[k]}, {"drag_N_per_m", drag}, {"drag_N", drag * intruder_depth}};
+}
+
+Json fit_json(const LinearFit& f, const char* unit) {
+  return {{"slope", f.slope}, {"slope_unit", unit}, {"intercept", f.intercept}, {"r2", f.r2}, {"points", f.points}};
+}
+
+void add_profile(Json& m, const SpectrumResult& r, const SpectrumScales& s, double intruder_depth) {
   const auto& h = r.profile.height;
-  const auto& drag = r.profile.drag;
-  const double spacing = median(r.rupture_spacing_d);
-  const Json spacing_stats = stats_json(r.rupture_spacing_d);
-  const double mean_spacing = spacing_stats["mean"].is_number() ? spacing_stats["mean"].get<double>() : kNaN;
-  const double event_spacing = median(r.spacing_d);
-  std::vector<double> drops;
-  for (const Event& e : r.events) drops.push_back(drag[e.peak] - drag[e.drop_end]);
-  auto point = [&](std::size_t k) -> Json {
-    if (k == SpectrumResult::npos) return {{"height_mm", nullptr}, {"drag_N_per_m", nullptr}, {"drag_N", nullptr}};
-    return {{"height_mm", 1e3 * h[k]}, {"drag_N_per_m", drag[k]}, {"drag_N", drag[k] * intruder_depth}};
-  };
-  auto fit = [](const LinearFit& f, const char* unit) -> Json {
-    return {{"slope", f.slope}, {"slope_unit", unit}, {"intercept", f.intercept}, {"r2", f.r2}, {"points", f.points}};
-  };
-  const double top_depth = s.bed_height - r.top_height;
-  const double sp_hz = at_speed(spacing, s.d, s.paper_speed);
-  Json m;
-  // the metrics shared with the tolerance tests (SPEC), first
-  m["bottom_peak_height_mm"] = point(r.bottom_peak)["height_mm"];
-  m["amplitude_slope_upper"] = r.amplitude_fit.slope;
-  m["amplitude_slope_upper_unit"] = "N/m per mm";
-  m["amplitude_fit_r2_upper"] = r.amplitude_fit.r2;
-  m["rupture_spacing_d"] = spacing;
-  m["rupture_frequency_hz_at_1p2mm_s"] = sp_hz;
-  m["top_layer_height_mm"] = r.top_found ? 1e3 * r.top_height : kNaN;
-  m["top_layer_depth_fit_r2"] = r.top_fit.r2;
   // the profile
   m["rows"] = h.size();
   m["rows_dropped"] = r.rows_dropped;
@@ -731,6 +754,9 @@ nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumS
   m["drop_threshold_note"] = "each drop must exceed events.drop_threshold x the noise level around it (half the "
                              "trend window each side: the noise follows the load); drop_delta_N_per_m is that "
                              "threshold at the loading/rupture part's noise level";
+}
+
+void add_spectral(Json& m, const SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& c) {
   // spectrum
   m["dominant_period_d"] = r.second_part.peak.period;
   m["dominant_frequency_hz_at_1p2mm_s"] = at_speed(r.second_part.peak.period, s.d, s.paper_speed);
@@ -745,6 +771,17 @@ nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumS
   m["ringing_significant"] = r.ringing.peak.significant;
   m["ringing_period_d_at_run_speed"] = r.speed / (ringing_hz * s.d);  // its wavelength in travel
   m["ringing"] = ringing_json(r, c);
+}
+
+void add_ruptures(Json& m, const SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& c,
+                  double intruder_depth) {
+  const auto& drag = r.profile.drag;
+  const double spacing = median(r.rupture_spacing_d);
+  const Json spacing_stats = stats_json(r.rupture_spacing_d);
+  const double mean_spacing = spacing_stats["mean"].is_number() ? spacing_stats["mean"].get<double>() : kNaN;
+  const double event_spacing = median(r.spacing_d);
+  std::vector<double> drops;
+  for (const Event& e : r.events) drops.push_back(drag[e.peak] - drag[e.drop_end]);
   // events and the ruptures the paper counts
   m["event_count"] = r.events.size();
   m["rupture_rule"] = "a rupture: an event whose drop is at least " + num(c.min_relative_drop) +
@@ -760,13 +797,19 @@ nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumS
   m["spacing_by_threshold"] = spacing_by_threshold(r, s, c);
   m["size_distribution"] = {{"drop_N_per_m", sizes_json(r.sizes)}, {"relative_drop", sizes_json(r.relative_sizes)}};
   m["drop_N_per_m"] = stats_json(drops);
-  m["amplitude_fit_upper"] = fit(r.amplitude_fit, "N/m per mm");
+  m["amplitude_fit_upper"] = fit_json(r.amplitude_fit, "N/m per mm");
   m["amplitude_slope_upper_N_per_mm"] = r.amplitude_fit.slope * intruder_depth;
-  m["envelope_fit_upper"] = fit(r.envelope_fit, "N/m per mm");
+  m["envelope_fit_upper"] = fit_json(r.envelope_fit, "N/m per mm");
+}
+
+void add_zones(Json& m, const SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& c,
+               double intruder_depth) {
+  const auto& h = r.profile.height;
+  const double top_depth = s.bed_height - r.top_height;
   // bottom zone
-  m["bottom"] = {{"first_peak", point(r.bottom_peak)},
-                 {"collapse", point(r.bottom_collapse)},
-                 {"next_loading", point(r.bottom_reload)}};
+  m["bottom"] = {{"first_peak", point_json(r, r.bottom_peak, intruder_depth)},
+                 {"collapse", point_json(r, r.bottom_collapse, intruder_depth)},
+                 {"next_loading", point_json(r, r.bottom_reload, intruder_depth)}};
   // top layer
   m["top_layer_found"] = r.top_found;
   m["top_layer_outcome"] = r.top.outcome;
@@ -775,10 +818,31 @@ nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumS
   m["top_layer_envelope_height_mm"] = r.envelope_top_found ? 1e3 * r.envelope_top_height : kNaN;
   m["top_layer_envelope_found"] = r.envelope_top_found;
   m["top_layer_floor_N_per_m"] = c.floor_factor * r.noise;
-  m["top_layer_depth_fit"] = fit(r.top_fit, "N/m per mm of depth");
+  m["top_layer_depth_fit"] = fit_json(r.top_fit, "N/m per mm of depth");
   m["top_layer_depth_fit_slope_N_per_mm"] = r.top_fit.slope * intruder_depth;
   m["top_layer_fit_range_mm"] = {r.top_end > r.top_begin ? 1e3 * h[r.top_begin] : kNaN,
                                  r.top_end > r.top_begin ? 1e3 * h[r.top_end - 1] : kNaN};
+}
+
+}  // namespace
+
+nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& c,
+                                        double intruder_depth) {
+  const double spacing = median(r.rupture_spacing_d);
+  Json m;
+  // the metrics shared with the tolerance tests, first
+  m["bottom_peak_height_mm"] = point_json(r, r.bottom_peak, intruder_depth)["height_mm"];
+  m["amplitude_slope_upper"] = r.amplitude_fit.slope;
+  m["amplitude_slope_upper_unit"] = "N/m per mm";
+  m["amplitude_fit_r2_upper"] = r.amplitude_fit.r2;
+  m["rupture_spacing_d"] = spacing;
+  m["rupture_frequency_hz_at_1p2mm_s"] = at_speed(spacing, s.d, s.paper_speed);
+  m["top_layer_height_mm"] = r.top_found ? 1e3 * r.top_height : kNaN;
+  m["top_layer_depth_fit_r2"] = r.top_fit.r2;
+  add_profile(m, r, s, intruder_depth);
+  add_spectral(m, r, s, c);
+  add_ruptures(m, r, s, c, intruder_depth);
+  add_zones(m, r, s, c, intruder_depth);
   return m;
 }
 
