@@ -6,7 +6,7 @@ attribute must be equal, except those that describe the invocation rather than
 the run: wall time, code version, threads, paths. Prints the first
 differences; exit status 0 if the same, 1 if not, 2 on bad input. Used to
 check that a restructuring of the engine leaves existing scenes' results
-bitwise unchanged (issue 20's acceptance).
+bitwise unchanged.
 """
 import argparse
 import sys
@@ -44,29 +44,10 @@ def same_attrs(a, b, where, ignore, diffs):
             diffs.append(f"{where}: attribute {k}: {va!r} != {vb!r}")
 
 
-def upgraded(fa, fb, ia, ib, ignore, diffs):
-    """A dem2d-run-1 file A against a dem2d-run-2 file B (bodies with shapes):
-    A's sphero-lines /.../body_ends [rows, B, 4] are B's /.../body_vertices
-    [rows, B, 2, 2] byte for byte, and B's new /bodies/shape and
-    /bodies/vertex_count must say "segment" and 2 for every body."""
-    if fa.attrs.get("format") != "dem2d-run-1" or fb.attrs.get("format") != "dem2d-run-2":
-        return ignore
-    for group in ("series", "snapshots"):
-        old, new = f"{group}/body_ends", f"{group}/body_vertices"
-        if old in ia and new in ib:
-            ib[old] = ib.pop(new)
-    shapes = [s.decode() if isinstance(s, bytes) else s for s in ib.pop("bodies/shape")[()]]
-    counts = ib.pop("bodies/vertex_count")[()]
-    if any(s != "segment" for s in shapes) or any(int(c) != 2 for c in counts):
-        diffs.append(f"/bodies/shape, /bodies/vertex_count: {shapes} {list(counts)}, expected all segments of 2")
-    return ignore | {"format"}
-
-
 def compare(pa, pb, ignore):
     diffs = []
     with h5py.File(pa, "r") as fa, h5py.File(pb, "r") as fb:
         ia, ib = items(fa), items(fb)
-        ignore = upgraded(fa, fb, ia, ib, ignore, diffs)
         same_attrs(fa, fb, "/", ignore, diffs)
         for name in sorted(set(ia) | set(ib)):
             if name not in ia or name not in ib:
@@ -79,7 +60,7 @@ def compare(pa, pb, ignore):
                 continue
             if not isinstance(a, h5py.Dataset):
                 continue
-            if a.size != b.size or a.dtype != b.dtype or (a.shape != b.shape and not name.endswith("body_ends")):
+            if a.size != b.size or a.dtype != b.dtype or a.shape != b.shape:
                 diffs.append(f"/{name}: shape/dtype {a.shape} {a.dtype} != {b.shape} {b.dtype}")
                 continue
             va, vb = a[()], b[()]
