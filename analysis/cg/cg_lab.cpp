@@ -13,7 +13,6 @@
 
 #include "cg/cg_stage.hpp"
 #include "core/number_text.hpp"
-#include "frame/height_bins.hpp"  // every_kth
 #include "common/snapshot_loop.hpp"
 #include "common/stage_output.hpp"   // number_or_null
 #include "io/h5.hpp"
@@ -109,8 +108,6 @@ struct LabRun {
 // Every snapshot through the stages' snapshot loop (common/snapshot_loop.hpp):
 // each result depends on its own snapshot only (any thread count).
 void measure_lab(const SnapshotSource& run, bool has_piv, LabRun& L) {
-  const std::size_t S = run.snapshots();
-  L.ms.resize(S), L.times.resize(S), L.piv_ok.assign(S, 0);
   struct Measured {
     LabMeasure m;
     double time = 0.0;
@@ -125,7 +122,9 @@ void measure_lab(const SnapshotSource& run, bool has_piv, LabRun& L) {
         const bool full = std::binary_search(L.fields_at.begin(), L.fields_at.end(), k);
         return Measured{measure(L.su, f, piv.ok ? L.set : kInst, s, full), s.time, piv.ok};
       },
-      [&](std::size_t k, Measured&& x) { L.ms[k] = std::move(x.m), L.times[k] = x.time, L.piv_ok[k] = x.piv_ok; });
+      [&](std::size_t, Measured&& x) {
+        L.ms.push_back(std::move(x.m)), L.times.push_back(x.time), L.piv_ok.push_back(x.piv_ok);
+      });
 }
 
 json lab_metrics(const LabRun& L, const std::string& path, const CgInput& in) {
@@ -173,11 +172,7 @@ H5Output lab_h5(const LabRun& L, const std::string& path, const json& metrics) {
   h.note("velocity_source", metrics["cg"]["velocity_source"].get<std::string>());
   h.note("metrics", metrics.dump());
   h.note("floor_y", su.cell.floor);
-  const auto per = [&](auto get) {
-    std::vector<double> v(ms.size());
-    for (std::size_t k = 0; k < ms.size(); ++k) v[k] = get(ms[k]);
-    return v;
-  };
+  const auto per = [&](auto get) { return column_of(ms, get); };
   add_grid(h, su.grid, "node y (run-file frame)");
   h.add("snapshots/time", L.times, "s", "snapshot time");
   h.add("snapshots/bed_height", per([](const LabMeasure& x) { return x.surface; }), "m", "free surface above the floor's inner face");

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <random>
 
+#include "common/snapshot_loop.hpp"  // column_of
 #include "core/number_text.hpp"
 
 namespace dem2d::analysis {
@@ -708,19 +709,11 @@ json cg_metrics(const StageRecord& r) {
 
 namespace {
 
-// Per snapshot: the values of every snapshot's measure, as one column.
-template <class Get>
-std::vector<double> per_snapshot(const StageRecord& r, Get get) {
-  std::vector<double> v(r.ms.size());
-  for (std::size_t k = 0; k < r.ms.size(); ++k) v[k] = get(r.ms[k]);
-  return v;
-}
-
 // /snapshots: one value per snapshot, and per velocity set.
 void add_snapshot_series(H5Output& h, const StageRecord& r) {
   const Setup& su = r.setup;
   const std::size_t S = r.ms.size(), cone0 = su.cone0(), wall0 = su.wall_fixed();
-  const auto per = [&](auto get) { return per_snapshot(r, get); };
+  const auto per = [&](auto get) { return column_of(r.ms, get); };
   h.add("snapshots/time", r.times, "s", "snapshot time");
   h.add("snapshots/intruder_height", per([](const SnapshotMeasure& x) { return x.height; }), "m", "intruder centre above the floor's face");
   h.add("snapshots/surface_height", per([](const SnapshotMeasure& x) { return x.surface; }), "m", "free surface above the floor: mean over columns ~d wide of the highest grain top");

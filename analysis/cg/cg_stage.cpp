@@ -22,12 +22,6 @@ namespace {
 
 constexpr double kMm = 1e3;
 
-std::string mm(double m) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.4g mm", m * kMm);
-  return b;
-}
-
 // The index of v in values, appending it if absent.
 std::size_t with(std::vector<double>& values, double v) {
   const auto it = std::find(values.begin(), values.end(), v);
@@ -120,7 +114,7 @@ double bulk_solid_fraction(const Setup& su, const Snapshot& s, const std::string
   } catch (const StageError& e) {
     throw CgError(path + ": snapshot " + std::to_string(s.index) + ": the bed is too small for the kernel of " +
                   (config.empty() ? std::string("the default settings") : config) + " (cut-off " +
-                  mm(su.kernel.radius()) + "): " + e.what());
+                  format_mm(su.kernel.radius()) + "): " + e.what());
   }
   double sum = 0.0;
   std::size_t n = 0;

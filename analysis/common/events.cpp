@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/number_text.hpp"
+#include "io/h5.hpp"
 
 namespace dem2d::analysis {
 

@@ -9,7 +9,6 @@
 
 #include "common/stage_error.hpp"
 #include "common/stage_output.hpp"
-#include "io/h5.hpp"
 
 namespace dem2d::analysis {
 

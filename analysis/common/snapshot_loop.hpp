@@ -6,7 +6,6 @@
 // the thread count when the measure is pure.
 #pragma once
 
-
 #include <algorithm>
 #include <cstddef>
 #include <exception>
@@ -67,6 +66,18 @@ void for_each_snapshot(const SnapshotSource& run, const std::vector<std::size_t>
     }
   }
 }
+
+// One value of each per-snapshot result, as a column (a series for the stage's file).
+template <class T = double, class Result, class Get>
+std::vector<T> column_of(const std::vector<Result>& results, Get get) {
+  std::vector<T> v;
+  v.reserve(results.size());
+  for (const Result& x : results) v.push_back(static_cast<T>(get(x)));
+  return v;
+}
+
+// Snapshot indices 0, every, 2 every, ... and the last one (every >= 1).
+std::vector<std::size_t> every_kth(std::size_t snapshots, std::size_t every);
 
 // Every snapshot of the run: 0, 1, ..., S - 1.
 inline std::vector<std::size_t> all_snapshots(const SnapshotSource& run) {

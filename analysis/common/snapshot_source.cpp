@@ -1,5 +1,8 @@
 #include "common/snapshot_source.hpp"
 
+#include <algorithm>
+
+#include "common/snapshot_loop.hpp"
 #include "common/stage_error.hpp"
 #include "io/h5.hpp"
 
@@ -39,6 +42,14 @@ const std::vector<std::string>& MemorySource::body_roles() const {
 std::vector<Body> MemorySource::body_track(std::size_t b) const {
   std::vector<Body> out;
   for (const Snapshot& s : snaps) out.push_back(s.bodies.at(b));
+  return out;
+}
+
+std::vector<std::size_t> every_kth(std::size_t snapshots, std::size_t every) {
+  std::vector<std::size_t> out;
+  if (snapshots == 0) return out;
+  for (std::size_t k = 0; k < snapshots; k += std::max<std::size_t>(every, 1)) out.push_back(k);
+  if (out.back() != snapshots - 1) out.push_back(snapshots - 1);
   return out;
 }
 

@@ -35,6 +35,12 @@ nlohmann::ordered_json fraction_or_null(std::int64_t num, std::int64_t den) {
   return den > 0 ? nlohmann::ordered_json(static_cast<double>(num) / static_cast<double>(den)) : nullptr;
 }
 
+std::string format_mm(double metres) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g mm", metres * 1e3);
+  return buf;
+}
+
 std::string format_number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", v);

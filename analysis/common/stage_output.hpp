@@ -48,7 +48,6 @@ class H5Output {
     attributes_.push_back({std::move(object), std::move(name), std::move(value)});
   }
   const std::vector<Dataset>& datasets() const { return datasets_; }
-  const std::vector<Attribute>& attributes() const { return attributes_; }
   // Writes path + ".tmp" and renames it to path; std::runtime_error naming the file on failure.
   void write(const std::string& path) const;
 
@@ -65,5 +64,7 @@ nlohmann::ordered_json fraction_or_null(std::int64_t num, std::int64_t den);
 
 // A number as printf's %g writes it ("0.8", "1e-06"), for names and messages.
 std::string format_number(double v);
+// A length in metres as millimetres with 4 significant digits ("45.23 mm"), for messages.
+std::string format_mm(double metres);
 
 }  // namespace dem2d::analysis

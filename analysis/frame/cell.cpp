@@ -2,22 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
 
+#include "common/stage_output.hpp"  // format_mm
+
 namespace dem2d::analysis {
-
-namespace {
-
-std::string mm(double metres) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", metres * 1e3);
-  return std::string(buf) + " mm";
-}
-
-}  // namespace
 
 Cell find_cell(const Snapshot& s) {
   const auto body = [&](const char* role) -> const Body& {
@@ -33,8 +24,8 @@ Cell find_cell(const Snapshot& s) {
   c.right = r.xmin();
   c.floor = f.ymax();
   if (c.right <= c.left)
-    throw StageError("the walls' inner faces x = " + mm(c.left) + " ('" + l.name + "') and " + mm(c.right) + " ('" +
-                   r.name + "') enclose no cell");
+    throw StageError("the walls' inner faces x = " + format_mm(c.left) + " ('" + l.name + "') and " +
+                     format_mm(c.right) + " ('" + r.name + "') enclose no cell");
   if (const int b = s.find_role("intruder"); b >= 0) {
     const Body& in = s.bodies[static_cast<std::size_t>(b)];
     c.intruder = Rounded{in.core(), in.radius()};
@@ -83,8 +74,8 @@ Region bulk_region(const Cell& cell, double surface_height, double margin) {
   Region r;
   r.box = {cell.left + margin, cell.right - margin, cell.floor + margin, cell.floor + surface_height - margin};
   if (r.box.width() <= 0.0 || r.box.height() <= 0.0)
-    throw StageError("the bulk region is empty: the cell is " + mm(cell.right - cell.left) + " wide and the bed " +
-                   mm(surface_height) + " high, less than twice the margin of " + mm(margin));
+    throw StageError("the bulk region is empty: the cell is " + format_mm(cell.right - cell.left) + " wide and the bed " +
+                     format_mm(surface_height) + " high, less than twice the margin of " + format_mm(margin));
   if (cell.intruder) {
     r.hole = *cell.intruder;
     r.hole->radius += margin;

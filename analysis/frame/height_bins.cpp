@@ -1,6 +1,7 @@
 #include "frame/height_bins.hpp"
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "common/stage_error.hpp"
@@ -41,14 +42,6 @@ double mean_in_band(const std::vector<double>& heights, const std::vector<double
     if (heights[k] >= lo && heights[k] < hi && !std::isnan(values[k])) sum += values[k], ++n;
   if (used) *used = n;
   return n > 0 ? sum / static_cast<double>(n) : std::numeric_limits<double>::quiet_NaN();
-}
-
-std::vector<std::size_t> every_kth(std::size_t snapshots, std::size_t every) {
-  std::vector<std::size_t> out;
-  if (snapshots == 0) return out;
-  for (std::size_t k = 0; k < snapshots; k += std::max<std::size_t>(every, 1)) out.push_back(k);
-  if (out.back() != snapshots - 1) out.push_back(snapshots - 1);
-  return out;
 }
 
 }  // namespace dem2d::analysis

@@ -30,7 +30,4 @@ BinnedMean binned_mean(const HeightBins& bins, const std::vector<double>& height
 double mean_in_band(const std::vector<double>& heights, const std::vector<double>& values, double lo, double hi,
                     std::int64_t* used = nullptr);
 
-// Snapshot indices 0, every, 2 every, ... and the last one (every >= 1).
-std::vector<std::size_t> every_kth(std::size_t snapshots, std::size_t every);
-
 }  // namespace dem2d::analysis

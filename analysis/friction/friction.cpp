@@ -121,14 +121,6 @@ struct FrictionTrack {
   std::vector<std::uint8_t> fpartner;
 };
 
-// A per-snapshot quantity as a series.
-template <class Get>
-std::vector<double> series_of(const std::vector<SnapshotFriction>& snap, Get get) {
-  std::vector<double> v;
-  for (const SnapshotFriction& f : snap) v.push_back(get(f));
-  return v;
-}
-
 // Snapshot k's measures: mu* per contact, summarised, and where each contact
 // touches (for the height bins and the figure); the cell's at the first snapshot.
 struct SnapshotMu {
@@ -236,7 +228,7 @@ json band_mm(const FrictionTrack& t, double lo, double hi) {
 
 // How much of the contacts slip while the intruder is in the bed.
 void slip_metrics(json& m, const FrictionTrack& t, const FrictionConfig& cfg) {
-  const std::vector<double> slip = series_of(t.snap, [](const SnapshotFriction& f) { return f.slip_fraction(0); });
+  const std::vector<double> slip = column_of(t.snap, [](const SnapshotFriction& f) { return f.slip_fraction(0); });
   std::int64_t in_bed = 0;
   m["slip_threshold"] = cfg.slip_threshold;
   m["slip_fraction"] = number_or_null(mean_in_band(t.height, slip, -kInf, t.top, &in_bed));
@@ -259,9 +251,9 @@ void slip_metrics(json& m, const FrictionTrack& t, const FrictionConfig& cfg) {
 
 // The mean mu* per intruder-height band (H_c and the band below), and overall.
 void band_metrics(json& m, const FrictionTrack& t, const FrictionConfig& cfg) {
-  const std::vector<double> bulk = series_of(t.snap, [](const SnapshotFriction& f) { return f.bulk.mean(); });
-  const std::vector<double> wall = series_of(t.snap, [](const SnapshotFriction& f) { return f.wall.mean(); });
-  const std::vector<double> all = series_of(t.snap, [](const SnapshotFriction& f) { return f.all.mean(); });
+  const std::vector<double> bulk = column_of(t.snap, [](const SnapshotFriction& f) { return f.bulk.mean(); });
+  const std::vector<double> wall = column_of(t.snap, [](const SnapshotFriction& f) { return f.wall.mean(); });
+  const std::vector<double> all = column_of(t.snap, [](const SnapshotFriction& f) { return f.all.mean(); });
   const double hc = t.hc, bed0 = t.bed0, lower_top = cfg.lower_band_top * hc;
   const bool with_intruder = t.with_intruder;
   const auto band = [&](const std::vector<double>& v, double lo, double hi) { return band_mean(t, v, lo, hi); };
@@ -292,21 +284,21 @@ void band_metrics(json& m, const FrictionTrack& t, const FrictionConfig& cfg) {
   m["mean_mu_star_bulk"] = number_or_null(mean_in_band(t.height, bulk, -kInf, t.top));
   m["mean_mu_star_wall"] = number_or_null(mean_in_band(t.height, wall, -kInf, t.top));
   m["mean_mu_star_floor"] = number_or_null(
-      mean_in_band(t.height, series_of(t.snap, [](const SnapshotFriction& f) { return f.floor.mean(); }), -kInf, t.top));
+      mean_in_band(t.height, column_of(t.snap, [](const SnapshotFriction& f) { return f.floor.mean(); }), -kInf, t.top));
   m["mean_mu_star_intruder"] =
-      with_intruder ? number_or_null(mean_in_band(t.height, series_of(t.snap, [](const SnapshotFriction& f) { return f.intruder.mean(); }), -kInf, t.top))
+      with_intruder ? number_or_null(mean_in_band(t.height, column_of(t.snap, [](const SnapshotFriction& f) { return f.intruder.mean(); }), -kInf, t.top))
                     : json(nullptr);
 }
 
 // How the slip fraction and the lower band's mu* move with their thresholds.
 json sensitivity(const FrictionTrack& t, const FrictionConfig& cfg) {
-  const std::vector<double> bulk = series_of(t.snap, [](const SnapshotFriction& f) { return f.bulk.mean(); });
-  const std::vector<double> wall = series_of(t.snap, [](const SnapshotFriction& f) { return f.wall.mean(); });
+  const std::vector<double> bulk = column_of(t.snap, [](const SnapshotFriction& f) { return f.bulk.mean(); });
+  const std::vector<double> wall = column_of(t.snap, [](const SnapshotFriction& f) { return f.wall.mean(); });
   const auto band = [&](const std::vector<double>& v, double lo, double hi) { return band_mean(t, v, lo, hi); };
   const auto mm_pair = [&](double lo, double hi) { return band_mm(t, lo, hi); };
   json sens;
   for (std::size_t k = 0; k < t.thresholds.size(); ++k) {
-    const std::vector<double> v = series_of(t.snap, [k](const SnapshotFriction& f) { return f.slip_fraction(k); });
+    const std::vector<double> v = column_of(t.snap, [k](const SnapshotFriction& f) { return f.slip_fraction(k); });
     double mx = 0.0;
     for (std::size_t i = 0; i < t.snap.size(); ++i)
       if (t.height[i] < t.top && !std::isnan(v[i])) mx = std::max(mx, v[i]);
@@ -326,7 +318,7 @@ json sensitivity(const FrictionTrack& t, const FrictionConfig& cfg) {
 
 // friction.h5's per-snapshot series.
 void write_snapshots(H5Output& h, const FrictionTrack& t, const FrictionConfig& cfg) {
-  const auto series = [&](auto get) { return series_of(t.snap, get); };
+  const auto series = [&](auto get) { return column_of(t.snap, get); };
   h.add("snapshots/time", t.time, "s", "snapshot time");
   if (t.with_intruder) h.add("snapshots/height", t.height, "m", "intruder centre above the floor's inner face");
   std::vector<std::int64_t> counted, zero;
@@ -373,8 +365,8 @@ void write_profiles(H5Output& h, const FrictionTrack& t, const HeightBins& bins)
   h.add("depth/mean_mu_star_bulk", depth_mean(sum_bulk, n_bulk), "-", "mean mu* of the bin's grain-grain contacts");
   h.add("depth/mean_mu_star_wall", depth_mean(sum_wall, n_wall), "-", "mean mu* of the bin's side-wall contacts");
   if (!t.with_intruder) return;
-  const BinnedMean pb = binned_mean(bins, t.height, series_of(t.snap, [](const SnapshotFriction& f) { return f.bulk.mean(); }));
-  const BinnedMean pw = binned_mean(bins, t.height, series_of(t.snap, [](const SnapshotFriction& f) { return f.wall.mean(); }));
+  const BinnedMean pb = binned_mean(bins, t.height, column_of(t.snap, [](const SnapshotFriction& f) { return f.bulk.mean(); }));
+  const BinnedMean pw = binned_mean(bins, t.height, column_of(t.snap, [](const SnapshotFriction& f) { return f.wall.mean(); }));
   std::vector<double> blower, bupper, wall_mean(pb.mean.size(), kNaN);
   for (std::size_t b = 0; b < pb.mean.size(); ++b) {
     blower.push_back(bins.lower(b)), bupper.push_back(bins.lower(b + 1));

@@ -72,15 +72,9 @@ BedSnapshot measure_snapshot(const Snapshot& s, std::size_t k, const NetworkConf
   return b;
 }
 
-// A per-snapshot value as a series.
-template <class T = double, class Get>
-std::vector<T> series(const std::vector<BedSnapshot>& bs, Get get) {
-  std::vector<T> v;
-  for (const BedSnapshot& b : bs) v.push_back(get(b));
-  return v;
-}
-
-json fraction(const std::vector<BedSnapshot>& bs, std::uint8_t (*flag)(const BedSnapshot&)) {
+// The fraction of the snapshots whose flag is set.
+template <class Flag>
+json fraction(const std::vector<BedSnapshot>& bs, Flag flag) {
   std::int64_t n = 0;
   for (const BedSnapshot& b : bs) n += flag(b);
   return fraction_or_null(n, static_cast<std::int64_t>(bs.size()));
@@ -117,13 +111,10 @@ json bed_metrics_json(const std::vector<BedSnapshot>& bs, const std::string& run
                 {"other_bodies_load_N_per_m", -last.load.other.y},
                 {"wall_load_fraction", number_or_null(wall_load / (wall_load + floor_load))}};
   json sens;
-  for (std::size_t v = 0; v < cfg.sensitivity_strong_threshold.size(); ++v) {
-    std::int64_t n = 0;
-    for (const BedSnapshot& b : bs) n += b.span_sens[v];
+  for (std::size_t v = 0; v < cfg.sensitivity_strong_threshold.size(); ++v)
     sens["spanning_fraction_vs_strong_threshold"].push_back(
         {{"strong_threshold", cfg.sensitivity_strong_threshold[v]},
-         {"spanning_fraction", fraction_or_null(n, static_cast<std::int64_t>(bs.size()))}});
-  }
+         {"spanning_fraction", fraction(bs, [v](const BedSnapshot& b) { return b.span_sens[v]; })}});
   m["sensitivity"] = sens;
   m["config"] = to_json(cfg);
   return m;
@@ -133,23 +124,23 @@ void write_bed_series(H5Output& h, const std::vector<BedSnapshot>& bs) {
   using I = std::int64_t;
   using U = std::uint8_t;
   h.note("intruder", "none: the quantities of a run without an intruder");
-  h.add("snapshots/time", series(bs, [](const BedSnapshot& b) { return b.time; }), "s", "snapshot time");
-  h.add("snapshots/bed_height", series(bs, [](const BedSnapshot& b) { return b.bed; }), "m", "free surface above the floor's inner face");
-  h.add("snapshots/contacts", series<I>(bs, [](const BedSnapshot& b) { return b.contacts; }), "-", "contacts with fn > 0 (graph edges)");
-  h.add("snapshots/strong_contacts", series<I>(bs, [](const BedSnapshot& b) { return b.strong_contacts; }), "-", "contacts with fn > strong_threshold x mean_fn");
-  h.add("snapshots/mean_fn", series(bs, [](const BedSnapshot& b) { return b.mean_fn; }), "N/m", "mean normal force over the graph's edges");
-  h.add("spanning/strong", series<U>(bs, [](const BedSnapshot& b) { return b.span_strong; }), "-", "1: the left wall is connected to the right wall through the strong network");
-  h.add("spanning/whole", series<U>(bs, [](const BedSnapshot& b) { return b.span_whole; }), "-", "1: the same through every contact with fn > 0");
-  h.add("anisotropy/strong", series(bs, [](const BedSnapshot& b) { return b.fabric.anisotropy; }), "-", "2(l1-l2)/(l1+l2) of the strong grain-grain contacts above the floor (NaN: too few)");
-  h.add("anisotropy/strong_debiased", series(bs, [](const BedSnapshot& b) { return b.fabric.debiased; }), "-", "the same less its finite-count bias");
-  h.add("anisotropy/angle", series(bs, [](const BedSnapshot& b) { return b.fabric.angle_deg; }), "deg", "major axis from +x (90 = vertical)");
-  h.add("anisotropy/contacts", series<I>(bs, [](const BedSnapshot& b) { return b.fabric.contacts; }), "-", "strong grain-grain contacts in the fabric");
-  h.add("load/floor_fy", series(bs, [](const BedSnapshot& b) { return b.load.floor.y; }), "N/m", "vertical force of the grains on the floor (negative: downwards)");
-  h.add("load/left_fx", series(bs, [](const BedSnapshot& b) { return b.load.left.x; }), "N/m", "horizontal force of the grains on the left wall");
-  h.add("load/left_fy", series(bs, [](const BedSnapshot& b) { return b.load.left.y; }), "N/m", "vertical force of the grains on the left wall");
-  h.add("load/right_fx", series(bs, [](const BedSnapshot& b) { return b.load.right.x; }), "N/m", "horizontal force of the grains on the right wall");
-  h.add("load/right_fy", series(bs, [](const BedSnapshot& b) { return b.load.right.y; }), "N/m", "vertical force of the grains on the right wall");
-  h.add("load/other_fy", series(bs, [](const BedSnapshot& b) { return b.load.other.y; }), "N/m", "vertical force of the grains on the other bodies (a hopper)");
+  h.add("snapshots/time", column_of(bs, [](const BedSnapshot& b) { return b.time; }), "s", "snapshot time");
+  h.add("snapshots/bed_height", column_of(bs, [](const BedSnapshot& b) { return b.bed; }), "m", "free surface above the floor's inner face");
+  h.add("snapshots/contacts", column_of<I>(bs, [](const BedSnapshot& b) { return b.contacts; }), "-", "contacts with fn > 0 (graph edges)");
+  h.add("snapshots/strong_contacts", column_of<I>(bs, [](const BedSnapshot& b) { return b.strong_contacts; }), "-", "contacts with fn > strong_threshold x mean_fn");
+  h.add("snapshots/mean_fn", column_of(bs, [](const BedSnapshot& b) { return b.mean_fn; }), "N/m", "mean normal force over the graph's edges");
+  h.add("spanning/strong", column_of<U>(bs, [](const BedSnapshot& b) { return b.span_strong; }), "-", "1: the left wall is connected to the right wall through the strong network");
+  h.add("spanning/whole", column_of<U>(bs, [](const BedSnapshot& b) { return b.span_whole; }), "-", "1: the same through every contact with fn > 0");
+  h.add("anisotropy/strong", column_of(bs, [](const BedSnapshot& b) { return b.fabric.anisotropy; }), "-", "2(l1-l2)/(l1+l2) of the strong grain-grain contacts above the floor (NaN: too few)");
+  h.add("anisotropy/strong_debiased", column_of(bs, [](const BedSnapshot& b) { return b.fabric.debiased; }), "-", "the same less its finite-count bias");
+  h.add("anisotropy/angle", column_of(bs, [](const BedSnapshot& b) { return b.fabric.angle_deg; }), "deg", "major axis from +x (90 = vertical)");
+  h.add("anisotropy/contacts", column_of<I>(bs, [](const BedSnapshot& b) { return b.fabric.contacts; }), "-", "strong grain-grain contacts in the fabric");
+  h.add("load/floor_fy", column_of(bs, [](const BedSnapshot& b) { return b.load.floor.y; }), "N/m", "vertical force of the grains on the floor (negative: downwards)");
+  h.add("load/left_fx", column_of(bs, [](const BedSnapshot& b) { return b.load.left.x; }), "N/m", "horizontal force of the grains on the left wall");
+  h.add("load/left_fy", column_of(bs, [](const BedSnapshot& b) { return b.load.left.y; }), "N/m", "vertical force of the grains on the left wall");
+  h.add("load/right_fx", column_of(bs, [](const BedSnapshot& b) { return b.load.right.x; }), "N/m", "horizontal force of the grains on the right wall");
+  h.add("load/right_fy", column_of(bs, [](const BedSnapshot& b) { return b.load.right.y; }), "N/m", "vertical force of the grains on the right wall");
+  h.add("load/other_fy", column_of(bs, [](const BedSnapshot& b) { return b.load.other.y; }), "N/m", "vertical force of the grains on the other bodies (a hopper)");
 }
 
 }  // namespace
