@@ -1,9 +1,12 @@
 #!/usr/bin/python3
 """make params' plan (pipeline/params/plan.py): every point's scenes are valid
 and change only their knob, as intended; bad plans are refused naming the key.
+Its report's verdicts (pipeline/params/report.py) are three-valued and never
+easier to pass as the interval widens.
 
     /usr/bin/python3 tests/test_params_plan.py BUILD/sim/dem2d
 """
+import importlib.util
 import json
 import math
 import subprocess
@@ -112,6 +115,36 @@ class ParamsPlan(unittest.TestCase):
             self.assertIn(message, r.stderr)
         r = plan("data/params.toml", "nosuch", Path(self.tmp.name) / "bad")
         self.assertIn("no plan [nosuch]", r.stderr)
+
+
+def load_report():
+    spec = importlib.util.spec_from_file_location("params_report", ROOT / "pipeline/params/report.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+class ParamsVerdicts(unittest.TestCase):
+    within = staticmethod(load_report().within)
+
+    def test_three_values(self):
+        self.assertEqual(self.within(45.0, 3.0, 45.0, 10.0), "holds")
+        self.assertEqual(self.within(14.8, 5.0, 47.5, 10.0), "fails")
+        self.assertEqual(self.within(40.0, 8.0, 47.5, 10.0), "undetermined")
+        self.assertEqual(self.within(float("nan"), 1.0, 47.5, 10.0), "?")
+
+    def test_a_value_without_a_spread_decides_nothing(self):
+        # one member, and the base point had none to lend a spread (the reduced plan's 5 mm intruder: a top
+        # layer 14.8 mm deep against (L_c - L)/2 = 47.5 mm, while no base member had one)
+        self.assertEqual(self.within(14.8, float("nan"), 47.5, 10.0), "undetermined")
+        self.assertEqual(self.within(47.5, float("nan"), 47.5, 10.0), "undetermined")
+
+    def test_never_easier_to_pass_as_the_interval_widens(self):
+        for mean in [x * 0.5 for x in range(0, 200)]:
+            seen = [self.within(mean, 0.25 * k, 47.5, 10.0) for k in range(0, 120)]
+            first_other = next((i for i, v in enumerate(seen) if v != "holds"), len(seen))
+            self.assertNotIn("holds", seen[first_other:], mean)
+            self.assertNotIn("fails", seen[seen.index("undetermined"):] if "undetermined" in seen else [], mean)
 
 
 if __name__ == "__main__":

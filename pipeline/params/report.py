@@ -138,14 +138,22 @@ def figures(out: Path, points: list, stamp: str) -> list:
     geo = geometry_points(points)
     if geo:
         fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.5), constrained_layout=True)
+        missing = {a: [], b: []}
         for p in geo:
             x = 0.5 * (p["settings"]["cell_width_mm"] - p["settings"]["intruder_length_mm"])
-            m, h = p["summary"]["top_layer_depth_mm"]
-            a.errorbar([x], [m], yerr=[h if math.isfinite(h) else 0], fmt="o", capsize=3, label=p["point"])
-            m2, h2 = p["summary"]["wall_mobility_length_mm"]
             pm, _ = p["summary"]["H_c_predicted_mm"]
-            if math.isfinite(m2) and math.isfinite(pm):  # (the 5 mm intruder's H_c: not measured)
-                b.errorbar([pm], [m2], yerr=[h2 if math.isfinite(h2) else 0], fmt="o", capsize=3, label=p["point"])
+            for ax, xv, (m, h) in ((a, x, p["summary"]["top_layer_depth_mm"]),
+                                   (b, pm, p["summary"]["wall_mobility_length_mm"])):
+                if not (math.isfinite(m) and math.isfinite(xv)):
+                    missing[ax].append(p["point"])
+                elif math.isfinite(h):
+                    ax.errorbar([xv], [m], yerr=[h], fmt="o", capsize=3, label=p["point"])
+                else:  # one member and no spread to borrow: an open marker, no interval
+                    ax.plot([xv], [m], "o", mfc="none", label=f"{p['point']} (spread unknown)")
+        for ax, what in ((a, "no top layer"), (b, "no significant loss")):
+            if missing[ax]:
+                ax.text(0.98, 0.02, f"{what}: " + ", ".join(missing[ax]), transform=ax.transAxes, ha="right",
+                        va="bottom", fontsize=7)
         lim = [0, max(80, max(0.5 * (p["settings"]["cell_width_mm"] - p["settings"]["intruder_length_mm"]) for p in geo) + 10)]
         a.plot(lim, lim, "k--", lw=1, label="depth = (L_c − L)/2")
         a.set_xlabel("(L_c − L)/2 (mm)")
@@ -199,11 +207,13 @@ def figures(out: Path, points: list, stamp: str) -> list:
 def within(mean, half, target, tol):
     """The 95 % interval mean +- half against the claim's band target +- tol: 'holds' if the interval
     lies inside the band, 'fails' if wholly outside it, 'undetermined' if it straddles an edge (more members
-    would decide), '?' without a value."""
+    would decide) or its spread is unknown (a single value, no spread to borrow, decides nothing), '?'
+    without a value."""
     if not math.isfinite(mean):
         return "?"
-    h = half if math.isfinite(half) else 0.0
-    lo, hi = mean - h, mean + h
+    if not math.isfinite(half):
+        return "undetermined"
+    lo, hi = mean - half, mean + half
     if lo >= target - tol and hi <= target + tol:
         return "holds"
     if hi < target - tol or lo > target + tol:
@@ -228,7 +238,10 @@ def claims(points: list) -> list:
         lines += ["", "**Not supported**: no member at any point has a top layer (the drag's fluctuations reach the "
                   "surface: no significant change point), so there is no depth to follow (L_c − L)/2."]
     else:
-        lines += ["", verdict_line(verdicts, "the top layer's depth follows (L_c − L)/2")]
+        none = [p["point"] for p in geo if not p["summary"]["top_layer_found"][0] > 0]
+        lines += ["", verdict_line(verdicts, "the top layer's depth follows (L_c − L)/2") +
+                  (f" No member has a top layer at {len(none)} of {len(geo)} points ({', '.join(none)}): the drag's "
+                   "fluctuations reach the surface there." if none else "")]
     xy = [(0.5 * (p["settings"]["cell_width_mm"] - p["settings"]["intruder_length_mm"]), p["summary"]["top_layer_depth_mm"][0])
           for p in geo if math.isfinite(p["summary"]["top_layer_depth_mm"][0])]
     if len({x for x, _ in xy}) >= 3:
@@ -244,7 +257,7 @@ def claims(points: list) -> list:
         b, bh = p["summary"]["cone_angle_deg"]
         pm, ph = p["summary"]["H_c_predicted_mm"]
         m, h = p["summary"]["wall_mobility_length_mm"]
-        half = math.hypot(h if math.isfinite(h) else 0, ph if math.isfinite(ph) else 0)
+        half = math.hypot(h, ph)  # NaN (undetermined) if either spread is unknown
         v = within(m - pm, half, 0.0, 10.0) if math.isfinite(pm) else "?"
         verdicts.append(v)
         lines.append(f"| {p['point']} | {fmt(b, bh)} | {fmt(pm, ph)} | {fmt(m, h)} | {v} |")
@@ -398,8 +411,10 @@ def main() -> int:
         p["values"] = [member_values(Path(m), p["settings"]) for m in p["members"]]
     base = next(p for p in points if p["point"] == "base")
     names = [h[0] for h in HEADLINE]
-    sd_base = {k: float(np.nanstd([v[k] for v in base["values"]], ddof=1)) if len(base["values"]) >= 2 else float("nan")
-               for k in names}
+    def spread(values):  # sd of the finite values; NaN below two of them
+        v = [x for x in values if math.isfinite(x)]
+        return float(np.std(v, ddof=1)) if len(v) >= 2 else float("nan")
+    sd_base = {k: spread([v[k] for v in base["values"]]) for k in names}
     for p in points:
         p["summary"] = {k: summarise([v[k] for v in p["values"]], sd_base[k]) for k in names}
         p["wall_s"] = sum(v["wall_s"] for v in p["values"] if math.isfinite(v["wall_s"]))
@@ -419,7 +434,7 @@ def main() -> int:
                        f"{max(1, math.ceil((1.96 * sd_base[k] / TOLERANCE[k]) ** 2)) if math.isfinite(sd_base[k]) else '?'}"
                        for k, label, unit, _ in HEADLINE if k in TOLERANCE) + ".", "",
              "Verdicts: **holds** where the 95 % interval lies inside the claim's tolerance band, **fails** where it lies "
-             "wholly outside, **undetermined** where it straddles an edge (more members would decide).", "", "## The claims", ""]
+             "wholly outside, **undetermined** where it straddles an edge or its spread is unknown (more members would decide).", "", "## The claims", ""]
     lines += claims(points)
     lines += [""] + settled_against_poured(plan, base)
     if cyclic:
