@@ -139,6 +139,11 @@ class ParamsVerdicts(unittest.TestCase):
         self.assertEqual(self.within(14.8, float("nan"), 47.5, 10.0), "undetermined")
         self.assertEqual(self.within(47.5, float("nan"), 47.5, 10.0), "undetermined")
 
+    def test_members_without_a_value_keep_a_claim_from_holding(self):
+        # the base's H_c: 2 of 3 members found a significant loss; the third found none
+        self.assertEqual(self.within(45.0, 3.0, 45.0, 10.0, every_member=False), "undetermined")
+        self.assertEqual(self.within(14.8, 3.0, 47.5, 10.0, every_member=False), "fails")
+
     def test_never_easier_to_pass_as_the_interval_widens(self):
         for mean in [x * 0.5 for x in range(0, 200)]:
             seen = [self.within(mean, 0.25 * k, 47.5, 10.0) for k in range(0, 120)]

@@ -204,21 +204,27 @@ def figures(out: Path, points: list, stamp: str) -> list:
     return made
 
 
-def within(mean, half, target, tol):
+def within(mean, half, target, tol, every_member=True):
     """The 95 % interval mean +- half against the claim's band target +- tol: 'holds' if the interval
     lies inside the band, 'fails' if wholly outside it, 'undetermined' if it straddles an edge (more members
     would decide) or its spread is unknown (a single value, no spread to borrow, decides nothing), '?'
-    without a value."""
+    without a value. A member without a value (its detector found nothing) is a result too: without
+    every_member the others alone cannot make the claim hold (as the ensemble's verdicts)."""
     if not math.isfinite(mean):
         return "?"
     if not math.isfinite(half):
         return "undetermined"
     lo, hi = mean - half, mean + half
     if lo >= target - tol and hi <= target + tol:
-        return "holds"
+        return "holds" if every_member else "undetermined"
     if hi < target - tol or lo > target + tol:
         return "fails"
     return "undetermined"
+
+
+def every_member(p: dict, key: str) -> bool:
+    """Whether every member of point p has a value of metric key."""
+    return all(math.isfinite(v[key]) for v in p["values"])
 
 
 def claims(points: list) -> list:
@@ -231,7 +237,7 @@ def claims(points: list) -> list:
     for p in geo:
         x = 0.5 * (p["settings"]["cell_width_mm"] - p["settings"]["intruder_length_mm"])
         m, h = p["summary"]["top_layer_depth_mm"]
-        v = within(m, h, x, 10.0)
+        v = within(m, h, x, 10.0, every_member(p, "top_layer_depth_mm"))
         verdicts.append(v)
         lines.append(f"| {p['point']} | {x:g} | {fmt(p['summary']['top_layer_found'][0], float('nan'))} | {fmt(m, h)} | {v} |")
     if geo and not any(p["summary"]["top_layer_found"][0] > 0 for p in geo):
@@ -258,7 +264,7 @@ def claims(points: list) -> list:
         pm, ph = p["summary"]["H_c_predicted_mm"]
         m, h = p["summary"]["wall_mobility_length_mm"]
         half = math.hypot(h, ph)  # NaN (undetermined) if either spread is unknown
-        v = within(m - pm, half, 0.0, 10.0) if math.isfinite(pm) else "?"
+        v = within(m - pm, half, 0.0, 10.0, every_member(p, "wall_mobility_length_mm")) if math.isfinite(pm) else "?"
         verdicts.append(v)
         lines.append(f"| {p['point']} | {fmt(b, bh)} | {fmt(pm, ph)} | {fmt(m, h)} | {v} |")
     lines += ["", verdict_line(verdicts, "H_c = ½(L_c − L) tan β")]
