@@ -108,7 +108,7 @@ inline void crystal_in_box(Scene& s, int nx, int ny, double p, double d_lo, doub
 
 // Advances until `seconds` of simulated time have passed.
 inline void run_for(System& sys, double seconds) {
-  sys.advance(std::llround(seconds / sys.dt));
+  sys.advance(std::llround(seconds / sys.config.dt));
 }
 
 }  // namespace dem2d::test

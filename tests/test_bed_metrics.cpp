@@ -350,7 +350,7 @@ TEST(BedMetricsRunFile, SettledBedInARunFile) {
     if (k > 0) test::run_for(sys, 0.005);
     rec.record_snapshot(sys);
     times.push_back(sys.time());
-    y_of_grain_k.push_back(sys.p.y[static_cast<std::size_t>(k) % sys.size()]);
+    y_of_grain_k.push_back(sys.state.p.y[static_cast<std::size_t>(k) % sys.size()]);
   }
   const std::string run = dir.file("run.h5");
   rec.finish(sys, run_info(scene), run, "test");
@@ -363,9 +363,9 @@ TEST(BedMetricsRunFile, SettledBedInARunFile) {
   const Snapshot last = reader.last_snapshot();
   ASSERT_EQ(last.size(), sys.size());
   for (std::size_t i = 0; i < sys.size(); ++i) {
-    EXPECT_EQ(last.position[i].x, sys.p.x[i]);
-    EXPECT_EQ(last.velocity[i].y, sys.p.vy[i]);
-    EXPECT_EQ(last.diameter[i], 2 * sys.p.radius[i]);
+    EXPECT_EQ(last.position[i].x, sys.state.p.x[i]);
+    EXPECT_EQ(last.velocity[i].y, sys.state.p.vy[i]);
+    EXPECT_EQ(last.diameter[i], 2 * sys.state.p.radius[i]);
   }
   EXPECT_EQ(last.time, sys.time());
   EXPECT_GT(last.contacts.size(), sys.size());
@@ -378,8 +378,8 @@ TEST(BedMetricsRunFile, SettledBedInARunFile) {
   const auto& f = j.at("fill");
   double top = 0.0, bottom = 1.0;
   for (std::size_t i = 0; i < sys.size(); ++i) {
-    top = std::max(top, sys.p.y[i] + sys.p.radius[i]);
-    bottom = std::min(bottom, sys.p.y[i] - sys.p.radius[i]);
+    top = std::max(top, sys.state.p.y[i] + sys.state.p.radius[i]);
+    bottom = std::min(bottom, sys.state.p.y[i] - sys.state.p.radius[i]);
   }
   for (const char* key : {"solid_fraction", "bed_height_mm", "bed_height_from_area_mm", "bed_surface_min_mm",
                           "bed_surface_max_mm", "coordination_number", "coordination_number_bulk", "rattlers", "max_overlap_over_d",

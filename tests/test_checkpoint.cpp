@@ -91,7 +91,7 @@ TEST(Checkpoint, FullDiskNeverReplacesTheLastGoodCheckpoint) {
   write_checkpoint(path, sys, {}, 1.0, "scene");
   const std::string good = bytes_of(path);
   ASSERT_GT(good.size(), 20000u);  // far above the limit below
-  sys.step = 1234;                  // what the failed checkpoint would have said
+  sys.state.step = 1234;                  // what the failed checkpoint would have said
   const pid_t child = fork();
   if (child == 0) {
     std::signal(SIGXFSZ, SIG_IGN);  // a write past the limit fails with EFBIG instead of killing

@@ -120,9 +120,9 @@ Parting part_pair(double v, double skin) {
   const int steps = static_cast<int>(0.05 / s.dt);  // 50 ms: many bound oscillations
   for (int k = 0; k < steps; k += 10) {
     sys.advance(10);
-    const double gap = sys.p.x[1] - sys.p.x[0] - kD;
+    const double gap = sys.state.p.x[1] - sys.state.p.x[0] - kD;
     if (gap > 3.0 * kRange) {
-      r.final_speed = sys.p.vx[1] - sys.p.vx[0];
+      r.final_speed = sys.state.p.vx[1] - sys.state.p.vx[0];
       return r;
     }
     r.max_gap = std::max(r.max_gap, gap);
@@ -160,15 +160,15 @@ TEST(Cohesion, GrainOnAWallPartsAboveTheSeparationWork) {
     set_dt_fraction(s, 50.0);
     System sys(s);
     double top = 0.0;
-    for (int k = 0; k < static_cast<int>(0.05 / s.dt) && sys.p.y[0] < 0.5 * kD + 3 * kRange; k += 10) {
+    for (int k = 0; k < static_cast<int>(0.05 / s.dt) && sys.state.p.y[0] < 0.5 * kD + 3 * kRange; k += 10) {
       sys.advance(10);
-      top = std::max(top, sys.p.y[0] - 0.5 * kD);
+      top = std::max(top, sys.state.p.y[0] - 0.5 * kD);
     }
     if (factor < 1.0) {
       EXPECT_LT(top, kRange);
       EXPECT_NEAR(top, turning_gap(factor * v_star, m), 0.01 * top);
     } else {
-      EXPECT_NEAR(sys.p.vy[0], v_star * std::sqrt(factor * factor - 1.0), 0.01 * sys.p.vy[0]);
+      EXPECT_NEAR(sys.state.p.vy[0], v_star * std::sqrt(factor * factor - 1.0), 0.01 * sys.state.p.vy[0]);
     }
   }
 }

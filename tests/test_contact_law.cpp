@@ -45,11 +45,11 @@ double pair_restitution(double e, double d0, double d1, double v, double kn) {
   add_disk(s, 0.5 * gap, 0.0, d1, 0.0, 0.0);
   set_dt_fraction(s, 800.0);  // the dashpot's half-step velocity errs by O(dt): 0.6 % at e = 0.05 with dt_c/400
   System sys(s);
-  while (!(sys.p.vx[1] > sys.p.vx[0] && sys.p.x[1] - sys.p.x[0] > 0.5 * (d0 + d1))) sys.advance(10);
-  EXPECT_NEAR(sys.p.mass[0] * sys.p.vx[0] + sys.p.mass[1] * sys.p.vx[1], sys.p.mass[0] * v, 1e-12 * sys.p.mass[0] * v);
-  EXPECT_EQ(sys.p.vy[0], 0.0);
-  EXPECT_EQ(sys.p.omega[0], 0.0);
-  return (sys.p.vx[1] - sys.p.vx[0]) / v;
+  while (!(sys.state.p.vx[1] > sys.state.p.vx[0] && sys.state.p.x[1] - sys.state.p.x[0] > 0.5 * (d0 + d1))) sys.advance(10);
+  EXPECT_NEAR(sys.state.p.mass[0] * sys.state.p.vx[0] + sys.state.p.mass[1] * sys.state.p.vx[1], sys.state.p.mass[0] * v, 1e-12 * sys.state.p.mass[0] * v);
+  EXPECT_EQ(sys.state.p.vy[0], 0.0);
+  EXPECT_EQ(sys.state.p.omega[0], 0.0);
+  return (sys.state.p.vx[1] - sys.state.p.vx[0]) / v;
 }
 
 TEST(Restitution, EqualDisksHeadOnIsE) {
@@ -69,9 +69,9 @@ TEST(Restitution, DiskOnWallIsE) {
     add_disk(s, 0.0, 2e-3, 3e-3, 0.0, -0.1);
     set_dt_fraction(s, 400.0);
     System sys(s);
-    while (!(sys.p.vy[0] > 0.0 && sys.p.y[0] > 1.5e-3)) sys.advance(10);
-    EXPECT_NEAR(sys.p.vy[0] / 0.1, e, 0.005 * e);
-    EXPECT_EQ(sys.p.vx[0], 0.0);
+    while (!(sys.state.p.vy[0] > 0.0 && sys.state.p.y[0] > 1.5e-3)) sys.advance(10);
+    EXPECT_NEAR(sys.state.p.vy[0] / 0.1, e, 0.005 * e);
+    EXPECT_EQ(sys.state.p.vx[0], 0.0);
   }
 }
 
@@ -87,15 +87,15 @@ TEST(Restitution, ForcePhaseEndsWhenTheAccelerationVanishes) {
   set_dt_fraction(s, 1000.0);
   System sys(s);
   double first = -1.0, last = -1.0;
-  while (!(sys.p.vx[1] > sys.p.vx[0] && sys.p.x[1] - sys.p.x[0] > 3.01e-3)) {
+  while (!(sys.state.p.vx[1] > sys.state.p.vx[0] && sys.state.p.x[1] - sys.state.p.x[0] > 3.01e-3)) {
     sys.advance(1);
-    if (sys.p.fx[1] > 0.0) {
+    if (sys.state.p.fx[1] > 0.0) {
       if (first < 0.0) first = sys.time();
       last = sys.time();
     }
   }
-  const double w0 = std::sqrt(kn / (0.5 * sys.p.mass[0])), wd = w0 * std::sqrt(1.0 - nu * nu);
-  EXPECT_NEAR(last - first, 2.0 * std::acos(nu) / wd, 3.0 * sys.dt);
+  const double w0 = std::sqrt(kn / (0.5 * sys.state.p.mass[0])), wd = w0 * std::sqrt(1.0 - nu * nu);
+  EXPECT_NEAR(last - first, 2.0 * std::acos(nu) / wd, 3.0 * sys.config.dt);
   EXPECT_LT(last - first, 0.9 * M_PI / wd);
 }
 

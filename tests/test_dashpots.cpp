@@ -30,7 +30,7 @@ double rocking_speed(EffectSet extra, double nu, double t) {
   double vmax = 0.0;
   for (int k = 0; k < 200; ++k) {
     run_for(sys, 1e-4);
-    vmax = std::max(vmax, std::hypot(sys.p.vx[0], sys.p.vy[0]));
+    vmax = std::max(vmax, std::hypot(sys.state.p.vx[0], sys.state.p.vy[0]));
   }
   return vmax;
 }
@@ -63,12 +63,12 @@ double rolling_speed_ripple(EffectSet extra, double nu_t) {
   System sys(s);
   run_for(sys, 2.0 * v0 / (3.0 * 0.5 * 9.81));
   double lo = 1e300, hi = -1e300, sum = 0.0;
-  const int n = static_cast<int>(2e-3 / sys.dt);
+  const int n = static_cast<int>(2e-3 / sys.config.dt);
   for (int k = 0; k < n; ++k) {
     sys.advance(1);
-    lo = std::min(lo, sys.p.vx[0]);
-    hi = std::max(hi, sys.p.vx[0]);
-    sum += sys.p.vx[0];
+    lo = std::min(lo, sys.state.p.vx[0]);
+    hi = std::max(hi, sys.state.p.vx[0]);
+    sum += sys.state.p.vx[0];
   }
   EXPECT_NEAR(sum / n / v0, 2.0 / 3.0, 0.01);  // rolls at 2/3 v0 either way
   return (hi - lo) / v0;
@@ -92,9 +92,9 @@ TEST(Dashpots, SlidingForceIsTheCapWithADashpot) {
   set_dt_fraction(s, 50.0);
   System sys(s);
   run_for(sys, 5e-3);  // sliding until t* = 6.8 ms
-  const WallList& w = sys.lists.walls;
-  EXPECT_NEAR(std::abs(sys.p.fx[0]), s.particle_wall.friction * w.fn[0], 1e-12 * w.fn[0]);
-  EXPECT_LT(sys.p.fx[0], 0.0);  // against the motion
+  const WallList& w = sys.state.lists.walls;
+  EXPECT_NEAR(std::abs(sys.state.p.fx[0]), s.particle_wall.friction * w.fn[0], 1e-12 * w.fn[0]);
+  EXPECT_LT(sys.state.p.fx[0], 0.0);  // against the motion
 }
 
 }  // namespace

@@ -43,7 +43,7 @@ TEST(Energy, UndampedFrictionlessDensePackingConserves) {
   }
   const double last = window_mean();
   const double drift = std::abs(last - first) / e0;
-  EXPECT_EQ(sys.step, 100000);
+  EXPECT_EQ(sys.state.step, 100000);
   EXPECT_LT(drift, 1e-4);
   EXPECT_LT(max_dev, 1e-3);
   EXPECT_GT(kinetic_energy(sys), 0.02 * e0);  // it really is vibrating

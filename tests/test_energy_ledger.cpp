@@ -41,7 +41,7 @@ std::vector<EnergyBalance> ledger_of(const Scene& s) {
     if (k == 40) sys.remove_body(sys.body_index("support"));
     out.push_back(energy::balance(sys));
   }
-  EXPECT_EQ(sys.lost.size(), 1u);
+  EXPECT_EQ(sys.state.lost.size(), 1u);
   return out;
 }
 
@@ -93,7 +93,7 @@ TEST(EnergyLedger, HeadOnCollisionDissipatesWhatTheRestitutionSays) {
     run_for(sys, 2e-3);
     ASSERT_EQ(contact_count(sys), 0u);
     const EnergyBalance b = energy::balance(sys);
-    const double meff = 0.5 * sys.p.mass[0], expected = 0.5 * meff * 0.04 * (1.0 - e * e);
+    const double meff = 0.5 * sys.state.p.mass[0], expected = 0.5 * meff * 0.04 * (1.0 - e * e);
     EXPECT_NEAR(b.normal_damping, expected, 0.01 * expected) << "e = " << e;
     // first order: the dashpot sees the half-step velocity (measured 0.2 % at
     // e = 0.5, 0.9 % at e = 0.1, dt = dt_c/200)

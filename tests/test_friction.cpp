@@ -27,7 +27,7 @@ TEST(Friction, SlidingDiskEndsRollingAtTwoThirds) {
   double t_stick = -1.0;
   while (sys.time() < 2.0 * t_star) {
     sys.advance(1);
-    const WallList& w = sys.lists.walls;
+    const WallList& w = sys.state.lists.walls;
     ASSERT_EQ(w.slots(), 1u);
     if (t_stick < 0.0 && w.fn[0] > 0.0 && std::abs(w.ft[0]) < mu * w.fn[0]) t_stick = sys.time();
   }
@@ -36,11 +36,11 @@ TEST(Friction, SlidingDiskEndsRollingAtTwoThirds) {
 
   // once rolling, the tangential spring rings; average v over 2 ms (many periods)
   double v_sum = 0.0, w_sum = 0.0;
-  const int n = static_cast<int>(2e-3 / sys.dt);
+  const int n = static_cast<int>(2e-3 / sys.config.dt);
   for (int k = 0; k < n; ++k) {
     sys.advance(1);
-    v_sum += sys.p.vx[0];
-    w_sum += sys.p.omega[0];
+    v_sum += sys.state.p.vx[0];
+    w_sum += sys.state.p.omega[0];
   }
   EXPECT_NEAR(v_sum / n / v0, 2.0 / 3.0, 0.01 * 2.0 / 3.0);
   EXPECT_NEAR(-w_sum / n * 0.5 * d / (v_sum / n), 1.0, 0.01);  // rolls: v = -omega r
@@ -58,30 +58,30 @@ TEST(Friction, CoulombAndRollingCapsHoldInShearedPacking) {
 
   // a lid on the top grains, pressing down and moving sideways: shear + compression
   double top = 0.0;
-  for (std::size_t i = 0; i < bed.size(); ++i) top = std::max(top, bed.p.y[i] + bed.p.radius[i]);
+  for (std::size_t i = 0; i < bed.size(); ++i) top = std::max(top, bed.state.p.y[i] + bed.state.p.radius[i]);
   Scene sh = with_state(s, bed);
   sh.effects |= effect::moving_bodies;
   add_wall(sh, "lid", 0.0, top + 0.9e-3, 0.03, top + 0.9e-3, 2e-3, 0.05, -0.05);
   System sys(sh);
 
-  const ContactLaw pp = sys.law_pp, pw = sys.law_pw;
+  const ContactLaw pp = sys.config.law_pp, pw = sys.config.law_pw;
   std::size_t sliding = 0, rolling_capped = 0, checked = 0;
   auto check_list = [&](const auto& L, const ContactLaw& law) {
     for (std::size_t k = 0; k < L.slots(); ++k) {
       if (L.overlap[k] <= 0.0) continue;
       ++checked;
       const double cap_t = law.friction * L.fn[k], cap_r = law.rolling_friction * L.fn[k];
-      ASSERT_LE(std::abs(L.ft[k]), cap_t * (1.0 + 1e-14)) << "step " << sys.step;
-      ASSERT_LE(std::abs(L.mr[k]), cap_r * (1.0 + 1e-14)) << "step " << sys.step;
+      ASSERT_LE(std::abs(L.ft[k]), cap_t * (1.0 + 1e-14)) << "step " << sys.state.step;
+      ASSERT_LE(std::abs(L.mr[k]), cap_r * (1.0 + 1e-14)) << "step " << sys.state.step;
       sliding += is_sliding(L.fn[k], L.ft[k], law.friction);
       rolling_capped += L.fn[k] > 0.0 && std::abs(L.mr[k]) >= cap_r;
     }
   };
-  const int steps = static_cast<int>(0.02 / sys.dt);
+  const int steps = static_cast<int>(0.02 / sys.config.dt);
   for (int k = 0; k < steps; ++k) {
     sys.advance(1);
-    check_list(sys.lists.pairs, pp);
-    check_list(sys.lists.walls, pw);
+    check_list(sys.state.lists.pairs, pp);
+    check_list(sys.state.lists.walls, pw);
   }
   EXPECT_GT(checked, 100000u);
   EXPECT_GT(sliding, 100u);

@@ -15,7 +15,7 @@ constexpr EffectSet kFull = effect::gravity | effect::normal_damping | effect::f
                             effect::rolling_resistance | effect::walls;
 
 bool all_finite(const System& sys) {
-  for (const auto* a : {&sys.p.x, &sys.p.y, &sys.p.vx, &sys.p.vy, &sys.p.omega, &sys.p.fx, &sys.p.fy, &sys.p.torque})
+  for (const auto* a : {&sys.state.p.x, &sys.state.p.y, &sys.state.p.vx, &sys.state.p.vy, &sys.state.p.omega, &sys.state.p.fx, &sys.state.p.fy, &sys.state.p.torque})
     for (const double v : *a)
       if (!std::isfinite(v)) return false;
   return true;
@@ -38,7 +38,7 @@ TEST(HardCases, TimeStepAtNineTenthsOfTheBound) {
   EXPECT_TRUE(all_finite(sys));
   EXPECT_LE(total_energy(sys), e0 + 1e-9);
   EXPECT_LT(max_overlap(sys), 0.02 * 2e-3);
-  EXPECT_TRUE(sys.lost.empty());
+  EXPECT_TRUE(sys.state.lost.empty());
 }
 
 // Two disks created half overlapped fly apart; the kinetic energy they end
@@ -62,8 +62,8 @@ TEST(HardCases, TwoDisksHalfOverlapped) {
   System sys(s);
   const double e0 = expect_flies_apart(sys);
   EXPECT_GT(kinetic_energy(sys), 0.5 * e0);  // e = 0.9: most of it comes back
-  EXPECT_LT(sys.p.vx[0], 0.0);
-  EXPECT_GT(sys.p.vx[1], 0.0);
+  EXPECT_LT(sys.state.p.vx[0], 0.0);
+  EXPECT_GT(sys.state.p.vx[1], 0.0);
 }
 
 // Coincident centres: the normal is undefined; the pair is separated along x.
@@ -74,8 +74,8 @@ TEST(HardCases, CoincidentCentres) {
   set_dt_fraction(s, 20.0);
   System sys(s);
   expect_flies_apart(sys);
-  EXPECT_LT(sys.p.vx[1] * sys.p.vx[0], 0.0);  // moving apart
-  EXPECT_EQ(sys.p.vy[0], 0.0);
+  EXPECT_LT(sys.state.p.vx[1] * sys.state.p.vx[0], 0.0);  // moving apart
+  EXPECT_EQ(sys.state.p.vy[0], 0.0);
 }
 
 // A zero-length sphero-line is a point obstacle (its caps coincide): a disk
@@ -87,14 +87,14 @@ TEST(HardCases, ZeroLengthSpheroLine) {
   set_dt_fraction(s, 20.0);
   System sys(s);
   bool touched = false;
-  for (int k = 0; k < 2000 && sys.p.y[0] > -0.01; ++k) {
+  for (int k = 0; k < 2000 && sys.state.p.y[0] > -0.01; ++k) {
     sys.advance(20);
-    touched |= sys.lists.walls.slots() > 0 && sys.lists.walls.overlap[0] > 0.0;
+    touched |= sys.state.lists.walls.slots() > 0 && sys.state.lists.walls.overlap[0] > 0.0;
   }
   EXPECT_TRUE(touched);
   EXPECT_TRUE(all_finite(sys));
-  EXPECT_LT(sys.p.y[0], -0.01);  // it fell past
-  EXPECT_GT(sys.p.x[0], 0.0);    // on the side it was offset to
+  EXPECT_LT(sys.state.p.y[0], -0.01);  // it fell past
+  EXPECT_GT(sys.state.p.x[0], 0.0);    // on the side it was offset to
 }
 
 // A disk on the floor between a wall and the round end of a bar driven
@@ -117,14 +117,14 @@ TEST(HardCases, DiskSqueezedOutBetweenIntruderCapAndWall) {
   System sys(squeeze_scene(effect::gravity | effect::normal_damping));
   const double d = 3e-3;
   double worst = 0.0;
-  while (sys.bodies.shape[2].vertex(1).x + 1e-3 < 0.01 - 0.3 * d) {  // until the gap is 0.3 d
+  while (sys.state.bodies.shape[2].vertex(1).x + 1e-3 < 0.01 - 0.3 * d) {  // until the gap is 0.3 d
     sys.advance(10);
     worst = std::max(worst, max_overlap(sys));
   }
   EXPECT_TRUE(all_finite(sys));
-  EXPECT_GT(sys.p.y[0], 0.5 * d + 1e-3);  // pushed up and over the bar
+  EXPECT_GT(sys.state.p.y[0], 0.5 * d + 1e-3);  // pushed up and over the bar
   EXPECT_LT(worst, 0.02 * d);
-  EXPECT_TRUE(sys.lost.empty());
+  EXPECT_TRUE(sys.state.lost.empty());
 }
 
 // With mu = 0.5 (friction angle 26.6 degrees > 9) the wedge locks: the
@@ -133,18 +133,18 @@ TEST(HardCases, DiskSqueezedOutBetweenIntruderCapAndWall) {
 TEST(HardCases, DiskJammedBetweenIntruderCapAndWall) {
   System sys(squeeze_scene(effect::gravity | effect::normal_damping | effect::friction | effect::rolling_resistance));
   const double d = 3e-3;
-  while (sys.bodies.shape[2].vertex(1).x + 1e-3 < 0.01 - 0.5 * d) {  // until the gap is half a diameter
+  while (sys.state.bodies.shape[2].vertex(1).x + 1e-3 < 0.01 - 0.5 * d) {  // until the gap is half a diameter
     sys.advance(10);
     ASSERT_TRUE(all_finite(sys)) << "t = " << sys.time();
     ASSERT_LT(kinetic_energy(sys), 1e-5) << "t = " << sys.time();  // J/m: never launched
   }
-  EXPECT_NEAR(sys.p.y[0], 0.5 * d, 0.05 * d);  // still wedged in place
+  EXPECT_NEAR(sys.state.p.y[0], 0.5 * d, 0.05 * d);  // still wedged in place
   // cap-disk + disk-wall overlaps ~ how far the cap has gone past touching
   double wedge = 0.0;
-  for (std::size_t s = 0; s < sys.lists.walls.slots(); ++s)
-    if (sys.lists.walls.body[s] != 0) wedge += sys.lists.walls.overlap[s];
+  for (std::size_t s = 0; s < sys.state.lists.walls.slots(); ++s)
+    if (sys.state.lists.walls.body[s] != 0) wedge += sys.state.lists.walls.overlap[s];
   EXPECT_GT(wedge, 0.4 * d);
-  EXPECT_TRUE(sys.lost.empty());
+  EXPECT_TRUE(sys.state.lost.empty());
 }
 
 // Stiffness from 1e3 to 1e10 N/m with dt = dt_c/20: a small bed (three rows,
@@ -159,7 +159,7 @@ TEST(HardCases, StiffnessFrom1e3To1e10) {
     sys.advance(20000);
     EXPECT_TRUE(all_finite(sys)) << "kn = " << kn;
     EXPECT_LE(total_energy(sys), e0 + 1e-12) << "kn = " << kn;
-    EXPECT_TRUE(sys.lost.empty()) << "kn = " << kn;
+    EXPECT_TRUE(sys.state.lost.empty()) << "kn = " << kn;
     EXPECT_LT(max_overlap(sys), 0.5 * 2e-3) << "kn = " << kn;  // grains never pass through each other
   }
 }
@@ -170,12 +170,12 @@ TEST(HardCases, DiskLeavingTheDomainIsReported) {
   s.particles[29].vy = 5.0;  // m/s upwards, out of the open top
   System sys(s);
   run_for(sys, 0.2);
-  ASSERT_EQ(sys.lost.size(), 1u);
-  EXPECT_EQ(sys.lost[0].id, 29);
-  EXPECT_GT(sys.lost[0].y, s.domain.ymax);
-  EXPECT_EQ(sys.p.active[29], 0);
+  ASSERT_EQ(sys.state.lost.size(), 1u);
+  EXPECT_EQ(sys.state.lost[0].id, 29);
+  EXPECT_GT(sys.state.lost[0].y, s.domain.ymax);
+  EXPECT_EQ(sys.state.p.active[29], 0);
   EXPECT_TRUE(all_finite(sys));
-  for (std::size_t i = 0; i + 1 < sys.size(); ++i) EXPECT_EQ(sys.p.active[i], 1);
+  for (std::size_t i = 0; i + 1 < sys.size(); ++i) EXPECT_EQ(sys.state.p.active[i], 1);
 }
 
 // A non-finite state is an error naming the grain, not a run that writes NaN.
@@ -193,7 +193,7 @@ TEST(HardCases, NonFiniteStateIsAnError) {
   s.particles[7].vx = 0.0;
   System sys(s);
   sys.advance(10);
-  sys.p.omega[3] = std::numeric_limits<double>::infinity();
+  sys.state.p.omega[3] = std::numeric_limits<double>::infinity();
   EXPECT_THROW(sys.advance(10), std::runtime_error);
 }
 

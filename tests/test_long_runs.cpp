@@ -27,7 +27,7 @@ TEST(LongRuns, SettledPileAtPaperStiffnessStaysAtRest) {
   System sys(s);
   run_for(sys, 0.25);  // fall and settle: 2.5e6 steps
 
-  const AlignedVector<double> x0 = sys.p.x, y0 = sys.p.y;
+  const AlignedVector<double> x0 = sys.state.p.x, y0 = sys.state.p.y;
   constexpr double kRoundOffFloor = 1e-17;  // J/m: grains of ~10 g/m at ~1e-8 m/s
   auto envelope = [&sys] {
     double ke = 0.0;
@@ -47,7 +47,7 @@ TEST(LongRuns, SettledPileAtPaperStiffnessStaysAtRest) {
     ke_prev = ke;
   }
   double drift = 0.0;
-  for (std::size_t i = 0; i < sys.size(); ++i) drift = std::max(drift, std::hypot(sys.p.x[i] - x0[i], sys.p.y[i] - y0[i]));
+  for (std::size_t i = 0; i < sys.size(); ++i) drift = std::max(drift, std::hypot(sys.state.p.x[i] - x0[i], sys.state.p.y[i] - y0[i]));
   EXPECT_LT(drift, 1e-4 * kMeanD);
   EXPECT_LT(ke_prev, 1e-4 * ke_start + kRoundOffFloor);
   EXPECT_LT(max_overlap(sys), 1e-3 * kMeanD);  // paper stiffness: overlaps ~ 1e-8 m
@@ -63,13 +63,13 @@ TEST(LongRuns, MillionStepsOfDensePackingStayFinite) {
   const double e0 = kinetic_energy(sys) + elastic_energy(sys) + gravity_energy(sys);
   for (int k = 0; k < 100; ++k) {
     sys.advance(10000);
-    ASSERT_TRUE(std::isfinite(kinetic_energy(sys))) << "step " << sys.step;
+    ASSERT_TRUE(std::isfinite(kinetic_energy(sys))) << "step " << sys.state.step;
   }
-  EXPECT_EQ(sys.step, 1000000);
-  EXPECT_TRUE(sys.lost.empty());
+  EXPECT_EQ(sys.state.step, 1000000);
+  EXPECT_TRUE(sys.state.lost.empty());
   EXPECT_LE(kinetic_energy(sys) + elastic_energy(sys) + gravity_energy(sys), e0);
   for (std::size_t i = 0; i < sys.size(); ++i) {
-    ASSERT_TRUE(std::isfinite(sys.p.x[i]) && std::isfinite(sys.p.vx[i]) && std::isfinite(sys.p.omega[i]));
+    ASSERT_TRUE(std::isfinite(sys.state.p.x[i]) && std::isfinite(sys.state.p.vx[i]) && std::isfinite(sys.state.p.omega[i]));
   }
 }
 

@@ -85,23 +85,23 @@ TEST(Motion, EngineFollowsTheScheduleStepByStep) {
   const MotionSchedule m(segments(), 2);
   System sys(s);
   for (int k = 0; k < 7500; ++k) {  // 9.75 s: past the end (9 s)
-    const double t = static_cast<double>(sys.step) * s.dt;
+    const double t = static_cast<double>(sys.state.step) * s.dt;
     const MotionSchedule::State at = m.at(t), mid = m.at(t - 0.5 * s.dt);
-    ASSERT_EQ(sys.bodies.shape[0].x0(), 0.0 + at.x) << "step " << sys.step;
-    ASSERT_EQ(sys.bodies.shape[0].y0(), 0.0 + at.y) << "step " << sys.step;
-    ASSERT_NEAR(sys.bodies.shape[0].vertex(1).x - sys.bodies.shape[0].x0(), 0.01, 1e-15);  // translated, not turned
-    if (sys.step > 0) {
-      ASSERT_EQ(sys.bodies.vx[0], mid.vx);
-      ASSERT_EQ(sys.bodies.vy[0], mid.vy);
+    ASSERT_EQ(sys.state.bodies.shape[0].x0(), 0.0 + at.x) << "step " << sys.state.step;
+    ASSERT_EQ(sys.state.bodies.shape[0].y0(), 0.0 + at.y) << "step " << sys.state.step;
+    ASSERT_NEAR(sys.state.bodies.shape[0].vertex(1).x - sys.state.bodies.shape[0].x0(), 0.01, 1e-15);  // translated, not turned
+    if (sys.state.step > 0) {
+      ASSERT_EQ(sys.state.bodies.vx[0], mid.vx);
+      ASSERT_EQ(sys.state.bodies.vy[0], mid.vy);
     }
     sys.advance(1);
   }
-  EXPECT_EQ(sys.bodies.vy[0], 0.0);  // held after the end
+  EXPECT_EQ(sys.state.bodies.vy[0], 0.0);  // held after the end
   // a velocity set during the run takes over from where the body is
-  const double y = sys.bodies.shape[0].y0();
+  const double y = sys.state.bodies.shape[0].y0();
   sys.set_body_velocity(0, 0.0, 1e-3);
   sys.advance(100);
-  EXPECT_NEAR(sys.bodies.shape[0].y0(), y + 100 * s.dt * 1e-3, 1e-15);
+  EXPECT_NEAR(sys.state.bodies.shape[0].y0(), y + 100 * s.dt * 1e-3, 1e-15);
 }
 
 }  // namespace

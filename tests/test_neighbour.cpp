@@ -24,7 +24,7 @@ constexpr EffectSet kFull = effect::gravity | effect::normal_damping | effect::f
 // All touching pairs by brute force, O(N^2).
 std::set<std::pair<int, int>> touching_brute_force(const System& sys) {
   std::set<std::pair<int, int>> out;
-  const Particles& p = sys.p;
+  const Particles& p = sys.state.p;
   for (std::size_t i = 0; i < p.size(); ++i)
     for (std::size_t j = i + 1; j < p.size(); ++j)
       if (p.active[i] && p.active[j] &&
@@ -35,7 +35,7 @@ std::set<std::pair<int, int>> touching_brute_force(const System& sys) {
 
 std::set<std::pair<int, int>> touching_in_lists(const System& sys) {
   std::set<std::pair<int, int>> out;
-  const PairList& L = sys.lists.pairs;
+  const PairList& L = sys.state.lists.pairs;
   for (std::size_t i = 0; i + 1 < L.start.size(); ++i)
     for (auto s = static_cast<std::size_t>(L.start[i]); s < static_cast<std::size_t>(L.start[i + 1]); ++s)
       if (L.overlap[s] > 0.0) out.insert({static_cast<int>(i), L.partner[s]});
@@ -54,7 +54,7 @@ TEST(Neighbour, FindsEveryContactWithSizeRatioTen) {
       EXPECT_GT(brute.size(), 200u);  // not a vacuous comparison: a dense packing by then (~240 contacts)
     }
   }
-  EXPECT_GT(sys.lists.rebuild_count, 10);
+  EXPECT_GT(sys.state.lists.rebuild_count, 10);
 }
 
 // Every grain within skin of a body is a wall candidate, found through the
@@ -72,21 +72,21 @@ TEST(Neighbour, FindsEveryWallCandidateAmongManyBodies) {
   for (int k = 0; k < 4; ++k) {
     run_for(sys, 0.05);
     std::set<std::pair<int, int>> brute, listed;
-    const Particles& p = sys.p;
+    const Particles& p = sys.state.p;
     for (std::size_t i = 0; i < p.size(); ++i)
-      for (std::size_t b = 0; b < sys.bodies.size(); ++b)
-        if (p.active[i] && closest_point(sys.bodies.shape[b], p.x[i], p.y[i]).dist <
-                               p.radius[i] + sys.bodies.radius[b] + sys.lists.skin())
+      for (std::size_t b = 0; b < sys.state.bodies.size(); ++b)
+        if (p.active[i] && closest_point(sys.state.bodies.shape[b], p.x[i], p.y[i]).dist <
+                               p.radius[i] + sys.state.bodies.radius[b] + sys.state.lists.skin())
           brute.insert({static_cast<int>(i), static_cast<int>(b)});
-    const WallList& W = sys.lists.walls;
+    const WallList& W = sys.state.lists.walls;
     for (std::size_t sl = 0; sl < W.slots(); ++sl) listed.insert({W.owner[sl], W.body[sl]});
     // the lists were built at the last rebuild: every pair within the skin then is listed,
     // so every pair touching now is; compare the touching ones both ways
     std::set<std::pair<int, int>> touching;
     for (const auto& [i, b] : brute)
-      if (closest_point(sys.bodies.shape[static_cast<std::size_t>(b)], p.x[static_cast<std::size_t>(i)],
+      if (closest_point(sys.state.bodies.shape[static_cast<std::size_t>(b)], p.x[static_cast<std::size_t>(i)],
                         p.y[static_cast<std::size_t>(i)])
-              .dist < p.radius[static_cast<std::size_t>(i)] + sys.bodies.radius[static_cast<std::size_t>(b)])
+              .dist < p.radius[static_cast<std::size_t>(i)] + sys.state.bodies.radius[static_cast<std::size_t>(b)])
         touching.insert({i, b});
     for (const auto& ib : touching) EXPECT_TRUE(listed.count(ib)) << "grain " << ib.first << " body " << ib.second;
     if (k == 3) {
@@ -101,7 +101,7 @@ TEST(Neighbour, FindsEveryWallCandidateAmongManyBodies) {
 
 std::vector<double> state_of(const System& sys) {
   std::vector<double> v;
-  for (const auto* a : {&sys.p.x, &sys.p.y, &sys.p.vx, &sys.p.vy, &sys.p.omega, &sys.p.theta})
+  for (const auto* a : {&sys.state.p.x, &sys.state.p.y, &sys.state.p.vx, &sys.state.p.vy, &sys.state.p.omega, &sys.state.p.theta})
     v.insert(v.end(), a->begin(), a->end());
   return v;
 }
@@ -118,15 +118,15 @@ TEST(Neighbour, HistorySurvivesRebuildsBitwise) {
   run_for(a, 0.2);  // in contact, with loaded tangential springs
   run_for(b, 0.2);
   std::size_t loaded = 0;
-  for (const double ft : a.lists.pairs.ft) loaded += ft != 0.0;
+  for (const double ft : a.state.lists.pairs.ft) loaded += ft != 0.0;
   ASSERT_GT(loaded, 30u);
-  const std::int64_t before = b.lists.rebuild_count;
+  const std::int64_t before = b.state.lists.rebuild_count;
   for (int k = 0; k < 400; ++k) {
     a.advance(5);
     b.advance(5);
     b.rebuild();
   }
-  EXPECT_GE(b.lists.rebuild_count - before, 400);
+  EXPECT_GE(b.state.lists.rebuild_count - before, 400);
   EXPECT_TRUE(bitwise_equal(state_of(a), state_of(b)));
 }
 
@@ -147,9 +147,9 @@ TEST(Determinism, OneTwoAndThreeThreadsAreBitwiseIdentical) {
   for (const int threads : {2, 3}) {
     s.threads = threads;
     System b(s);
-    ASSERT_EQ(b.threads, threads);
+    ASSERT_EQ(b.config.threads, threads);
     run_for(b, 0.1);
-    EXPECT_GT(b.lists.rebuild_count, 5);
+    EXPECT_GT(b.state.lists.rebuild_count, 5);
     // the ranges cover the grains in order, and no cache line of a per-grain
     // array is shared by two threads' ranges
     ASSERT_EQ(b.work.part.size(), static_cast<std::size_t>(threads) + 1);
@@ -162,8 +162,8 @@ TEST(Determinism, OneTwoAndThreeThreadsAreBitwiseIdentical) {
     // shared_end[t] is one past the highest grain of thread t that a lower
     // thread's pair row reads (part[t] if none)
     std::vector<std::size_t> expected(b.work.part.begin(), b.work.part.end() - 1);
-    for (std::size_t sl = 0; sl < b.lists.pairs.slots(); ++sl) {
-      const auto i = static_cast<std::size_t>(b.lists.pairs.owner[sl]), j = static_cast<std::size_t>(b.lists.pairs.partner[sl]);
+    for (std::size_t sl = 0; sl < b.state.lists.pairs.slots(); ++sl) {
+      const auto i = static_cast<std::size_t>(b.state.lists.pairs.owner[sl]), j = static_cast<std::size_t>(b.state.lists.pairs.partner[sl]);
       for (std::size_t t = 1; t < expected.size(); ++t)
         if (i < b.work.part[t] && j >= b.work.part[t] && j < b.work.part[t + 1]) expected[t] = std::max(expected[t], j + 1);
     }

@@ -68,20 +68,20 @@ struct Expected {
 
 std::vector<double> body_vertices(const System& sys) {
   std::vector<double> e;
-  for (std::size_t b = 0; b < sys.bodies.size(); ++b)
-    for (int k = 0; k < sys.bodies.shape[b].n; ++k)
-      e.insert(e.end(), {sys.bodies.shape[b].vertex(k).x, sys.bodies.shape[b].vertex(k).y});
+  for (std::size_t b = 0; b < sys.state.bodies.size(); ++b)
+    for (int k = 0; k < sys.state.bodies.shape[b].n; ++k)
+      e.insert(e.end(), {sys.state.bodies.shape[b].vertex(k).x, sys.state.bodies.shape[b].vertex(k).y});
   return e;
 }
 
 std::vector<Contact> touching(const System& sys) {
   std::vector<Contact> out;
-  const PairList& P = sys.lists.pairs;
+  const PairList& P = sys.state.lists.pairs;
   for (std::size_t i = 0; i + 1 < P.start.size(); ++i)
     for (auto s = static_cast<std::size_t>(P.start[i]); s < static_cast<std::size_t>(P.start[i + 1]); ++s)
       if (P.overlap[s] > 0.0)
         out.push_back({static_cast<std::int32_t>(i), P.partner[s], P.fn[s], P.ft[s], P.overlap[s], P.mr[s]});
-  const WallList& W = sys.lists.walls;
+  const WallList& W = sys.state.lists.walls;
   for (std::size_t i = 0; i + 1 < W.start.size(); ++i)
     for (auto s = static_cast<std::size_t>(W.start[i]); s < static_cast<std::size_t>(W.start[i + 1]); ++s)
       if (W.overlap[s] > 0.0)
@@ -90,15 +90,15 @@ std::vector<Contact> touching(const System& sys) {
 }
 
 SeriesRow series_row(const System& sys) {
-  SeriesRow r{sys.time(), kinetic_energy(sys), 0.0, sys.step, 0, {}, {}, {}, {}, body_vertices(sys)};
-  const auto n = static_cast<double>(sys.body_sum_steps);
-  for (std::size_t b = 0; b < sys.bodies.size(); ++b) {
-    const bool mean = sys.body_sum_steps > 0;
-    r.force.insert(r.force.end(), {sys.bodies.fx[b], sys.bodies.fy[b]});
-    r.force_mean.insert(r.force_mean.end(), {mean ? sys.body_fx_sum[b] / n : sys.bodies.fx[b],
-                                             mean ? sys.body_fy_sum[b] / n : sys.bodies.fy[b]});
-    r.torque.push_back(sys.bodies.torque[b]);
-    r.torque_mean.push_back(mean ? sys.body_torque_sum[b] / n : sys.bodies.torque[b]);
+  SeriesRow r{sys.time(), kinetic_energy(sys), 0.0, sys.state.step, 0, {}, {}, {}, {}, body_vertices(sys)};
+  const auto n = static_cast<double>(sys.state.body_sum_steps);
+  for (std::size_t b = 0; b < sys.state.bodies.size(); ++b) {
+    const bool mean = sys.state.body_sum_steps > 0;
+    r.force.insert(r.force.end(), {sys.state.bodies.fx[b], sys.state.bodies.fy[b]});
+    r.force_mean.insert(r.force_mean.end(), {mean ? sys.state.body_fx_sum[b] / n : sys.state.bodies.fx[b],
+                                             mean ? sys.state.body_fy_sum[b] / n : sys.state.bodies.fy[b]});
+    r.torque.push_back(sys.state.bodies.torque[b]);
+    r.torque_mean.push_back(mean ? sys.state.body_torque_sum[b] / n : sys.state.bodies.torque[b]);
   }
   for (const Contact& c : touching(sys)) {
     r.max_overlap = std::max(r.max_overlap, c.overlap);
@@ -115,13 +115,13 @@ void record(System& sys, RunRecorder& rec, Expected& ex, int from, int to, int f
   for (int k = from; k < to; ++k) {
     if (k > 0) sys.advance(kSteps);
     if (k % 2 == 0) {
-      ex.snapshots.push_back({sys.time(), sys.step, sys.p, body_vertices(sys), touching(sys)});
+      ex.snapshots.push_back({sys.time(), sys.state.step, sys.state.p, body_vertices(sys), touching(sys)});
       ex.contacts += static_cast<std::int64_t>(ex.snapshots.back().contacts.size());
       rec.record_snapshot(sys);
     }
     ex.series.push_back(series_row(sys));
     rec.record_series(sys);
-    EXPECT_EQ(sys.body_sum_steps, 0);
+    EXPECT_EQ(sys.state.body_sum_steps, 0);
     if (flush_every > 0 && (k + 1) % flush_every == 0) rec.flush_segment();
     EXPECT_FALSE(fs::exists(out)) << "the run file must not exist before finish";
   }
@@ -439,12 +439,12 @@ TEST(RunFile, RecordsMatchTheSystem) {
   EXPECT_EQ(h5::read_attr_int(f, "/", "n_particles"), 6);
   EXPECT_EQ(h5::read_attr_int(f, "/", "n_bodies"), 2);
   EXPECT_EQ(h5::read_attr_int(f, "/", "lost_particles"), 1);
-  EXPECT_EQ(h5::read_attr_double(f, "/", "dt"), sys0.dt);
-  EXPECT_EQ(h5::read_attr_double(f, "/", "end_time"), static_cast<double>((kRows - 1) * kSteps) * sys0.dt);
+  EXPECT_EQ(h5::read_attr_double(f, "/", "dt"), sys0.config.dt);
+  EXPECT_EQ(h5::read_attr_double(f, "/", "end_time"), static_cast<double>((kRows - 1) * kSteps) * sys0.config.dt);
   EXPECT_EQ(h5::read<std::int32_t>(f, "particles/id"), (std::vector<std::int32_t>{0, 1, 2, 3, 4, 5}));
   EXPECT_EQ(h5::read<double>(f, "particles/diameter")[0], 3e-3);
-  EXPECT_EQ(h5::read<double>(f, "particles/mass"), std::vector<double>(sys0.p.mass.begin(), sys0.p.mass.end()));
-  EXPECT_DOUBLE_EQ(h5::read<double>(f, "particles/inertia")[0], sys0.p.mass[0] * 9e-6 / 8.0);
+  EXPECT_EQ(h5::read<double>(f, "particles/mass"), std::vector<double>(sys0.state.p.mass.begin(), sys0.state.p.mass.end()));
+  EXPECT_DOUBLE_EQ(h5::read<double>(f, "particles/inertia")[0], sys0.state.p.mass[0] * 9e-6 / 8.0);
   EXPECT_EQ(h5::read_strings(f, "bodies/name"), (std::vector<std::string>{"floor", "piston"}));
   EXPECT_EQ(h5::read<double>(f, "bodies/thickness"), (std::vector<double>{2e-3, 2e-3}));
   EXPECT_EQ(h5::read<double>(f, "bodies/velocity"), (std::vector<double>{0.0, 0.0, -0.5, 0.0}));

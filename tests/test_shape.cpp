@@ -123,7 +123,7 @@ Rest settle_on(const std::vector<Point>& core, double x0, double y0) {
   set_dt_fraction(s, 20.0);
   System sys(s);
   run_for(sys, 0.3);
-  return {sys.p.x[0], sys.p.y[0], sys.bodies.fx[0], sys.bodies.fy[0], sys.p.mass[0] * 9.81};
+  return {sys.state.p.x[0], sys.state.p.y[0], sys.state.bodies.fx[0], sys.state.bodies.fy[0], sys.state.p.mass[0] * 9.81};
 }
 
 TEST(Shape, DiskRestsOnAFlatFace) {

@@ -87,13 +87,13 @@ TEST(SpheroLine, GrainSlidingOffTheEndFeelsSmoothForce) {
   System sys(s);
   double prev_fy = -1.0, max_jump = 0.0, peak = 0.0;
   bool crossed = false;
-  while (sys.p.y[0] > -0.01) {
+  while (sys.state.p.y[0] > -0.01) {
     sys.advance(1);
-    const double fy = sys.p.fy[0];
+    const double fy = sys.state.p.fy[0];
     if (prev_fy >= 0.0) max_jump = std::max(max_jump, std::abs(fy - prev_fy));
     prev_fy = fy;
     peak = std::max(peak, fy);
-    crossed |= sys.p.x[0] > 5e-3 && sys.lists.walls.overlap[0] > 0.0;
+    crossed |= sys.state.p.x[0] > 5e-3 && sys.state.lists.walls.overlap[0] > 0.0;
   }
   EXPECT_TRUE(crossed);  // it was in contact with the cap
   // weight m g per unit depth ~ 0.17 N/m; no step changes the force by more than a few % of it

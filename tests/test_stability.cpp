@@ -105,7 +105,7 @@ double crystal_growth(const ContactLaw& l, EffectSet effects, double fraction) {
   } catch (const std::runtime_error&) {
     return INFINITY;
   }
-  if (!sys.lost.empty()) return INFINITY;
+  if (!sys.state.lost.empty()) return INFINITY;
   return kinetic_energy(sys) / e0;
 }
 

@@ -32,15 +32,15 @@ TEST(Bodies, VelocityChangesAreExactAndContinuous) {
   System sys(s);
   sys.set_body_velocity(0, 0.0, 0.5);
   sys.advance(1000);
-  EXPECT_NEAR(sys.bodies.shape[0].y0(), 0.5 * 1000 * sys.dt, 1e-15);
-  const double top = sys.bodies.shape[0].y0();
+  EXPECT_NEAR(sys.state.bodies.shape[0].y0(), 0.5 * 1000 * sys.config.dt, 1e-15);
+  const double top = sys.state.bodies.shape[0].y0();
   sys.set_body_velocity(0, 0.0, -0.5);
   sys.advance(1);
-  EXPECT_NEAR(sys.bodies.shape[0].y0(), top - 0.5 * sys.dt, 1e-15);  // no jump at the change
+  EXPECT_NEAR(sys.state.bodies.shape[0].y0(), top - 0.5 * sys.config.dt, 1e-15);  // no jump at the change
   sys.advance(999);
-  EXPECT_NEAR(sys.bodies.shape[0].y0(), 0.0, 1e-15);
-  EXPECT_NEAR(sys.bodies.shape[0].vertex(1).y, 0.0, 1e-15);
-  EXPECT_NEAR(sys.bodies.shape[0].x0(), -0.01, 1e-15);
+  EXPECT_NEAR(sys.state.bodies.shape[0].y0(), 0.0, 1e-15);
+  EXPECT_NEAR(sys.state.bodies.shape[0].vertex(1).y, 0.0, 1e-15);
+  EXPECT_NEAR(sys.state.bodies.shape[0].x0(), -0.01, 1e-15);
 }
 
 // A static body cannot be given a velocity without the moving_bodies effect.
@@ -186,8 +186,8 @@ TEST(Stop, BodyFreeEndsThePullOnceClear) {
   pull.effects |= effect::moving_bodies;
   pull.particles.clear();
   for (std::size_t i = 0; i < bed.size(); ++i)
-    if (bed.p.y[i] > 6e-3)  // leave room for the bar at the bottom
-      pull.particles.push_back({bed.p.x[i], bed.p.y[i], 2 * bed.p.radius[i], 0.0, 0.0, 0.0});
+    if (bed.state.p.y[i] > 6e-3)  // leave room for the bar at the bottom
+      pull.particles.push_back({bed.state.p.x[i], bed.state.p.y[i], 2 * bed.state.p.radius[i], 0.0, 0.0, 0.0});
   // a round bar (zero-length sphero-line): no grain can stay balanced on it
   add_wall(pull, "intruder", 0.01, 3e-3, 0.01, 3e-3, 4e-3, 0.0, 0.1);
   pull.stop.duration = 2.0;

@@ -62,17 +62,17 @@ Scene with_state_and_history(const Scene& scene, const System& bed) {
   std::vector<std::int32_t> index(bed.size(), -1);  // grain of the System -> grain of the scene
   std::int32_t next = 0;
   for (std::size_t i = 0; i < bed.size(); ++i)
-    if (bed.p.active[i]) index[i] = next++;
-  const PairList& L = bed.lists.pairs;
+    if (bed.state.p.active[i]) index[i] = next++;
+  const PairList& L = bed.state.lists.pairs;
   for (std::size_t i = 0; i < bed.size(); ++i)
     for (auto sl = static_cast<std::size_t>(L.start[i]); sl < static_cast<std::size_t>(L.start[i + 1]); ++sl)
       if (L.overlap[sl] > 0.0 && index[i] >= 0 && index[static_cast<std::size_t>(L.partner[sl])] >= 0)
         s.initial_contacts.push_back({index[i], index[static_cast<std::size_t>(L.partner[sl])], "", L.ft[sl], L.mr[sl]});
-  const WallList& W = bed.lists.walls;
+  const WallList& W = bed.state.lists.walls;
   for (std::size_t sl = 0; sl < W.slots(); ++sl)
     if (W.overlap[sl] > 0.0 && index[static_cast<std::size_t>(W.owner[sl])] >= 0)
       s.initial_contacts.push_back({index[static_cast<std::size_t>(W.owner[sl])], -1,
-                                    bed.bodies.name[static_cast<std::size_t>(W.body[sl])], W.ft[sl], W.mr[sl]});
+                                    bed.state.bodies.name[static_cast<std::size_t>(W.body[sl])], W.ft[sl], W.mr[sl]});
   return s;
 }
 

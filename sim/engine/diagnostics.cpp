@@ -28,7 +28,7 @@ Stored list_spring_energy(const List& L, const ContactLaw& law, EffectSet effect
 }  // namespace
 
 double kinetic_energy(const System& sys) {
-  const Particles& p = sys.p;
+  const Particles& p = sys.state.p;
   double e = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i)
     if (p.active[i])
@@ -40,50 +40,50 @@ double kinetic_energy(const System& sys) {
 bool kinetic_energy_criterion_met(const System& sys, const StopCondition& stop) {
   const double ke = kinetic_energy(sys);
   if (stop.kinetic_energy_per_grain_below > 0.0) {
-    const auto active = static_cast<double>(std::count(sys.p.active.begin(), sys.p.active.end(), 1));
+    const auto active = static_cast<double>(std::count(sys.state.p.active.begin(), sys.state.p.active.end(), 1));
     return ke < stop.kinetic_energy_per_grain_below * active;
   }
   return stop.kinetic_energy_below > 0.0 && ke < stop.kinetic_energy_below;
 }
 
 Stored spring_energy(const System& sys) {
-  Stored e = list_spring_energy(sys.lists.pairs, sys.law_pp, sys.effects);
-  if (has(sys.effects, effect::walls)) e += list_spring_energy(sys.lists.walls, sys.law_pw, sys.effects);
+  Stored e = list_spring_energy(sys.state.lists.pairs, sys.config.law_pp, sys.config.effects);
+  if (has(sys.config.effects, effect::walls)) e += list_spring_energy(sys.state.lists.walls, sys.config.law_pw, sys.config.effects);
   return e;
 }
 
 double elastic_energy(const System& sys) { return spring_energy(sys).total(); }
 
 double gravity_energy(const System& sys) {
-  const Particles& p = sys.p;
+  const Particles& p = sys.state.p;
   double e = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i)
-    if (p.active[i]) e -= p.mass[i] * (sys.gx * p.x[i] + sys.gy * p.y[i]);
+    if (p.active[i]) e -= p.mass[i] * (sys.config.gx * p.x[i] + sys.config.gy * p.y[i]);
   return e;
 }
 
 double highest_grain(const System& sys) {
   double h = -std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < sys.p.size(); ++i)
-    if (sys.p.active[i]) h = std::max(h, sys.p.y[i]);
+  for (std::size_t i = 0; i < sys.state.p.size(); ++i)
+    if (sys.state.p.active[i]) h = std::max(h, sys.state.p.y[i]);
   return h;
 }
 
 double bed_surface_beside(const System& sys, std::size_t b) {
-  const Bounds core = core_bounds(sys.bodies.shape[b]);
-  const double margin = sys.bodies.radius[b] + 2.0 * sys.lists.r_max();
+  const Bounds core = core_bounds(sys.state.bodies.shape[b]);
+  const double margin = sys.state.bodies.radius[b] + 2.0 * sys.state.lists.r_max();
   double top = -std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < sys.p.size(); ++i)
-    if (sys.p.active[i] && (sys.p.x[i] < core.xmin - margin || sys.p.x[i] > core.xmax + margin))
-      top = std::max(top, sys.p.y[i] + sys.p.radius[i]);
+  for (std::size_t i = 0; i < sys.state.p.size(); ++i)
+    if (sys.state.p.active[i] && (sys.state.p.x[i] < core.xmin - margin || sys.state.p.x[i] > core.xmax + margin))
+      top = std::max(top, sys.state.p.y[i] + sys.state.p.radius[i]);
   return top;
 }
 
 bool held_by_bed(const System& sys, std::size_t b) {
-  const PairList& L = sys.lists.pairs;
-  const WallList& W = sys.lists.walls;
+  const PairList& L = sys.state.lists.pairs;
+  const WallList& W = sys.state.lists.walls;
   const std::size_t n = sys.size();
-  const bool gaps = reaches_beyond_contact(sys.effects);  // grains held across a gap hold too
+  const bool gaps = reaches_beyond_contact(sys.config.effects);  // grains held across a gap hold too
   std::vector<std::uint8_t> seen(n, 0), anchored(n, 0);  // anchored: touches another body
   std::vector<std::size_t> queue;
   for (std::size_t s = 0; s < W.slots(); ++s) {
@@ -117,15 +117,15 @@ bool held_by_bed(const System& sys, std::size_t b) {
 
 double max_overlap(const System& sys) {
   double m = 0.0;
-  for (const double o : sys.lists.pairs.overlap) m = std::max(m, o);
-  for (const double o : sys.lists.walls.overlap) m = std::max(m, o);
+  for (const double o : sys.state.lists.pairs.overlap) m = std::max(m, o);
+  for (const double o : sys.state.lists.walls.overlap) m = std::max(m, o);
   return m;
 }
 
 std::size_t contact_count(const System& sys) {
   std::size_t c = 0;
-  for_touching(sys.lists.pairs, [&](std::size_t) { ++c; });
-  for_touching(sys.lists.walls, [&](std::size_t) { ++c; });
+  for_touching(sys.state.lists.pairs, [&](std::size_t) { ++c; });
+  for_touching(sys.state.lists.walls, [&](std::size_t) { ++c; });
   return c;
 }
 

@@ -14,12 +14,12 @@ namespace {
 // 1/2 (F.dx + t dtheta), the displacements being dt times the half-step
 // velocities.
 double half_work(const System& s, std::size_t i, double fx, double fy, double t) {
-  return 0.5 * s.dt * (fx * s.p.vx[i] + fy * s.p.vy[i] + t * s.p.omega[i]);
+  return 0.5 * s.config.dt * (fx * s.state.p.vx[i] + fy * s.state.p.vy[i] + t * s.state.p.omega[i]);
 }
 
 // The gravity vector the grains feel (m/s^2): zero without the effect.
 std::pair<double, double> gravity_of(const System& s) {
-  return has(s.effects, effect::gravity) ? std::pair{s.gx, s.gy} : std::pair{0.0, 0.0};
+  return has(s.config.effects, effect::gravity) ? std::pair{s.config.gx, s.config.gy} : std::pair{0.0, 0.0};
 }
 
 // Kinematics of a touching contact at the step's end, as the kernel sees it
@@ -41,12 +41,12 @@ Motion pair_motion(const Particles& p, std::size_t i, std::size_t j, double over
 }
 
 Motion wall_motion(const System& s, std::size_t i, std::size_t b, double overlap) {
-  const Particles& p = s.p;
-  const Proximity g = closest_point(s.bodies.shape[b], p.x[i], p.y[i]);
+  const Particles& p = s.state.p;
+  const Proximity g = closest_point(s.state.bodies.shape[b], p.x[i], p.y[i]);
   double rvx = p.vx[i], rvy = p.vy[i];
-  if (has(s.effects, effect::moving_bodies)) {
-    rvx -= s.bodies.vx[b];
-    rvy -= s.bodies.vy[b];
+  if (has(s.config.effects, effect::moving_bodies)) {
+    rvx -= s.state.bodies.vx[b];
+    rvy -= s.state.bodies.vy[b];
   }
   const double a = p.radius[i] - 0.5 * overlap;
   return {rvx * g.nx + rvy * g.ny, -rvx * g.ny + rvy * g.nx - a * p.omega[i], p.omega[i], -g.ny, g.nx, a};
@@ -88,15 +88,15 @@ Dissipated dissipated(const System& s, const ContactLaw& law, const LawCoefficie
                       double spring_r, double spring_r_prev) {
   Dissipated d;
   // the normal force's non-elastic part, -c vn unless the force is clamped at 0
-  d.normal = (elastic_fn - fn) * m.vn * s.dt;
-  if (has(s.effects, effect::friction)) {
-    const Channel t = channel(ft, m.vt, spring_t, spring_t_prev, law.kt, c.kt_dt, s.dt);
-    if (has(s.effects, effect::tangential_damping)) d.tangential = t.dashpot;
+  d.normal = (elastic_fn - fn) * m.vn * s.config.dt;
+  if (has(s.config.effects, effect::friction)) {
+    const Channel t = channel(ft, m.vt, spring_t, spring_t_prev, law.kt, c.kt_dt, s.config.dt);
+    if (has(s.config.effects, effect::tangential_damping)) d.tangential = t.dashpot;
     d.sliding = t.slip;
   }
-  if (has(s.effects, effect::rolling_resistance)) {
-    const Channel r = channel(moment, m.spin, spring_r, spring_r_prev, law.rolling_stiffness, c.kr_dt, s.dt);
-    if (has(s.effects, effect::rolling_damping)) d.rolling = r.dashpot;
+  if (has(s.config.effects, effect::rolling_resistance)) {
+    const Channel r = channel(moment, m.spin, spring_r, spring_r_prev, law.rolling_stiffness, c.kr_dt, s.config.dt);
+    if (has(s.config.effects, effect::rolling_damping)) d.rolling = r.dashpot;
     d.rolling_slip = r.slip;
   }
   return d;
@@ -124,11 +124,11 @@ template <class PairFn, class WallFn>
 void my_contacts(System& s, PairFn&& pair, WallFn&& wall) {
   const auto [first, last] = kernels::my_grains(s);
   for (std::size_t i = first; i < last; ++i) {
-    const PairList& L = s.lists.pairs;
+    const PairList& L = s.state.lists.pairs;
     for (auto sl = static_cast<std::size_t>(L.start[i]); sl < static_cast<std::size_t>(L.start[i + 1]); ++sl)
       pair(i, sl);
-    if (!has(s.effects, effect::walls)) continue;
-    const WallList& W = s.lists.walls;
+    if (!has(s.config.effects, effect::walls)) continue;
+    const WallList& W = s.state.lists.walls;
     for (auto sl = static_cast<std::size_t>(W.start[i]); sl < static_cast<std::size_t>(W.start[i + 1]); ++sl)
       wall(i, sl);
   }
@@ -142,23 +142,23 @@ struct Work {
 };
 
 Work pair_work(const System& s, std::size_t sl, std::size_t i) {
-  const PairList& L = s.lists.pairs;
+  const PairList& L = s.state.lists.pairs;
   const auto j = static_cast<std::size_t>(L.partner[sl]);
   return {half_work(s, i, L.fx[sl], L.fy[sl], L.ti[sl]) + half_work(s, j, -L.fx[sl], -L.fy[sl], L.tj[sl]), 0.0};
 }
 
 Work wall_work(const System& s, std::size_t sl, std::size_t i) {
-  const WallList& W = s.lists.walls;
+  const WallList& W = s.state.lists.walls;
   const auto b = static_cast<std::size_t>(W.body[sl]);
   double body = 0.0;
-  if (has(s.effects, effect::moving_bodies)) body = 0.5 * s.dt * (W.fx[sl] * s.bodies.vx[b] + W.fy[sl] * s.bodies.vy[b]);
+  if (has(s.config.effects, effect::moving_bodies)) body = 0.5 * s.config.dt * (W.fx[sl] * s.state.bodies.vx[b] + W.fy[sl] * s.state.bodies.vy[b]);
   return {half_work(s, i, W.fx[sl], W.fy[sl], W.tq[sl]) - body, body};
 }
 
 }  // namespace
 
 void start(System& s) {
-  EnergyLedger& e = s.energy;
+  EnergyLedger& e = s.state.energy;
   for (const auto& [name, a] : accumulators(e)) a->assign(s.size(), 0.0);
   e.removed = 0.0;
   e.error_offset = 0.0;
@@ -166,9 +166,9 @@ void start(System& s) {
 }
 
 void open_step(System& s) {
-  EnergyLedger& e = s.energy;
-  PairList& L = s.lists.pairs;
-  WallList& W = s.lists.walls;
+  EnergyLedger& e = s.state.energy;
+  PairList& L = s.state.lists.pairs;
+  WallList& W = s.state.lists.walls;
   my_contacts(
       s,
       [&](std::size_t i, std::size_t sl) {
@@ -176,7 +176,7 @@ void open_step(System& s) {
         L.mr_prev[sl] = L.mr[sl];
         if (!(L.overlap[sl] > 0.0)) return;
         const Work w = pair_work(s, sl, i);
-        e.error[i] += spring_energy(s.law_pp, s.effects, L.overlap[sl], L.ft[sl], L.mr[sl]).total() - w.relative;
+        e.error[i] += spring_energy(s.config.law_pp, s.config.effects, L.overlap[sl], L.ft[sl], L.mr[sl]).total() - w.relative;
       },
       [&](std::size_t i, std::size_t sl) {
         W.ft_prev[sl] = W.ft[sl];
@@ -184,34 +184,34 @@ void open_step(System& s) {
         if (!(W.overlap[sl] > 0.0)) return;
         const Work w = wall_work(s, sl, i);
         e.body_work[i] += w.body;
-        e.error[i] += spring_energy(s.law_pw, s.effects, W.overlap[sl], W.ft[sl], W.mr[sl]).total() - w.relative;
+        e.error[i] += spring_energy(s.config.law_pw, s.config.effects, W.overlap[sl], W.ft[sl], W.mr[sl]).total() - w.relative;
       });
 }
 
 void close_step(System& s) {
-  EnergyLedger& e = s.energy;
-  const PairList& L = s.lists.pairs;
-  const WallList& W = s.lists.walls;
+  EnergyLedger& e = s.state.energy;
+  const PairList& L = s.state.lists.pairs;
+  const WallList& W = s.state.lists.walls;
   my_contacts(
       s,
       [&](std::size_t i, std::size_t sl) {
-        if (!(L.overlap[sl] > 0.0)) return release(e, i, s.law_pp, s.effects, L.ft_prev[sl], L.mr_prev[sl]);
+        if (!(L.overlap[sl] > 0.0)) return release(e, i, s.config.law_pp, s.config.effects, L.ft_prev[sl], L.mr_prev[sl]);
         const Work w = pair_work(s, sl, i);
-        const Motion m = pair_motion(s.p, i, static_cast<std::size_t>(L.partner[sl]), L.overlap[sl]);
+        const Motion m = pair_motion(s.state.p, i, static_cast<std::size_t>(L.partner[sl]), L.overlap[sl]);
         const double ft = L.fx[sl] * m.tx + L.fy[sl] * m.ty;  // T_i = -a_i F_t + M_r
-        const Stored u = spring_energy(s.law_pp, s.effects, L.overlap[sl], L.ft[sl], L.mr[sl]);
-        const Dissipated d = dissipated(s, s.law_pp, s.pp, m, u.fn, L.fn[sl], ft, L.ti[sl] + m.a * ft, L.ft[sl],
+        const Stored u = spring_energy(s.config.law_pp, s.config.effects, L.overlap[sl], L.ft[sl], L.mr[sl]);
+        const Dissipated d = dissipated(s, s.config.law_pp, s.config.pp, m, u.fn, L.fn[sl], ft, L.ti[sl] + m.a * ft, L.ft[sl],
                                         L.ft_prev[sl], L.mr[sl], L.mr_prev[sl]);
         add(e, i, d);
         e.error[i] -= u.total() + w.relative + d.total();
       },
       [&](std::size_t i, std::size_t sl) {
-        if (!(W.overlap[sl] > 0.0)) return release(e, i, s.law_pw, s.effects, W.ft_prev[sl], W.mr_prev[sl]);
+        if (!(W.overlap[sl] > 0.0)) return release(e, i, s.config.law_pw, s.config.effects, W.ft_prev[sl], W.mr_prev[sl]);
         const Work w = wall_work(s, sl, i);
         const Motion m = wall_motion(s, i, static_cast<std::size_t>(W.body[sl]), W.overlap[sl]);
         const double ft = W.fx[sl] * m.tx + W.fy[sl] * m.ty;
-        const Stored u = spring_energy(s.law_pw, s.effects, W.overlap[sl], W.ft[sl], W.mr[sl]);
-        const Dissipated d = dissipated(s, s.law_pw, s.pw, m, u.fn, W.fn[sl], ft, W.tq[sl] + m.a * ft, W.ft[sl],
+        const Stored u = spring_energy(s.config.law_pw, s.config.effects, W.overlap[sl], W.ft[sl], W.mr[sl]);
+        const Dissipated d = dissipated(s, s.config.law_pw, s.config.pw, m, u.fn, W.fn[sl], ft, W.tq[sl] + m.a * ft, W.ft[sl],
                                         W.ft_prev[sl], W.mr[sl], W.mr_prev[sl]);
         add(e, i, d);
         e.body_work[i] += w.body;
@@ -224,29 +224,29 @@ void remove_grain(System& s, std::size_t i) {
   // its potential energy there, and the first half of this step's work on it
   // (its contacts' first halves went into the ledger already; their second
   // halves never come). Velocities are the half-step ones, forces the start's.
-  const Particles& p = s.p;
+  const Particles& p = s.state.p;
   const auto [gx, gy] = gravity_of(s);
   const double ax = p.fx[i] * p.inv_mass[i] + gx, ay = p.fy[i] * p.inv_mass[i] + gy, aw = p.torque[i] * p.inv_inertia[i];
   const double m = p.mass[i], inertia = 1.0 / p.inv_inertia[i];
-  const double ux = p.vx[i] - s.dt * ax, uy = p.vy[i] - s.dt * ay, uw = p.omega[i] - s.dt * aw;  // v^(n-1/2)
+  const double ux = p.vx[i] - s.config.dt * ax, uy = p.vy[i] - s.config.dt * ay, uw = p.omega[i] - s.config.dt * aw;  // v^(n-1/2)
   const double shadow = 0.5 * m * (ux * p.vx[i] + uy * p.vy[i]) + 0.5 * inertia * uw * p.omega[i];
-  const double x0 = p.x[i] - s.dt * p.vx[i], y0 = p.y[i] - s.dt * p.vy[i];
+  const double x0 = p.x[i] - s.config.dt * p.vx[i], y0 = p.y[i] - s.config.dt * p.vy[i];
   const double potential = -m * (gx * x0 + gy * y0);
-  s.energy.removed += shadow + potential + half_work(s, i, p.fx[i], p.fy[i], p.torque[i]);
+  s.state.energy.removed += shadow + potential + half_work(s, i, p.fx[i], p.fy[i], p.torque[i]);
 }
 
 EnergyBalance balance(const System& s) {
-  const EnergyLedger& e = s.energy;
-  const Particles& p = s.p;
+  const EnergyLedger& e = s.state.energy;
+  const Particles& p = s.state.p;
   EnergyBalance out;
   const Stored u = spring_energy(s);
   out.elastic_normal = u.normal;
   out.elastic_tangential = u.tangential;
   out.elastic_rolling = u.rolling;
   out.kinetic = kinetic_energy(s);
-  out.gravity = has(s.effects, effect::gravity) ? gravity_energy(s) : 0.0;
+  out.gravity = has(s.config.effects, effect::gravity) ? gravity_energy(s) : 0.0;
   // physical minus shadow kinetic energy: sum 1/2 (dt/2)^2 (m a^2 + I alpha^2)
-  const double h = 0.5 * s.dt;
+  const double h = 0.5 * s.config.dt;
   const auto [gx, gy] = gravity_of(s);
   double shadow_gap = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) {

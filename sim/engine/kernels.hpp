@@ -59,13 +59,13 @@ inline std::pair<std::int64_t, std::int64_t> my_slots(const System& s, const Ali
 // false for NaN); the caller reads them after a barrier.
 template <EffectSet E, bool Close, bool Open>
 inline void integrate(System& s) {
-  Particles& p = s.p;
+  Particles& p = s.state.p;
   // plain locals, not a structured binding: GCC does not see a binding's
   // members as loop-invariant bounds and would not vectorise the loop
   const std::pair<size_t, size_t> range = my_grains(s);
   const size_t begin = range.first, end = range.second;
-  const double h = 0.5 * s.dt, dt = s.dt, gx = s.gx, gy = s.gy;
-  const Box box = s.domain;
+  const double h = 0.5 * s.config.dt, dt = s.config.dt, gx = s.config.gx, gy = s.config.gy;
+  const Box box = s.config.domain;
   double *x = p.x.data(), *y = p.y.data(), *vx = p.vx.data(), *vy = p.vy.data();
   double *w = p.omega.data(), *th = p.theta.data();
   const double *fx = p.fx.data(), *fy = p.fy.data(), *tq = p.torque.data();
@@ -118,8 +118,8 @@ inline void integrate(System& s) {
 // (contact/contact_model.hpp), the geometry the loop's.
 template <EffectSet E>
 inline void pair_forces(System& s, const ContactModel<E> model) {  // by value: cannot alias the outputs
-  const Particles& p = s.p;
-  PairList& L = s.lists.pairs;
+  const Particles& p = s.state.p;
+  PairList& L = s.state.lists.pairs;
   const std::int32_t *own = L.owner.data(), *par = L.partner.data();
   const double *x = p.x.data(), *y = p.y.data(), *vx = p.vx.data(), *vy = p.vy.data(), *w = p.omega.data();
   const double *rad_i = L.ri.data(), *rad_j = L.rj.data(), *sqm = L.sqrt_meff.data(), *sqi = L.sqrt_ieff.data();
@@ -181,9 +181,9 @@ inline void pair_forces(System& s, const ContactModel<E> model) {  // by value: 
 // not vectorise.
 template <EffectSet E, bool Polygons>
 inline void wall_forces(System& s, const ContactModel<E> model) {  // by value: cannot alias the outputs
-  const Particles& p = s.p;
-  WallList& L = s.lists.walls;
-  const Bodies& B = s.bodies;
+  const Particles& p = s.state.p;
+  WallList& L = s.state.lists.walls;
+  const Bodies& B = s.state.bodies;
   const Shape* shape = B.shape.data();
   const Segment* line = B.line.data();
   const std::int32_t *own = L.owner.data(), *body = L.body.data();
@@ -247,7 +247,7 @@ inline void wall_forces(System& s, const ContactModel<E> model) {  // by value: 
 
 template <EffectSet E>
 inline void body_forces(System& s, const ContactModel<E> model) {
-  if (s.polygon_bodies)
+  if (s.config.polygon_bodies)
     wall_forces<E, true>(s, model);
   else
     wall_forces<E, false>(s, model);
@@ -261,7 +261,7 @@ inline void body_forces(System& s, const ContactModel<E> model) {
 // a step on the 1600-grain bed).
 inline void claim_shared_grains(System& s) {
   const auto t = static_cast<size_t>(omp_get_thread_num());
-  Particles& p = s.p;
+  Particles& p = s.state.p;
   for (double* a : {p.x.data(), p.y.data(), p.vx.data(), p.vy.data(), p.omega.data()})
     for (size_t i = s.work.part[t]; i < s.work.shared_end[t]; i += System::kGrainsPerLine) __builtin_prefetch(a + i, 1, 3);
 }
@@ -272,9 +272,9 @@ inline void claim_shared_grains(System& s) {
 // barrier is needed in between.
 template <EffectSet E>
 inline void gather(System& s) {
-  Particles& p = s.p;
-  const PairList& L = s.lists.pairs;
-  const WallList& W = s.lists.walls;
+  Particles& p = s.state.p;
+  const PairList& L = s.state.lists.pairs;
+  const WallList& W = s.state.lists.walls;
   const std::pair<size_t, size_t> range = my_grains(s);
   for (size_t i = range.first; i < range.second; ++i) {
     if (!p.active[i]) continue;
@@ -309,8 +309,8 @@ inline void gather(System& s) {
 
 // Force and torque the grains exert on each body, summed in slot order.
 inline void body_sums(System& s) {
-  Bodies& B = s.bodies;
-  const WallList& W = s.lists.walls;
+  Bodies& B = s.state.bodies;
+  const WallList& W = s.state.lists.walls;
   std::fill(B.fx.begin(), B.fx.end(), 0.0);
   std::fill(B.fy.begin(), B.fy.end(), 0.0);
   std::fill(B.torque.begin(), B.torque.end(), 0.0);
@@ -325,18 +325,18 @@ inline void body_sums(System& s) {
     B.torque[b] -= W.mr[sl];
   }
   for (size_t b = 0; b < B.size(); ++b) {
-    s.body_fx_sum[b] += B.fx[b];
-    s.body_fy_sum[b] += B.fy[b];
-    s.body_torque_sum[b] += B.torque[b];
+    s.state.body_fx_sum[b] += B.fx[b];
+    s.state.body_fy_sum[b] += B.fy[b];
+    s.state.body_torque_sum[b] += B.torque[b];
   }
-  ++s.body_sum_steps;
+  ++s.state.body_sum_steps;
 }
 
 template <EffectSet E>
 void initial_forces(System& s) {
-  ContactModel<E> pp{s.pp}, pw{s.pw};  // no spring increments: there is no previous step
+  ContactModel<E> pp{s.config.pp}, pw{s.config.pw};  // no spring increments: there is no previous step
   pp.c.kt_dt = pp.c.kr_dt = pw.c.kt_dt = pw.c.kr_dt = 0.0;
-#pragma omp parallel num_threads(s.threads)
+#pragma omp parallel num_threads(s.config.threads)
   {
     pair_forces<E>(s, pp);
     if constexpr (has(E, effect::walls)) body_forces<E>(s, pw);
@@ -354,7 +354,7 @@ void initial_forces(System& s) {
 // barrier.
 template <EffectSet E>
 inline void open_step_serial(System& s) {
-  ++s.step;
+  ++s.state.step;
   if constexpr (has(E, effect::moving_bodies)) s.place_bodies();
 }
 
@@ -362,14 +362,14 @@ template <EffectSet E>
 void advance(System& s, std::int64_t steps) {
   if (steps <= 0) return;
   bool failed = false;
-#pragma omp parallel num_threads(s.threads)
+#pragma omp parallel num_threads(s.config.threads)
   {
     // every thread keeps the same displacement bound, from the same numbers
-    double moved = s.moved_particles;
+    double moved = s.cache.moved_particles;
     integrate<E, false, true>(s);
 #pragma omp master
     open_step_serial<E>(s);
-    const bool ledger = s.energy.on;  // the same for every thread: the extra barriers below match
+    const bool ledger = s.state.energy.on;  // the same for every thread: the extra barriers below match
     for (std::int64_t k = 0; k < steps; ++k) {
 #pragma omp barrier
       if (ledger) energy::open_step(s);
@@ -379,8 +379,8 @@ void advance(System& s, std::int64_t steps) {
         v2max = std::max(v2max, r.v2max);
         escaped |= r.escaped;
       }
-      moved += std::sqrt(v2max) * s.dt;
-      if (escaped || s.rebuild_pending || moved > 0.5 * s.lists.skin() || moved + s.moved_bodies > s.lists.skin()) {
+      moved += std::sqrt(v2max) * s.config.dt;
+      if (escaped || s.state.rebuild_pending || moved > 0.5 * s.state.lists.skin() || moved + s.cache.moved_bodies > s.state.lists.skin()) {
         // Every thread has taken this decision (and its open_step is done
         // with the old lists) before the rebuild resets what it was taken
         // from (rebuild_pending, moved_bodies, the drift reports): without
@@ -396,8 +396,8 @@ void advance(System& s, std::int64_t steps) {
         moved = 0.0;
         if (failed) break;
       }
-      pair_forces<E>(s, ContactModel<E>{s.pp});
-      if constexpr (has(E, effect::walls)) body_forces<E>(s, ContactModel<E>{s.pw});
+      pair_forces<E>(s, ContactModel<E>{s.config.pp});
+      if constexpr (has(E, effect::walls)) body_forces<E>(s, ContactModel<E>{s.config.pw});
 #pragma omp barrier
       if (ledger) {
         energy::close_step(s);
@@ -419,7 +419,7 @@ void advance(System& s, std::int64_t steps) {
       }
     }
 #pragma omp master
-    s.moved_particles = moved;
+    s.cache.moved_particles = moved;
   }
 }
 

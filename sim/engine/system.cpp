@@ -12,22 +12,34 @@
 
 namespace dem2d {
 
-System::System(const Scene& scene)
-    : effects(scene.effects),
-      dt(scene.dt),
-      gx(scene.gx),
-      gy(scene.gy),
-      law_pp(scene.particle_particle),
-      law_pw(scene.particle_wall),
-      pp(coefficients(scene.particle_particle, scene.dt)),
-      pw(coefficients(scene.particle_wall, scene.dt)),
-      domain(scene.domain) {
+namespace {
+
+SystemConfig config_of(const Scene& scene) {
+  SystemConfig c;
+  c.effects = scene.effects;
+  c.dt = scene.dt;
   omp_set_dynamic(0);
-  threads = scene.threads > 0 ? scene.threads : omp_get_max_threads();
-  if (threads > omp_get_thread_limit())  // the kernels need every thread they split the work for
-    throw std::invalid_argument("threads = " + std::to_string(threads) + " exceeds OpenMP's thread limit " +
+  c.threads = scene.threads > 0 ? scene.threads : omp_get_max_threads();
+  if (c.threads > omp_get_thread_limit())  // the kernels need every thread they split the work for
+    throw std::invalid_argument("threads = " + std::to_string(c.threads) + " exceeds OpenMP's thread limit " +
                                 std::to_string(omp_get_thread_limit()) + " (OMP_THREAD_LIMIT)");
-  work.drift.assign(static_cast<std::size_t>(threads), StepWork::DriftReport{});
+  c.gx = scene.gx;
+  c.gy = scene.gy;
+  c.law_pp = scene.particle_particle;
+  c.law_pw = scene.particle_wall;
+  c.pp = coefficients(scene.particle_particle, scene.dt);
+  c.pw = coefficients(scene.particle_wall, scene.dt);
+  c.domain = scene.domain;
+  return c;
+}
+
+}  // namespace
+
+System::System(const Scene& scene) : config(config_of(scene)) {
+  const EffectSet effects = config.effects;
+  Particles& p = state.p;
+  Bodies& bodies = state.bodies;
+  work.drift.assign(static_cast<std::size_t>(config.threads), StepWork::DriftReport{});
 
   const std::size_t n = scene.particles.size();
   p.resize(n);
@@ -62,7 +74,7 @@ System::System(const Scene& scene)
     bodies.role[b] = q.role;
     bodies.kind[b] = q.shape;
     bodies.set_shape(b, make_shape(q.vertices));
-    polygon_bodies = polygon_bodies || bodies.shape[b].n > 2;
+    config.polygon_bodies = config.polygon_bodies || bodies.shape[b].n > 2;
     bodies.anchor_x[b] = bodies.origin_x[b] = q.vertices[0].x;
     bodies.anchor_y[b] = bodies.origin_y[b] = q.vertices[0].y;
     bodies.radius[b] = 0.5 * q.thickness;
@@ -78,14 +90,15 @@ System::System(const Scene& scene)
     bodies.vx[b] = s.vx;
     bodies.vy[b] = s.vy;
   }
-  body_fx_sum.assign(nb, 0.0);
-  body_fy_sum.assign(nb, 0.0);
-  body_torque_sum.assign(nb, 0.0);
+  state.body_fx_sum.assign(nb, 0.0);
+  state.body_fy_sum.assign(nb, 0.0);
+  state.body_torque_sum.assign(nb, 0.0);
 
   // how far beyond touching contacts act (m)
   const double range = scene.interaction_range();
-  lists.configure(domain.xmin, domain.ymin, domain.xmax, domain.ymax, std::max(r_max, 1e-300), scene.skin,
-                  range);
+  const Box& domain = config.domain;
+  state.lists.configure(domain.xmin, domain.ymin, domain.xmax, domain.ymax, std::max(r_max, 1e-300), scene.skin,
+                        range);
   advance_ = advance_kernel(effects);
   initial_forces_ = initial_force_kernel(effects);
   remove_escaped();
@@ -93,15 +106,15 @@ System::System(const Scene& scene)
   rebuild();
   for (const InitialContact& c : scene.initial_contacts) {  // history carried over from a run
     if (c.j >= 0) {
-      lists.set_pair_history(c.i, c.j, c.ft, c.mr);
+      state.lists.set_pair_history(c.i, c.j, c.ft, c.mr);
     } else if (has(effects, effect::walls)) {
       for (std::size_t b = 0; b < nb; ++b)  // a body of the earlier run may be gone: then no history
-        if (bodies.name[b] == c.body) lists.set_wall_history(c.i, static_cast<std::int32_t>(b), c.ft, c.mr);
+        if (bodies.name[b] == c.body) state.lists.set_wall_history(c.i, static_cast<std::int32_t>(b), c.ft, c.mr);
     }
   }
   evaluate_initial_forces();
-  energy.on = scene.output.energy_balance;
-  if (energy.on) energy::start(*this);
+  state.energy.on = scene.output.energy_balance;
+  if (state.energy.on) energy::start(*this);
 }
 
 void System::advance(std::int64_t steps) {
@@ -113,6 +126,9 @@ void System::advance(std::int64_t steps) {
 void System::evaluate_initial_forces() { initial_forces_(*this); }
 
 void System::place_bodies() {
+  Bodies& bodies = state.bodies;
+  const std::int64_t step = state.step;
+  const double dt = config.dt;
   double moved = 0.0;
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     if (!bodies.active[b]) continue;
@@ -137,46 +153,48 @@ void System::place_bodies() {
     }
     bodies.move_to(b, x, y);
   }
-  moved_bodies += moved;
+  cache.moved_bodies += moved;
 }
 
 void System::set_body_velocity(std::size_t b, double vx, double vy) {
-  if ((vx != 0.0 || vy != 0.0) && !has(effects, effect::moving_bodies))
+  Bodies& bodies = state.bodies;
+  if ((vx != 0.0 || vy != 0.0) && !has(config.effects, effect::moving_bodies))
     throw std::invalid_argument("body " + bodies.name[b] + " cannot move: the scene lacks the moving_bodies effect");
   place_bodies();  // positions up to date for this step
   bodies.anchor_x[b] = bodies.shape[b].x0();
   bodies.anchor_y[b] = bodies.shape[b].y0();
-  bodies.anchor_step[b] = step;
+  bodies.anchor_step[b] = state.step;
   bodies.vx[b] = vx;
   bodies.vy[b] = vy;
 }
 
 void System::remove_body(std::size_t b) {
-  bodies.removing[b] = 1;
-  rebuild_pending = true;
+  state.bodies.removing[b] = 1;
+  state.rebuild_pending = true;
 }
 
 std::size_t System::body_index(const std::string& name) const {
-  for (std::size_t b = 0; b < bodies.size(); ++b)
-    if (bodies.name[b] == name) return b;
+  for (std::size_t b = 0; b < state.bodies.size(); ++b)
+    if (state.bodies.name[b] == name) return b;
   throw std::invalid_argument("no body named '" + name + "'");
 }
 
 void System::remove_escaped() {
+  Particles& p = state.p;
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (!p.active[i]) continue;
     const bool finite = std::isfinite(p.x[i]) && std::isfinite(p.y[i]) && std::isfinite(p.vx[i]) &&
                         std::isfinite(p.vy[i]) && std::isfinite(p.omega[i]);
     if (!finite) {
       std::ostringstream msg;
-      msg << "particle " << i << " has a non-finite state at step " << step << " (t = " << time()
+      msg << "particle " << i << " has a non-finite state at step " << state.step << " (t = " << time()
           << " s): the time step is too large for the stiffness, or the scene is unstable";
       failure = msg.str();
       return;
     }
-    if (!domain.contains(p.x[i], p.y[i])) {
-      if (energy.on) energy::remove_grain(*this, i);
-      lost.push_back({static_cast<std::int32_t>(i), step, p.x[i], p.y[i]});
+    if (!config.domain.contains(p.x[i], p.y[i])) {
+      if (state.energy.on) energy::remove_grain(*this, i);
+      state.lost.push_back({static_cast<std::int32_t>(i), state.step, p.x[i], p.y[i]});
       p.active[i] = 0;
       p.vx[i] = p.vy[i] = p.omega[i] = 0.0;
       p.fx[i] = p.fy[i] = p.torque[i] = 0.0;
@@ -186,21 +204,23 @@ void System::remove_escaped() {
 }
 
 void System::freeze_lost() {
+  Particles& p = state.p;
   for (std::size_t i = 0; i < p.size(); ++i)
     if (!p.active[i]) p.inv_mass[i] = p.inv_inertia[i] = 0.0;  // frozen where it left
 }
 
 void System::rebuild() {
+  Bodies& bodies = state.bodies;
   for (std::size_t b = 0; b < bodies.size(); ++b)
     if (bodies.removing[b]) {
       bodies.active[b] = bodies.removing[b] = 0;
       bodies.fx[b] = bodies.fy[b] = bodies.torque[b] = 0.0;
     }
-  lists.rebuild_pairs(p);
-  if (has(effects, effect::walls)) lists.rebuild_walls(p, bodies.shape, bodies.radius, bodies.active);
-  moved_particles = 0.0;
-  moved_bodies = 0.0;
-  rebuild_pending = false;
+  state.lists.rebuild_pairs(state.p);
+  if (has(config.effects, effect::walls)) state.lists.rebuild_walls(state.p, bodies.shape, bodies.radius, bodies.active);
+  cache.moved_particles = 0.0;
+  cache.moved_bodies = 0.0;
+  state.rebuild_pending = false;
   split_work();
 }
 
@@ -208,6 +228,7 @@ void System::rebuild_in_step(bool escaped) {
   // Only removed grains and bodies lose touching contacts at a rebuild (a
   // touching pair is always within the skin), so the stored energy the
   // lists lose is theirs.
+  EnergyLedger& energy = state.energy;
   const double before = energy.on ? elastic_energy(*this) : 0.0;
   if (escaped) remove_escaped();
   if (!failure.empty()) return;
@@ -223,9 +244,9 @@ void System::split_work() {
   // Cost of grain i in units of one gathered contact: its pair rows are
   // evaluated (~2 units a slot), its own and reverse slots summed (1 unit
   // each), its wall slots evaluated and summed, and it is integrated (~2).
-  const std::size_t n = p.size();
-  const PairList& L = lists.pairs;
-  const WallList& W = lists.walls;
+  const std::size_t n = state.p.size();
+  const PairList& L = state.lists.pairs;
+  const WallList& W = state.lists.walls;
   auto cost = [&](std::size_t i) {
     const double own = L.start[i + 1] - L.start[i], rev = L.rev_start[i + 1] - L.rev_start[i];
     const double wall = W.start.size() == n + 1 ? W.start[i + 1] - W.start[i] : 0.0;
@@ -233,7 +254,7 @@ void System::split_work() {
   };
   double total = 0.0;
   for (std::size_t i = 0; i < n; ++i) total += cost(i);
-  const auto nt = static_cast<std::size_t>(threads);
+  const auto nt = static_cast<std::size_t>(config.threads);
   work.part.assign(nt + 1, n);
   work.part[0] = 0;
   double acc = 0.0;
@@ -260,17 +281,17 @@ void System::split_work() {
 Scene with_state(Scene scene, const System& sys) {
   scene.particles.clear();
   for (std::size_t i = 0; i < sys.size(); ++i)
-    if (sys.p.active[i])
+    if (sys.state.p.active[i])
       scene.particles.push_back(
-          {sys.p.x[i], sys.p.y[i], 2.0 * sys.p.radius[i], sys.p.vx[i], sys.p.vy[i], sys.p.omega[i]});
+          {sys.state.p.x[i], sys.state.p.y[i], 2.0 * sys.state.p.radius[i], sys.state.p.vx[i], sys.state.p.vy[i], sys.state.p.omega[i]});
   return scene;
 }
 
 void System::reset_body_sums() {
-  std::fill(body_fx_sum.begin(), body_fx_sum.end(), 0.0);
-  std::fill(body_fy_sum.begin(), body_fy_sum.end(), 0.0);
-  std::fill(body_torque_sum.begin(), body_torque_sum.end(), 0.0);
-  body_sum_steps = 0;
+  std::fill(state.body_fx_sum.begin(), state.body_fx_sum.end(), 0.0);
+  std::fill(state.body_fy_sum.begin(), state.body_fy_sum.end(), 0.0);
+  std::fill(state.body_torque_sum.begin(), state.body_torque_sum.end(), 0.0);
+  state.body_sum_steps = 0;
 }
 
 }  // namespace dem2d

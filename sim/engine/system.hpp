@@ -29,6 +29,68 @@ struct System;
 using AdvanceFn = void (*)(System&, std::int64_t steps);
 using ForceFn = void (*)(System&);
 
+// What the scene fixes: read by every step, changed by none.
+struct SystemConfig {
+  EffectSet effects = 0;
+  double dt = 0.0;  // time step (s)
+  int threads = 1;
+  double gx = 0.0, gy = 0.0;  // gravity (m/s^2)
+  ContactLaw law_pp, law_pw;  // grain-grain and grain-body laws
+  LawCoefficients pp{}, pw{};  // their per-step coefficients
+  Box domain;                  // grains leaving it are removed (m)
+  bool polygon_bodies = false;  // a body's core has 3 or more vertices (kernels: wall_forces)
+};
+
+// What a step changes: everything a checkpoint saves, and nothing else.
+struct SystemState {
+  std::int64_t step = 0;
+  Particles p;
+  Bodies bodies;
+  // The contacts: the lists' layout is derived (rebuilt from the positions on
+  // restore); the history in their slots (tangential springs, rolling
+  // moments, last evaluations) is state.
+  NeighbourLists lists;
+  // Sums of the body force and torque over steps, for interval means.
+  std::vector<double> body_fx_sum, body_fy_sum, body_torque_sum;
+  std::int64_t body_sum_steps = 0;
+  std::vector<LostParticle> lost;
+  EnergyLedger energy;  // where the energy goes (on if the scene asks: output.energy_balance)
+  // A body was removed: the next step rebuilds the lists (after its drift,
+  // so that the step's first half still sees the body's contacts).
+  bool rebuild_pending = false;
+};
+
+// Derived from the state and never saved: when to rebuild the lists.
+struct SystemCache {
+  // Upper bound of how far particles / bodies moved since the last rebuild (m).
+  double moved_particles = 0.0, moved_bodies = 0.0;
+};
+
+// What one step uses and no checkpoint keeps: the threads' shares of the
+// work and their scratch. The results never depend on it.
+struct StepWork {
+  // What each thread's last drift found, one cache line per thread (written
+  // by its thread every step, read by all after the next barrier).
+  struct alignas(kCacheLine) DriftReport {
+    double v2max = 0.0;    // largest speed^2 (m^2/s^2)
+    bool escaped = false;  // a grain left the domain or became non-finite
+  };
+  std::vector<DriftReport> drift;
+  // Thread t integrates and sums the grains [part[t], part[t+1]) and
+  // evaluates their rows of the pair and wall lists; set at each rebuild so
+  // that the threads' shares of work are even (threads + 1 entries). Inner
+  // boundaries are multiples of System::kGrainsPerLine.
+  std::vector<std::size_t> part;
+  // Thread t's grains [part[t], shared_end[t]) are the ones whose kinematics
+  // the pair rows of lower threads read (the half list has j > i): their
+  // cache lines sit in another core when thread t integrates them. Set with
+  // `part`.
+  std::vector<std::size_t> shared_end;
+};
+
+// A run's system: four parts, so that a reader can tell what a step changes
+// (`state`, and `cache` and `work` as its by-products) from what it only
+// reads (`config`).
 struct System {
   explicit System(const Scene& scene);
 
@@ -36,61 +98,16 @@ struct System {
   // if the state becomes non-finite.
   void advance(std::int64_t steps);
 
-  double time() const { return static_cast<double>(step) * dt; }
-  std::size_t size() const { return p.size(); }
+  double time() const { return static_cast<double>(state.step) * config.dt; }
+  std::size_t size() const { return state.p.size(); }
 
-  EffectSet effects = 0;
-  double dt = 0.0;
-  std::int64_t step = 0;
-  int threads = 1;
-  double gx = 0.0, gy = 0.0;
-  ContactLaw law_pp, law_pw;
-  LawCoefficients pp{}, pw{};
-  Box domain;
-
-  Particles p;
-  Bodies bodies;
-  bool polygon_bodies = false;           // a body's core has 3 or more vertices (kernels: wall_forces)
-  NeighbourLists lists;
-
-  // Upper bound of how far particles / bodies moved since the last rebuild (m).
-  double moved_particles = 0.0, moved_bodies = 0.0;
-
-  // Sums of the body force and torque over steps, for interval means.
-  std::vector<double> body_fx_sum, body_fy_sum, body_torque_sum;
-  std::int64_t body_sum_steps = 0;
-  // What one step uses and no checkpoint keeps: the threads' shares of the
-  // work and their scratch. Everything else in the System is the world: the
-  // state a checkpoint saves, and what is derived from it (the lists).
-  struct StepWork {
-    // What each thread's last drift found, one cache line per thread (written
-    // by its thread every step, read by all after the next barrier).
-    struct alignas(kCacheLine) DriftReport {
-      double v2max = 0.0;    // largest speed^2 (m^2/s^2)
-      bool escaped = false;  // a grain left the domain or became non-finite
-    };
-    std::vector<DriftReport> drift;
-    // Thread t integrates and sums the grains [part[t], part[t+1]) and
-    // evaluates their rows of the pair and wall lists; set at each rebuild so
-    // that the threads' shares of work are even (threads + 1 entries). The
-    // results do not depend on it. Inner boundaries are multiples of
-    // kGrainsPerLine.
-    std::vector<std::size_t> part;
-    // Thread t's grains [part[t], shared_end[t]) are the ones whose kinematics
-    // the pair rows of lower threads read (the half list has j > i): their
-    // cache lines sit in another core when thread t integrates them. Set with
-    // `part`.
-    std::vector<std::size_t> shared_end;
-  } work;
+  SystemConfig config;
+  SystemState state;
+  SystemCache cache;
+  StepWork work;
   static constexpr std::size_t kGrainsPerLine = kCacheLine / sizeof(double);
 
-  std::vector<LostParticle> lost;
   std::string failure;  // set by a kernel when the state became non-finite
-
-  EnergyLedger energy;  // where the energy goes (on if the scene asks: output.energy_balance)
-  // A body was removed: the next step rebuilds the lists (after its drift,
-  // so that the step's first half still sees the body's contacts).
-  bool rebuild_pending = false;
 
   // Rebuild the neighbour lists now, reset the displacement bounds and split
   // the work among the threads. When it happens never changes the results,

@@ -62,22 +62,22 @@ void write_header(const h5::File& f, const System& sys, const RunInfo& info, con
   h5::write_attr(f, "/", "scene_path", info.scene_path);
   h5::write_attr(f, "/", "code_version", info.code_version);
   h5::write_attr(f, "/", "threads", i64(info.threads));
-  h5::write_attr(f, "/", "dt", sys.dt);
-  h5::write_attr(f, "/", "steps", i64(sys.step));
+  h5::write_attr(f, "/", "dt", sys.config.dt);
+  h5::write_attr(f, "/", "steps", i64(sys.state.step));
   h5::write_attr(f, "/", "end_time", sys.time());
   h5::write_attr(f, "/", "stop_reason", stop_reason);
   h5::write_attr(f, "/", "stopped_by", info.stopped_by);
-  h5::write_attr(f, "/", "effects", effect_names(sys.effects));
+  h5::write_attr(f, "/", "effects", effect_names(sys.config.effects));
   h5::write_attr(f, "/", "n_particles", i64(sys.size()));
-  h5::write_attr(f, "/", "n_bodies", i64(sys.bodies.size()));
-  h5::write_attr(f, "/", "lost_particles", i64(sys.lost.size()));
+  h5::write_attr(f, "/", "n_bodies", i64(sys.state.bodies.size()));
+  h5::write_attr(f, "/", "lost_particles", i64(sys.state.lost.size()));
   h5::write_attr(f, "/", "initial_run", info.initial_run);
   h5::write_attr(f, "/", "jams", i64(info.jam_times.size()));
   h5::write_attr(f, "/", "wall_seconds", info.wall_seconds);
   h5::write_attr(f, "/", "displacement_window", info.displacement_window);
   h5::write(f, "events/jam_time", info.jam_times);
 
-  const Particles& p = sys.p;
+  const Particles& p = sys.state.p;
   std::vector<std::int32_t> ids;
   std::vector<double> diameter, inertia;
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -90,7 +90,7 @@ void write_header(const h5::File& f, const System& sys, const RunInfo& info, con
   h5::write(f, "particles/mass", p.mass);
   h5::write(f, "particles/inertia", inertia);
 
-  const Bodies& B = sys.bodies;
+  const Bodies& B = sys.state.bodies;
   std::vector<double> thickness, velocity;
   for (std::size_t b = 0; b < B.size(); ++b) {
     thickness.push_back(2.0 * B.radius[b]);
@@ -105,7 +105,7 @@ void write_header(const h5::File& f, const System& sys, const RunInfo& info, con
   h5::write(f, "bodies/thickness", thickness);
   h5::write(f, "bodies/velocity", velocity, {B.size(), 2});
 
-  write_lost(f, sys.lost);
+  write_lost(f, sys.state.lost);
 }
 
 }  // namespace
@@ -113,9 +113,9 @@ void write_header(const h5::File& f, const System& sys, const RunInfo& info, con
 RunRecorder::RunRecorder(const System& sys, std::string work_dir)
     : work_dir_(std::move(work_dir)),
       n_(sys.size()),
-      nb_(sys.bodies.size()),
-      nv_(max_vertices(sys.bodies)),
-      energy_(sys.energy.on) {}
+      nb_(sys.state.bodies.size()),
+      nv_(max_vertices(sys.state.bodies)),
+      energy_(sys.state.energy.on) {}
 
 std::string RunRecorder::segment_path(int k) const {
   char name[32];
@@ -168,16 +168,16 @@ std::vector<RunRecorder::Column> RunRecorder::columns() {
 }
 
 void RunRecorder::record_series(System& sys) {
-  const Bodies& B = sys.bodies;
+  const Bodies& B = sys.state.bodies;
   series_.time.push_back(sys.time());
-  series_.step.push_back(sys.step);
-  const auto steps = static_cast<double>(sys.body_sum_steps);
+  series_.step.push_back(sys.state.step);
+  const auto steps = static_cast<double>(sys.state.body_sum_steps);
   for (std::size_t b = 0; b < B.size(); ++b) {
     series_.force.insert(series_.force.end(), {B.fx[b], B.fy[b]});
     series_.torque.push_back(B.torque[b]);
-    if (sys.body_sum_steps > 0) {
-      series_.force_mean.insert(series_.force_mean.end(), {sys.body_fx_sum[b] / steps, sys.body_fy_sum[b] / steps});
-      series_.torque_mean.push_back(sys.body_torque_sum[b] / steps);
+    if (sys.state.body_sum_steps > 0) {
+      series_.force_mean.insert(series_.force_mean.end(), {sys.state.body_fx_sum[b] / steps, sys.state.body_fy_sum[b] / steps});
+      series_.torque_mean.push_back(sys.state.body_torque_sum[b] / steps);
     } else {
       series_.force_mean.insert(series_.force_mean.end(), {B.fx[b], B.fy[b]});
       series_.torque_mean.push_back(B.torque[b]);
@@ -196,9 +196,9 @@ void RunRecorder::record_series(System& sys) {
 }
 
 void RunRecorder::record_snapshot(const System& sys, const std::vector<double>* reference) {
-  const Particles& p = sys.p;
+  const Particles& p = sys.state.p;
   snap_.time.push_back(sys.time());
-  snap_.step.push_back(sys.step);
+  snap_.step.push_back(sys.state.step);
   for (std::size_t i = 0; i < p.size(); ++i) {
     snap_.position.insert(snap_.position.end(), {p.x[i], p.y[i]});
     snap_.velocity.insert(snap_.velocity.end(), {p.vx[i], p.vy[i]});
@@ -210,17 +210,17 @@ void RunRecorder::record_snapshot(const System& sys, const std::vector<double>* 
     snap_.theta.push_back(p.theta[i]);
     snap_.active.push_back(p.active[i]);
   }
-  append_vertices(snap_.vertices, sys.bodies, nv_);
+  append_vertices(snap_.vertices, sys.state.bodies, nv_);
 
   // acting slots, pairs then walls, in slot order: touching ones, and with
   // cohesion also those attracting across a gap (overlap < 0)
-  const bool friction = has(sys.effects, effect::friction);
-  const bool gaps = reaches_beyond_contact(sys.effects);
+  const bool friction = has(sys.config.effects, effect::friction);
+  const bool gaps = reaches_beyond_contact(sys.config.effects);
   const std::size_t before = contact_.i.size();
   // (ex, ey): the far end of the contact's line from grain i's centre (a grain's centre, a point on a body)
   const auto add = [&](std::size_t i, std::int32_t j, double fn, double ft, double overlap, double nx,
                        double ny, double mr, const LawCoefficients& c, double ex, double ey) {
-    const double load = friction_load(c, sys.effects, fn, overlap);  // what caps friction
+    const double load = friction_load(c, sys.config.effects, fn, overlap);  // what caps friction
     contact_.mu_star.push_back(friction && overlap > 0.0 && load > 0.0 ? std::abs(ft) / (c.mu * load)
                                                                        : std::numeric_limits<double>::quiet_NaN());
     contact_.line.insert(contact_.line.end(), {p.x[i], p.y[i], ex, ey});
@@ -234,22 +234,22 @@ void RunRecorder::record_snapshot(const System& sys, const std::vector<double>* 
     contact_.mr.push_back(mr);
     contact_.sliding.push_back(friction && is_sliding(load, ft, c.mu) ? 1 : 0);
   };
-  const PairList& P = sys.lists.pairs;
+  const PairList& P = sys.state.lists.pairs;
   for (std::size_t i = 0; i + 1 < P.start.size(); ++i)
     for (auto sl = static_cast<std::size_t>(P.start[i]); sl < static_cast<std::size_t>(P.start[i + 1]); ++sl) {
       if (!acted(P.overlap[sl], gaps)) continue;
       const auto j = static_cast<std::size_t>(P.partner[sl]);
       const double dx = p.x[i] - p.x[j], dy = p.y[i] - p.y[j], dist = std::sqrt(dx * dx + dy * dy);
       add(i, P.partner[sl], P.fn[sl], P.ft[sl], P.overlap[sl], dist > 0.0 ? dx / dist : 1.0,
-          dist > 0.0 ? dy / dist : 0.0, P.mr[sl], sys.pp, p.x[j], p.y[j]);
+          dist > 0.0 ? dy / dist : 0.0, P.mr[sl], sys.config.pp, p.x[j], p.y[j]);
     }
-  const WallList& W = sys.lists.walls;
+  const WallList& W = sys.state.lists.walls;
   for (std::size_t i = 0; i + 1 < W.start.size(); ++i)
     for (auto sl = static_cast<std::size_t>(W.start[i]); sl < static_cast<std::size_t>(W.start[i + 1]); ++sl) {
       if (!acted(W.overlap[sl], gaps)) continue;
-      const Proximity g = closest_point(sys.bodies.shape[static_cast<std::size_t>(W.body[sl])], p.x[i], p.y[i]);
+      const Proximity g = closest_point(sys.state.bodies.shape[static_cast<std::size_t>(W.body[sl])], p.x[i], p.y[i]);
       const double reach = p.radius[i] - 0.5 * W.overlap[sl];  // centre to the contact point
-      add(i, -1 - W.body[sl], W.fn[sl], W.ft[sl], W.overlap[sl], g.nx, g.ny, W.mr[sl], sys.pw,
+      add(i, -1 - W.body[sl], W.fn[sl], W.ft[sl], W.overlap[sl], g.nx, g.ny, W.mr[sl], sys.config.pw,
           p.x[i] - reach * g.nx, p.y[i] - reach * g.ny);
     }
   snap_.contact_count.push_back(static_cast<std::int64_t>(contact_.i.size() - before));
@@ -327,7 +327,7 @@ void RunRecorder::finish(const System& sys, const RunInfo& info, const std::stri
         static_cast<hsize_t>(start.back()) != h5::shape(f, "contacts/i").at(0))
       throw std::runtime_error(work_dir_ + ": the segment files do not hold the recorded rows");
     XdmfLayout view{out.filename().string(), times, start, {}, n_, nv_};
-    for (const Shape& shape : sys.bodies.shape) view.vertex_count.push_back(shape.n);
+    for (const Shape& shape : sys.state.bodies.shape) view.vertex_count.push_back(shape.n);
     write_xdmf_indices(f, view);
     describe_run_file(f);
     write_xdmf(xdmf_tmp, view);

@@ -14,7 +14,7 @@ BodyRemovals::BodyRemovals(const Scene& scene) {
 }
 
 std::string BodyRemovals::act(System& sys) {
-  for (; next_ < at_.size() && at_[next_].first == sys.step; ++next_) sys.remove_body(at_[next_].second);
+  for (; next_ < at_.size() && at_[next_].first == sys.state.step; ++next_) sys.remove_body(at_[next_].second);
   return "";
 }
 

@@ -108,28 +108,28 @@ void write_checkpoint(const std::string& path, const System& sys, std::span<Cont
     h5::write_attr(f, "/", "format", std::string(kFormat));
     h5::write_attr(f, "/", "scene_text", scene_text);
     h5::write_attr(f, "/", "code_version", code_version());
-    h5::write_attr(f, "/", "step", sys.step);
+    h5::write_attr(f, "/", "step", sys.state.step);
     h5::write_attr(f, "/", "wall_seconds", wall_seconds);
     for (Controller* c : controllers) c->save(ControllerState(f, controller_group(c)));
-    for (const auto& [name, v] : particle_arrays(sys.p)) h5::write(f, std::string("particles/") + name, *v);
-    h5::write(f, "particles/active", sys.p.active);
-    const bool gaps = reaches_beyond_contact(sys.effects);
-    write_history(f, "pairs", sys.lists.pairs, sys.lists.pairs.partner, gaps);
-    write_history(f, "walls", sys.lists.walls, sys.lists.walls.body, gaps);
-    const Bodies& B = sys.bodies;
+    for (const auto& [name, v] : particle_arrays(sys.state.p)) h5::write(f, std::string("particles/") + name, *v);
+    h5::write(f, "particles/active", sys.state.p.active);
+    const bool gaps = reaches_beyond_contact(sys.config.effects);
+    write_history(f, "pairs", sys.state.lists.pairs, sys.state.lists.pairs.partner, gaps);
+    write_history(f, "walls", sys.state.lists.walls, sys.state.lists.walls.body, gaps);
+    const Bodies& B = sys.state.bodies;
     for (const auto& [name, v] : body_arrays(B)) h5::write(f, std::string("bodies/") + name, *v);
     h5::write(f, "bodies/anchor_step", B.anchor_step);
     h5::write(f, "bodies/active", B.active);
     h5::write(f, "bodies/removing", B.removing);
-    h5::write_attr(f, "/", "rebuild_pending", static_cast<std::int64_t>(sys.rebuild_pending));
-    h5::write(f, "bodies/fx_sum", sys.body_fx_sum);
-    h5::write(f, "bodies/fy_sum", sys.body_fy_sum);
-    h5::write(f, "bodies/torque_sum", sys.body_torque_sum);
-    h5::write_attr(f, "/", "body_sum_steps", sys.body_sum_steps);
-    write_lost(f, sys.lost);
-    for (const auto& [name, v] : accumulators(sys.energy)) h5::write(f, std::string("energy/") + name, *v);
-    h5::write_attr(f, "/", "energy_removed", sys.energy.removed);
-    h5::write_attr(f, "/", "energy_error_offset", sys.energy.error_offset);
+    h5::write_attr(f, "/", "rebuild_pending", static_cast<std::int64_t>(sys.state.rebuild_pending));
+    h5::write(f, "bodies/fx_sum", sys.state.body_fx_sum);
+    h5::write(f, "bodies/fy_sum", sys.state.body_fy_sum);
+    h5::write(f, "bodies/torque_sum", sys.state.body_torque_sum);
+    h5::write_attr(f, "/", "body_sum_steps", sys.state.body_sum_steps);
+    write_lost(f, sys.state.lost);
+    for (const auto& [name, v] : accumulators(sys.state.energy)) h5::write(f, std::string("energy/") + name, *v);
+    h5::write_attr(f, "/", "energy_removed", sys.state.energy.removed);
+    h5::write_attr(f, "/", "energy_error_offset", sys.state.energy.error_offset);
     h5::seal(f);
   });
 }
@@ -147,22 +147,22 @@ double read_checkpoint(const std::string& path, System& sys, std::span<Controlle
     throw std::runtime_error(path + ": not a dem2d checkpoint");
   h5::check_seal(f);
   const std::size_t n = sys.size();
-  for (const auto& [name, v] : particle_arrays(sys.p)) {
+  for (const auto& [name, v] : particle_arrays(sys.state.p)) {
     const std::vector<double> column = h5::read<double>(f, std::string("particles/") + name);
     v->assign(column.begin(), column.end());
     if (v->size() != n) throw std::runtime_error(path + ": particle count differs from the scene's");
   }
   const std::vector<std::uint8_t> active = h5::read<std::uint8_t>(f, "particles/active");
-  sys.p.active.assign(active.begin(), active.end());
+  sys.state.p.active.assign(active.begin(), active.end());
   sys.freeze_lost();
-  sys.step = h5::read_attr_int(f, "/", "step");
-  sys.lost.clear();
+  sys.state.step = h5::read_attr_int(f, "/", "step");
+  sys.state.lost.clear();
   const auto id = h5::read<std::int32_t>(f, "lost/id");
   const auto step = h5::read<std::int64_t>(f, "lost/step");
   const auto x = h5::read<double>(f, "lost/x"), y = h5::read<double>(f, "lost/y");
-  for (std::size_t k = 0; k < id.size(); ++k) sys.lost.push_back({id[k], step[k], x[k], y[k]});
+  for (std::size_t k = 0; k < id.size(); ++k) sys.state.lost.push_back({id[k], step[k], x[k], y[k]});
 
-  Bodies& B = sys.bodies;
+  Bodies& B = sys.state.bodies;
   for (const auto& [name, v] : body_arrays(B)) *v = h5::read<double>(f, std::string("bodies/") + name);
   B.anchor_step = h5::read<std::int64_t>(f, "bodies/anchor_step");
   B.active = h5::read<std::uint8_t>(f, "bodies/active");
@@ -174,19 +174,19 @@ double read_checkpoint(const std::string& path, System& sys, std::span<Controlle
   sys.place_bodies();
   sys.rebuild();
   B.removing = removing;
-  sys.rebuild_pending = h5::read_attr_int(f, "/", "rebuild_pending") != 0;
-  read_history(f, "pairs", sys.lists.pairs, sys.lists, false);
-  if (has(sys.effects, effect::walls)) read_history(f, "walls", sys.lists.walls, sys.lists, true);
-  for (const auto& [name, v] : accumulators(sys.energy)) {
+  sys.state.rebuild_pending = h5::read_attr_int(f, "/", "rebuild_pending") != 0;
+  read_history(f, "pairs", sys.state.lists.pairs, sys.state.lists, false);
+  if (has(sys.config.effects, effect::walls)) read_history(f, "walls", sys.state.lists.walls, sys.state.lists, true);
+  for (const auto& [name, v] : accumulators(sys.state.energy)) {
     const std::vector<double> column = h5::read<double>(f, std::string("energy/") + name);
     v->assign(column.begin(), column.end());
   }
-  sys.energy.removed = h5::read_attr_double(f, "/", "energy_removed");
-  sys.energy.error_offset = h5::read_attr_double(f, "/", "energy_error_offset");
-  sys.body_fx_sum = h5::read<double>(f, "bodies/fx_sum");
-  sys.body_fy_sum = h5::read<double>(f, "bodies/fy_sum");
-  sys.body_torque_sum = h5::read<double>(f, "bodies/torque_sum");
-  sys.body_sum_steps = h5::read_attr_int(f, "/", "body_sum_steps");
+  sys.state.energy.removed = h5::read_attr_double(f, "/", "energy_removed");
+  sys.state.energy.error_offset = h5::read_attr_double(f, "/", "energy_error_offset");
+  sys.state.body_fx_sum = h5::read<double>(f, "bodies/fx_sum");
+  sys.state.body_fy_sum = h5::read<double>(f, "bodies/fy_sum");
+  sys.state.body_torque_sum = h5::read<double>(f, "bodies/torque_sum");
+  sys.state.body_sum_steps = h5::read_attr_int(f, "/", "body_sum_steps");
 
   for (Controller* c : controllers) c->restore(ControllerState(f, controller_group(c)));
   return h5::read_attr_double(f, "/", "wall_seconds");

@@ -67,7 +67,7 @@ class Controller {
   virtual std::string name() const = 0;
   // The next step at which it must act (kNever: none).
   virtual std::int64_t next_step() const = 0;
-  // Runs when sys.step == next_step(). A non-empty result ends the run and
+  // Runs when sys.state.step == next_step(). A non-empty result ends the run and
   // is its stop reason.
   virtual std::string act(System& sys) = 0;
   // After act() ended the run: which criterion did (the run file's

@@ -11,10 +11,10 @@ namespace dem2d {
 JamController::JamController(const JamControl& spec, const System& sys) : spec_(spec) {
   if (!spec_.enabled) return;
   for (const std::string& name : spec_.bodies) walls_.push_back(sys.body_index(name));
-  every_ = steps_every(spec_.check_interval, sys.dt);
-  no_flow_ = steps_every(spec_.no_flow_time, sys.dt);
-  half_tap_ = steps_every(0.5 * spec_.tap_duration, sys.dt);
-  start_ = steps_in(spec_.start_time, sys.dt);
+  every_ = steps_every(spec_.check_interval, sys.config.dt);
+  no_flow_ = steps_every(spec_.no_flow_time, sys.config.dt);
+  half_tap_ = steps_every(0.5 * spec_.tap_duration, sys.config.dt);
+  start_ = steps_in(spec_.start_time, sys.config.dt);
   st_.next_check = (start_ + every_ - 1) / every_ * every_;
   st_.last_flow = start_;
 }
@@ -32,7 +32,7 @@ void JamController::move_walls(System& sys, double vx, double vy) const {
 }
 
 std::string JamController::act(System& sys) {
-  const std::int64_t step = sys.step;
+  const std::int64_t step = sys.state.step;
   if (step == st_.tap_reverse) {
     move_walls(sys, -spec_.tap_vx, -spec_.tap_vy);
     st_.tap_reverse = -1;
@@ -47,7 +47,7 @@ std::string JamController::act(System& sys) {
 
   std::int64_t above = 0;
   for (std::size_t i = 0; i < sys.size(); ++i)
-    above += sys.p.active[i] && sys.p.y[i] > spec_.outlet_height;
+    above += sys.state.p.active[i] && sys.state.p.y[i] > spec_.outlet_height;
   if (st_.last_count < 0 || above < st_.last_count) st_.last_flow = step;
   st_.last_count = above;
   const bool tapping = st_.tap_end >= 0;

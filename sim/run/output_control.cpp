@@ -25,33 +25,33 @@ void OutputController::take_reference(const System& sys) {
   ref_for_ = next_snapshot_;
   ref_position_.resize(2 * sys.size());
   for (std::size_t i = 0; i < sys.size(); ++i) {
-    ref_position_[2 * i] = sys.p.x[i];
-    ref_position_[2 * i + 1] = sys.p.y[i];
+    ref_position_[2 * i] = sys.state.p.x[i];
+    ref_position_[2 * i + 1] = sys.state.p.y[i];
   }
 }
 
 std::string OutputController::act(System& sys) {
-  if (sys.step == next_series_) {
+  if (sys.state.step == next_series_) {
     recorder_.record_series(sys);
-    last_series_ = sys.step;
+    last_series_ = sys.state.step;
     next_series_ += every_series_;
   }
-  if (window_ && sys.step == ref_step()) take_reference(sys);
-  if (sys.step == next_snapshot_) {
-    recorder_.record_snapshot(sys, ref_for_ == sys.step ? &ref_position_ : nullptr);
+  if (window_ && sys.state.step == ref_step()) take_reference(sys);
+  if (sys.state.step == next_snapshot_) {
+    recorder_.record_snapshot(sys, ref_for_ == sys.state.step ? &ref_position_ : nullptr);
     ref_for_ = -1;
-    last_snapshot_ = sys.step;
+    last_snapshot_ = sys.state.step;
     next_snapshot_ += every_snapshot_;
     // a window as long as the interval starts at this snapshot
-    if (window_ && sys.step == ref_step()) take_reference(sys);
+    if (window_ && sys.state.step == ref_step()) take_reference(sys);
   }
   return "";
 }
 
 void OutputController::finish(System& sys) {
   // the final state always ends the run file, so that later stages can start from it
-  if (every_series_ && last_series_ != sys.step) recorder_.record_series(sys);
-  if (last_snapshot_ != sys.step) recorder_.record_snapshot(sys);
+  if (every_series_ && last_series_ != sys.state.step) recorder_.record_series(sys);
+  if (last_snapshot_ != sys.state.step) recorder_.record_snapshot(sys);
 }
 
 void OutputController::save(const ControllerState& out) {

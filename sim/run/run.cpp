@@ -82,24 +82,24 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   }
   auto wall_now = [&] { return wall_before + std::chrono::duration<double>(Clock::now() - t_start).count(); };
   auto checkpoint = [&] { write_checkpoint(ckpt, sys, controllers, wall_now(), scene.text); };
-  const std::int64_t first_step = sys.step;
-  const std::int64_t first_rebuild = sys.lists.rebuild_count;
+  const std::int64_t first_step = sys.state.step;
+  const std::int64_t first_rebuild = sys.state.lists.rebuild_count;
   const std::int64_t total = duration.last_step();
   Progress progress(opt.progress, out_dir / "run.log", scene.dt, sys.size(), first_step);
   progress.note(std::string(report.resumed ? "resumed" : "started") + " '" + scene.name + "' at step " +
-                std::to_string(first_step) + " of " + std::to_string(total) + ", " + std::to_string(sys.threads) +
+                std::to_string(first_step) + " of " + std::to_string(total) + ", " + std::to_string(sys.config.threads) +
                 " threads" + (scene.path.empty() ? "" : ", scene " + scene.path));
   auto finish_report = [&](bool complete) {
     report.complete = complete;
-    report.final_step = sys.step;
-    report.steps = sys.step - first_step;
+    report.final_step = sys.state.step;
+    report.steps = sys.state.step - first_step;
     report.wall_seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
-    const auto active = static_cast<double>(std::count(sys.p.active.begin(), sys.p.active.end(), 1));
+    const auto active = static_cast<double>(std::count(sys.state.p.active.begin(), sys.state.p.active.end(), 1));
     if (report.steps > 0 && active > 0)
       report.ns_per_particle_step = report.wall_seconds * 1e9 / (static_cast<double>(report.steps) * active);
-    report.rebuilds = sys.lists.rebuild_count - first_rebuild;
-    if (active > 0) report.candidates_per_grain = static_cast<double>(sys.lists.pairs.slots()) / active;
-    report.lost = sys.lost.size();
+    report.rebuilds = sys.state.lists.rebuild_count - first_rebuild;
+    if (active > 0) report.candidates_per_grain = static_cast<double>(sys.state.lists.pairs.slots()) / active;
+    report.lost = sys.state.lost.size();
     report.jams = jam.jam_times().size();
     return report;
   };
@@ -107,35 +107,35 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   std::int64_t chunk = 64;
   while (report.stop_reason.empty()) {
     for (Controller* c : controllers)
-      if (c->next_step() == sys.step && !(report.stop_reason = c->act(sys)).empty()) {
+      if (c->next_step() == sys.state.step && !(report.stop_reason = c->act(sys)).empty()) {
         report.stopped_by = c->stop_criterion();
         break;
       }
     if (!report.stop_reason.empty()) break;
-    if (g_interrupt.load() || sys.step == opt.interrupt_at_step) {
+    if (g_interrupt.load() || sys.state.step == opt.interrupt_at_step) {
       checkpoint();
       progress.done();
-      progress.note("interrupted at step " + std::to_string(sys.step) + ": checkpoint written; rerun to resume");
+      progress.note("interrupted at step " + std::to_string(sys.state.step) + ": checkpoint written; rerun to resume");
       return finish_report(false);
     }
     if (scene.output.checkpoint_interval > 0.0 &&
         std::chrono::duration<double>(Clock::now() - last_checkpoint).count() >= scene.output.checkpoint_interval) {
       checkpoint();
       last_checkpoint = Clock::now();
-      progress.note("checkpoint at step " + std::to_string(sys.step));
+      progress.note("checkpoint at step " + std::to_string(sys.state.step));
     }
 
-    std::int64_t target = sys.step + chunk;
+    std::int64_t target = sys.state.step + chunk;
     for (const Controller* c : controllers) target = std::min(target, c->next_step());
-    if (opt.interrupt_at_step > sys.step) target = std::min(target, opt.interrupt_at_step);
+    if (opt.interrupt_at_step > sys.state.step) target = std::min(target, opt.interrupt_at_step);
     const auto t0 = Clock::now();
-    const std::int64_t n = target - sys.step;
+    const std::int64_t n = target - sys.state.step;
     sys.advance(n);
     const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
     // aim at ~0.1 s per call: responsive to signals and checkpoints, negligible overhead
     if (n == chunk && secs > 0)
       chunk = std::clamp<std::int64_t>(static_cast<std::int64_t>(static_cast<double>(n) / secs * 0.1), 1, 1 << 24);
-    if (progress.due()) progress.update(sys.step, sys.time(), forecast_end(controllers, sys));
+    if (progress.due()) progress.update(sys.state.step, sys.time(), forecast_end(controllers, sys));
   }
   progress.done();
   for (Controller* c : controllers) c->finish(sys);
@@ -146,7 +146,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   info.scene_text = scene.text;
   info.scene_path = scene.path;
   info.code_version = code_version();
-  info.threads = sys.threads;
+  info.threads = sys.config.threads;
   info.initial_run = scene.initial_run;
   info.jam_times = jam.jam_times();
   info.wall_seconds = wall_now();
@@ -154,7 +154,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   report.run_file = (out_dir / "run.h5").string();
   recorder.finish(sys, info, report.run_file, report.stop_reason);
   fs::remove_all(work);
-  progress.note("finished at step " + std::to_string(sys.step) + " (t = " + std::to_string(sys.time()) + " s): " +
+  progress.note("finished at step " + std::to_string(sys.state.step) + " (t = " + std::to_string(sys.time()) + " s): " +
                 report.stop_reason + " -> " + report.run_file);
   return finish_report(true);
 }

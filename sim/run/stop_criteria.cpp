@@ -26,8 +26,8 @@ StopCriteria::StopCriteria(const Scene& scene, const System& sys)
 
 std::string StopCriteria::act(System& sys) {
   next_check_ += every_;
-  if (free_ && held_by_bed(sys, free_body_)) last_contact_ = sys.step;
-  if (free_ && sys.step - last_contact_ >= free_steps_) {
+  if (free_ && held_by_bed(sys, free_body_)) last_contact_ = sys.state.step;
+  if (free_ && sys.state.step - last_contact_ >= free_steps_) {
     met_ = "body_free";
     return "body " + stop_.body_free + " free of the bed for " + shortest(stop_.free_time) + " s";
   }
@@ -48,12 +48,12 @@ EndForecast StopCriteria::forecast(const System& sys) const {
   EndForecast f;
   f.may_end_sooner = energy_ && every_ > 0;
   if (!free_ || every_ == 0) return f;
-  const Bodies& B = sys.bodies;
+  const Bodies& B = sys.state.bodies;
   const double vy = B.vy[free_body_];
   const double surface = bed_surface_beside(sys, free_body_);
   if (!B.active[free_body_] || !(vy > 0.0) || !std::isfinite(surface)) return f;
   const double bottom = core_bounds(B.shape[free_body_]).ymin - B.radius[free_body_];
-  const double now = sys.time(), last_held = static_cast<double>(last_contact_) * sys.dt;
+  const double now = sys.time(), last_held = static_cast<double>(last_contact_) * sys.config.dt;
   const double clear = bottom < surface ? now + (surface - bottom) / vy : std::max(now, last_held);
   f.time = std::max(clear + stop_.free_time, now);
   f.what = stop_.body_free + " clear of the bed + " + shortest(stop_.free_time) + " s";

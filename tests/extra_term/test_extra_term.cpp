@@ -60,7 +60,7 @@ TEST(ExtraTerm, EnergyLedgerCountsItsEnergy) {
     const EnergyBalance b = energy::balance(sys);
     worst_error = std::max(worst_error, std::abs(b.integration_error));
     worst_damping = std::max(worst_damping, std::abs(b.normal_damping));
-    const double overlap = d - (sys.p.x[1] - sys.p.x[0]);
+    const double overlap = d - (sys.state.p.x[1] - sys.state.p.x[0]);
     if (overlap > deepest) deepest = overlap, stored_at_deepest = b.elastic_normal;
   }
   const double m_eff = 0.5 * kDensity * M_PI * d * d / 4.0;
