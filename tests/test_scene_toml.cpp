@@ -14,6 +14,7 @@
 #include <string_view>
 
 #include "engine/kernel_sets.hpp"
+#include "io/toml_reader.hpp"
 #include "scene/generators.hpp"
 #include "scene/scene_toml.hpp"
 #include "temp_dir.hpp"
@@ -726,6 +727,26 @@ TEST(SceneTomlErrors, UnreadableFile) {
         e.what(),
         "scenes/does_not_exist.toml: cannot read the scene file: No such file or directory");
   }
+}
+
+// What is not a scene file is refused before it is read: a device that never
+// ends (/dev/zero used to be read until memory ran out), a directory, a file
+// larger than any scene.
+TEST(SceneTomlErrors, NotARegularFileOrTooLarge) {
+  const auto message = [](const std::string& path) {
+    try {
+      load_scene(path);
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message("/dev/zero"), "/dev/zero: cannot read the scene file: not a regular file");
+  const TempDir dir;
+  EXPECT_EQ(message(dir.path().string()), dir.path().string() + ": cannot read the scene file: not a regular file");
+  const std::string big = dir.file("big.toml", "#\n");
+  std::filesystem::resize_file(big, TomlFile::kMaxBytes + 1);  // sparse: no disk used
+  EXPECT_EQ(message(big), big + ": cannot read the scene file: larger than 256 MiB, more than any scene or settings file");
 }
 
 TEST(SceneTomlErrors, TomlSyntaxError) {

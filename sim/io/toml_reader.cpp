@@ -1,7 +1,10 @@
 #include "io/toml_reader.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <sstream>
 
@@ -67,11 +70,32 @@ toml::table TomlFile::parse(std::string_view text) const {
 
 toml::table TomlFile::parse_file() const {
   if (!std::filesystem::exists(path)) error(path + ": no such file");
-  try {
-    return toml::parse_file(path);
-  } catch (const toml::parse_error& e) {
-    fail(&e.source(), "TOML syntax error: " + std::string(e.description()));
+  return parse(read());
+}
+
+std::string TomlFile::read(const char* what) const {
+  const std::string cannot = path + ": cannot read the " + what + ": ";
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);  // follows symbolic links
+  if (ec) error(cannot + ec.message());
+  if (!std::filesystem::is_regular_file(status)) error(cannot + "not a regular file");
+  const auto too_large = [&] {
+    error(cannot + "larger than " + std::to_string(kMaxBytes >> 20) + " MiB, more than any scene or settings file");
+  };
+  if (std::filesystem::file_size(path, ec) > kMaxBytes && !ec) too_large();
+  std::string text;
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  int err = file ? 0 : errno;
+  if (file) {
+    char buf[65536];
+    std::size_t got;
+    while (text.size() <= kMaxBytes && (got = std::fread(buf, 1, sizeof buf, file)) > 0) text.append(buf, got);
+    if (std::ferror(file)) err = errno ? errno : EIO;
+    std::fclose(file);
   }
+  if (err) error(cannot + std::strerror(err));
+  if (text.size() > kMaxBytes) too_large();  // (what was read: a file can grow, or report no size)
+  return text;
 }
 
 // ---------------------------------------------------------------- a table

@@ -4,11 +4,8 @@
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <optional>
@@ -686,21 +683,6 @@ Scene parse_table(const toml::table& root, std::string text, const std::string& 
   return s;
 }
 
-std::string read_text(const std::string& path, const char* what) {
-  std::string text;
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  int err = file ? 0 : errno;
-  if (file) {
-    char buf[65536];
-    std::size_t got;
-    while ((got = std::fread(buf, 1, sizeof buf, file)) > 0) text.append(buf, got);
-    if (std::ferror(file)) err = errno ? errno : EIO;
-    std::fclose(file);
-  }
-  if (err) throw SceneError(path + ": cannot read the " + what + ": " + std::strerror(err));
-  return text;
-}
-
 // An array of tables each with a string `name` (e.g. [[body]]).
 bool named_tables(const toml::node& n) {
   const toml::array* a = n.as_array();
@@ -755,11 +737,11 @@ Scene parse_scene(std::string_view text, const std::string& path_for_messages) {
 }
 
 Scene load_scene(const std::string& path, const SceneSources& extra) {
-  std::string text = read_text(path, "scene file");
+  std::string text = File(path).read("scene file");
   if (extra.overlays.empty() && extra.initial_run.empty()) return parse_scene(text, path);
   toml::table root = parse_toml(text, path);
   for (const std::string& overlay : extra.overlays)
-    merge_into(root, parse_toml(read_text(overlay, "overlay file"), overlay));
+    merge_into(root, parse_toml(File(overlay).read("overlay file"), overlay));
   if (!extra.initial_run.empty()) {
     if (!root.contains("initial")) root.insert("initial", toml::table{});
     root.get_as<toml::table>("initial")->insert_or_assign(
