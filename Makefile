@@ -43,7 +43,9 @@
 #   make clean      remove build/ (results/ stays)
 
 SHELL := /bin/bash
+include pipeline/make_vars.mk
 JOBS ?= $(shell nproc)
+$(call check_count,JOBS,1,1024)
 BUILD := build/release
 SANITIZE_BUILD := build/sanitize
 # INSTALLED=DIR: the study's targets run the programs of `make install PREFIX=DIR`
@@ -90,8 +92,12 @@ OVERLAY := $(foreach f,$(OVERLAY_FILES),--overlay $(f))
 # (make accuracy gives each sweep point a bed made elsewhere).
 FILL_RUN ?= $(RESULTS)/fill/run.h5
 THREADS ?= $(JOBS)
+$(call check_count,THREADS,1,1024)
+$(call check_name,PRESET,$(PRESET_NAMES))
+$(if $(INTRUDER),$(call check_name,INTRUDER,$(INTRUDER_NAMES)))
 # seconds of wall time between a simulation's progress lines (in the make log and DIR/run.log)
 PROGRESS ?= 60
+$(call check_count,PROGRESS,1,86400)
 
 # Debian's packages for building and running the study; the tests' own (pytest, ParaView's Python)
 DEBIAN_PACKAGES := g++ cmake make pkg-config git \
@@ -213,12 +219,6 @@ $(DEM2D) $(STAGE_PROGRAMS) $(CHECK):
 	@echo "make: INSTALLED=$(INSTALLED) has no $@: run make install PREFIX=$(INSTALLED) first" >&2; exit 1
 endif
 
-ifneq ($(PRESET),quick)
-ifeq ($(wildcard $(PRESET_FILE)),)
-$(error PRESET=$(PRESET): there is no $(PRESET_FILE); use PRESET=default, fast, paper or quick)
-endif
-endif
-
 # $(call timed,COMMAND): runs COMMAND, then records its wall time beside the
 # target ($(@D)/timing.json, read into the cost table of the report). When it
 # fails, says how to remake a missing or corrupt input.
@@ -333,11 +333,7 @@ validate: build
 MEMBERS ?= 4
 EXECUTOR ?= local
 ENSEMBLE := $(RESULTS)/ensemble
-ifneq ($(filter ensemble $(ENSEMBLE)/%,$(MAKECMDGOALS)),)
-ifneq ($(shell [ "$(MEMBERS)" -ge 1 ] 2>/dev/null && echo ok),ok)
-$(error MEMBERS=$(MEMBERS): must be an integer >= 1)
-endif
-endif
+$(call check_count,MEMBERS,1,1000)
 MEMBER_DIRS := $(foreach k,$(shell seq -f '%03g' 0 $$(( $(MEMBERS) - 1 )) 2>/dev/null),$(ENSEMBLE)/member_$(k))
 
 $(ENSEMBLE)/member_%/member.toml: $(FILL_SCENE) $(OVERLAY_FILES) pipeline/ensemble/member_overlay.py

@@ -1,0 +1,22 @@
+# The Makefile's variables that a user sets (make ... NAME=VALUE), checked once
+# as numbers or names: a clear error naming the variable, the value and what is
+# allowed, never a silent reinterpretation (MEMBERS=010 read as octal, a PRESET
+# that is a path out of results/, a count that makes make -n run for ever).
+
+# $(call sh_word,TEXT): TEXT as one single-quoted shell word
+sh_word = '$(subst ','\'',$(1))'
+
+# $(call check_count,NAME,MIN,MAX): $(NAME) must be a decimal whole number from MIN to MAX
+# (digits only: no sign, no leading zero, no spaces)
+# (the case patterns open with a parenthesis too: make counts them; 10 digits or more are refused
+# before the shell compares them as numbers)
+check_count = $(if $(shell v=$(call sh_word,$($(1))); case "$$v" in (''|0?*|*[!0-9]*|??????????*) ;; \
+  (*) [ "$$v" -ge $(2) ] && [ "$$v" -le $(3) ] && echo ok;; esac),,\
+  $(error $(1)=$($(1)): must be a whole number from $(2) to $(3), in decimal digits without a leading zero))
+
+# $(call check_name,NAME,ALLOWED...): $(NAME) must be one of the words ALLOWED
+check_name = $(if $(and $(filter 1,$(words $($(1)))),$(filter $($(1)),$(2))),,\
+  $(error $(1)=$($(1)): must be one of: $(strip $(2))))
+
+PRESET_NAMES := quick $(sort $(basename $(notdir $(wildcard pipeline/presets/*.toml))))
+INTRUDER_NAMES := $(sort $(basename $(notdir $(wildcard pipeline/intruders/*.toml))))
