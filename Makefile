@@ -47,6 +47,8 @@ include pipeline/make_vars.mk
 JOBS ?= $(shell nproc)
 $(call check_count,JOBS,1,1024)
 BUILD := build/release
+# the analysis stages' registry (docs/stages.md)
+STAGE_REGISTRY ?= pipeline/stages.toml
 SANITIZE_BUILD := build/sanitize
 # INSTALLED=DIR: the study's targets run the programs of `make install PREFIX=DIR`
 # (DIR/bin/dem2d, DIR/libexec/dem2d/<stage>) instead of building them here
@@ -133,8 +135,10 @@ needs needs-test:
 
 # NATIVE=ON (this tree's default): optimised for this machine's CPU; the installed default is portable
 NATIVE ?= ON
-$(BUILD)/CMakeCache.txt: | needs
+# (configured again when the stage registry changes: a new stage's folder becomes a target)
+$(BUILD)/CMakeCache.txt: $(STAGE_REGISTRY) | needs
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DDEM2D_NATIVE=$(NATIVE) -DDEM2D_PYTHON=$(PYTHON)
+	@touch $@
 
 build: $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j $(JOBS)
@@ -196,7 +200,6 @@ bench-compare: build
 # --- the study's stages: file targets, so only what is stale reruns --------
 # The analysis stages' rules come from their registry, pipeline/stages.toml
 # (generated into $(BUILD)/stages.mk; docs/stages.md).
-STAGE_REGISTRY ?= pipeline/stages.toml
 STAGES_MK := $(BUILD)/$(basename $(notdir $(STAGE_REGISTRY))).mk
 ifneq ($(MAKECMDGOALS),clean)
 include $(STAGES_MK)

@@ -211,7 +211,10 @@ name = "block"
   EXPECT_NE(error("shape = \"rectangle\"\na = [0, 0]\ncentre = [0, 0]\nsize = [0.01, 0.002]\nthickness = 0\n")
                 .find("body[0].a = [0, 0]: given but a rectangle does not take it"),
             std::string::npos);
-  EXPECT_NE(error("shape = \"disc\"\nthickness = 0\n").find("unknown shape kind (allowed: segment, rectangle, polygon)"),
+  std::string allowed;  // every registered kind, in the registry's order
+  for (const ShapeKind& k : shape_kinds()) allowed += (allowed.empty() ? "" : ", ") + std::string(k.name);
+  EXPECT_EQ(allowed.rfind("segment, rectangle, polygon", 0), 0u) << allowed;
+  EXPECT_NE(error("shape = \"disc\"\nthickness = 0\n").find("unknown shape kind (allowed: " + allowed + ")"),
             std::string::npos);
 }
 

@@ -21,7 +21,7 @@ class Body:
     index: int
     name: str
     role: str          # intruder, floor, left_wall, right_wall, hopper, or ""
-    shape: str         # segment, rectangle, polygon
+    shape: str         # its shape kind (segment, rectangle, polygon, ...)
     thickness: float   # m
     vertex_count: int
 

@@ -4,6 +4,7 @@
 
 #include "engine/energy_ledger.hpp"
 #include "io/h5.hpp"
+#include "shape/shape_kinds.hpp"
 
 namespace dem2d {
 
@@ -16,7 +17,6 @@ constexpr DatasetMeaning kMeanings[] = {
     {"particles/inertia", "kg m", "moment of inertia per unit depth, m d^2 / 8"},
     {"bodies/name", "-", "body name from the scene"},
     {"bodies/role", "-", "body role from the scene: intruder, floor, left_wall, right_wall, hopper, or empty"},
-    {"bodies/shape", "-", "the scene's shape kind: segment, rectangle, polygon"},
     {"bodies/vertex_count", "-", "vertices of the body's core (2: a segment; >= 3: a polygon, counter-clockwise)"},
     {"bodies/thickness", "m", "rounding diameter: the body is every point within thickness/2 of its core"},
     {"bodies/velocity", "m/s", "prescribed velocity (vx, vy) at the end of the run"},
@@ -70,6 +70,10 @@ void describe_run_file(const h5::File& f) {
     h5::write_attr(f, path, "description", std::string(m.description));
   };
   for (const DatasetMeaning& m : kMeanings) describe(std::string(m.path), m);
+  std::string kinds;  // from the registry: a new kind is named without an edit here
+  for (const ShapeKind& k : shape_kinds()) kinds += (kinds.empty() ? "" : ", ") + std::string(k.name);
+  const std::string shape = "the scene's shape kind: " + kinds;
+  describe("bodies/shape", {"bodies/shape", "-", shape});
   for (const auto& [term, value] : EnergyBalance{}.terms())
     describe(std::string(kEnergy.path) + term, kEnergy);
 }

@@ -5,12 +5,16 @@
 
 namespace dem2d {
 
-extern const ShapeKind kSegmentShape;    // shape/segment_shape.cpp
-extern const ShapeKind kRectangleShape;  // shape/rectangle_shape.cpp
-extern const ShapeKind kPolygonShape;    // shape/polygon_shape.cpp
+#define DEM2D_SHAPE(kind) extern const ShapeKind kind;
+#include "shape/shape_list.inc"
+#undef DEM2D_SHAPE
 
 const std::vector<ShapeKind>& shape_kinds() {
-  static const std::vector<ShapeKind> kinds{kSegmentShape, kRectangleShape, kPolygonShape};
+#define DEM2D_SHAPE(kind) kind,
+  static const std::vector<ShapeKind> kinds{
+#include "shape/shape_list.inc"
+  };
+#undef DEM2D_SHAPE
   return kinds;
 }
 

@@ -3,9 +3,9 @@
 // kind lists its keys and turns their values into the core's vertices. The
 // body's `thickness` is the rounding diameter for every kind.
 //
-// A new kind is one file defining its ShapeKind plus one line in
-// shape_kinds.cpp's registry; the scene reader, the engine, the run file and
-// the analyses need nothing else.
+// A new kind is one file, shape/<kind>_shape.cpp, defining its ShapeKind,
+// plus one line in shape/shape_list.inc; the build finds the file, and the
+// scene reader, the engine, the run file and the analyses need nothing else.
 #pragma once
 
 #include <map>
