@@ -78,7 +78,8 @@ std::string TomlFile::read(const char* what) const {
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);  // follows symbolic links
   if (ec) error(cannot + ec.message());
-  if (!std::filesystem::is_regular_file(status)) error(cannot + "not a regular file");
+  if (!std::filesystem::is_regular_file(status) && !std::filesystem::is_fifo(status))  // (a pipe: read up to the bound)
+    error(cannot + "not a regular file");
   const auto too_large = [&] {
     error(cannot + "larger than " + std::to_string(kMaxBytes >> 20) + " MiB, more than any scene or settings file");
   };

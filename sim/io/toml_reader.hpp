@@ -53,8 +53,8 @@ class TomlFile {
   [[noreturn]] void fail(const toml::node& n, const std::string& msg) const { fail(&n.source(), msg); }
   // The file's text parsed: "FILE: no such file", "FILE:LINE:COL: TOML syntax error: ...".
   toml::table parse_file() const;
-  // The file's text: "FILE: cannot read the <what>: <reason>" if it cannot be read, is not a regular
-  // file (a directory, /dev/zero, a pipe) or is larger than kMaxBytes.
+  // The file's text: "FILE: cannot read the <what>: <reason>" if it cannot be read, is neither a
+  // regular file nor a pipe (a directory, a device such as /dev/zero) or is larger than kMaxBytes.
   std::string read(const char* what = "file") const;
   static constexpr std::uintmax_t kMaxBytes = std::uintmax_t{256} << 20;  // bytes: no scene or settings file is near
   toml::table parse(std::string_view text) const;
