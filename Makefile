@@ -351,8 +351,8 @@ $(ENSEMBLE)/member_%/metrics.json: $(ENSEMBLE)/member_%/member.toml FORCE
 $(ENSEMBLE)/members.txt: FORCE
 	@mkdir -p $(@D); echo '$(notdir $(MEMBER_DIRS))' | cmp -s - $@ || echo '$(notdir $(MEMBER_DIRS))' > $@
 
-$(ENSEMBLE)/stats.json: $(addsuffix /metrics.json,$(MEMBER_DIRS)) $(ENSEMBLE)/members.txt pipeline/ensemble/aggregate.py
-	$(PYTHON) pipeline/ensemble/aggregate.py $(@D) $(PRESET) $(MEMBER_DIRS)
+$(ENSEMBLE)/stats.json: $(addsuffix /metrics.json,$(MEMBER_DIRS)) $(ENSEMBLE)/members.txt pipeline/ensemble/aggregate.py $(STAGE_REGISTRY)
+	$(PYTHON) pipeline/ensemble/aggregate.py --registry $(STAGE_REGISTRY) $(@D) $(PRESET) $(MEMBER_DIRS)
 
 $(ENSEMBLE)/check.json: $(ENSEMBLE)/stats.json data/paper_targets.toml $(CHECK)
 	@$(call check_into,$(@D)/metrics.json,--ensemble $<)

@@ -18,12 +18,20 @@ ENSEMBLE_DIR:
   drag.png      those profiles: the members, their mean and +-1 sd band
 
 A missing or unreadable member file stops with a message naming it and the
-make target that makes it (exit code 2).
+make target that makes it (exit code 2). So does a member that does not fit
+the others: metrics that are not a JSON object, another preset, a stage of
+the registry missing (--registry, pipeline/stages.toml), a metric that is not
+a finite number or null (a detector's "none") where another member has a
+number, or a metric the others have and it lacks: every member is judged on,
+or none. The machine's times (any `cost` and `wall_seconds`) are not metrics
+and are left out, so the same members give the same files.
 """
+import argparse
 import csv
 import json
 import math
 import sys
+import tomllib
 import warnings
 from pathlib import Path
 
@@ -37,41 +45,82 @@ SEED = 20261124
 BIN_MM = 1.0
 
 
-def numbers(tree, prefix=""):
-    """(dotted path, value) of every number in a metrics tree (lists skipped)."""
+def is_time(path: str) -> bool:
+    """The machine's wall-clock figures: not metrics of the run."""
+    parts = path.split(".")
+    return "cost" in parts or parts[-1] == "wall_seconds"
+
+
+def leaves(tree, prefix=""):
+    """(dotted path, value) of every leaf of a metrics tree, the machine's times left out."""
     if isinstance(tree, dict):
         for k, v in tree.items():
-            yield from numbers(v, f"{prefix}.{k}" if prefix else k)
-    elif isinstance(tree, (int, float)) and not isinstance(tree, bool):
-        yield prefix, float(tree)
-    elif tree is None:
-        yield prefix, math.nan
+            yield from leaves(v, f"{prefix}.{k}" if prefix else k)
+    elif not is_time(prefix):
+        yield prefix, tree
+
+
+def is_number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def member_problems(members: list, dirs: list, preset: str, stages: list) -> list:
+    """What keeps each member from being judged with the others (empty if nothing)."""
+    problems, flats = [], []
+    for d, m in zip(dirs, members):
+        where = d / "metrics.json"
+        if not isinstance(m, dict):
+            problems.append(f"{where}: not a JSON object of metrics but {type(m).__name__}")
+            flats.append(None)
+            continue
+        if m.get("preset") != preset:
+            problems.append(f"{where}: preset {m.get('preset')!r}, not {preset!r}: a member of another ensemble")
+        missing = [s for s in stages if not isinstance(m.get(s), dict)]
+        if missing:
+            problems.append(f"{where}: no metrics of the stage(s) {', '.join(missing)}")
+        flats.append(dict(leaves({k: v for k, v in m.items() if k in stages})))
+    numeric = {path for f in flats if f for path, v in f.items() if is_number(v)}
+    for d, f in zip(dirs, flats):
+        if f is None:
+            continue
+        for path in sorted(numeric):
+            if path not in f:
+                problems.append(f"{d / 'metrics.json'}: {path} is missing (other members have it)")
+            elif f[path] is not None and not (is_number(f[path]) and math.isfinite(f[path])):
+                problems.append(f"{d / 'metrics.json'}: {path} = {json.dumps(f[path])[:60]}: "
+                                "not a finite number or null")
+    return problems
+
+
+def scaled(values: np.ndarray) -> float:
+    """A scale that keeps sums of huge values finite (1e308 + 1e308 would overflow); 1 for ordinary ones,
+    whose sums stay exactly as they were."""
+    top = float(np.max(np.abs(values))) if len(values) else 0.0
+    return top if top > 1e100 else 1.0
 
 
 def bootstrap_ci(values: np.ndarray, rng) -> list:
     if len(values) == 1:
         return [float(values[0])] * 2
-    means = rng.choice(values, size=(RESAMPLES, len(values)), replace=True).mean(axis=1)
-    return [float(np.percentile(means, 2.5)), float(np.percentile(means, 97.5))]
+    k = scaled(values)
+    means = rng.choice(values / k, size=(RESAMPLES, len(values)), replace=True).mean(axis=1)
+    return [k * float(np.percentile(means, 2.5)), k * float(np.percentile(means, 97.5))]
 
 
-def statistics(members: list) -> dict:
-    paths = {}
-    for m in members:
-        for path, v in numbers({k: v for k, v in m.items() if k not in ("cost", "code_version", "preset")}):
-            paths.setdefault(path, [])
-    for m in members:
-        flat = dict(numbers(m))
-        for path in paths:
-            paths[path].append(flat.get(path, math.nan))
+def statistics(members: list, stages: list) -> dict:
+    flats = [dict(leaves({k: v for k, v in m.items() if k in stages})) for m in members]
+    # every number or null (a detector's "none") a member has, in the order they first appear
+    paths = list(dict.fromkeys(path for f in flats for path, v in f.items() if v is None or is_number(v)))
     rng = np.random.default_rng(SEED)
     stats = {}
-    for path, values in paths.items():
+    for path in paths:
+        values = [float(f[path]) if f[path] is not None else math.nan for f in flats]
         finite = np.array([v for v in values if math.isfinite(v)])
         entry = {"values": [v if math.isfinite(v) else None for v in values], "n": int(len(finite))}
         if len(finite):
-            entry["mean"] = float(finite.mean())
-            entry["sd"] = float(finite.std(ddof=1)) if len(finite) > 1 else None
+            k = scaled(finite)
+            entry["mean"] = k * float((finite / k).mean())
+            entry["sd"] = k * float((finite / k).std(ddof=1)) if len(finite) > 1 else None
             entry["ci95"] = bootstrap_ci(finite, rng)
         else:
             entry.update(mean=None, sd=None, ci95=None)
@@ -99,8 +148,10 @@ def drag_bins(member_dirs: list, preset: str) -> tuple:
                 rows = list(csv.DictReader(f))
             h = np.array([float(r["height_mm"]) for r in rows])
             drag = np.array([float(r["drag_N_per_m"]) for r in rows])
-        except (OSError, KeyError, ValueError) as e:
-            fail(f"{path}: unreadable ({e}): run `make ensemble PRESET={preset}`")
+            if not len(rows) or not (np.isfinite(h).all() and np.isfinite(drag).all()):
+                raise ValueError("no rows" if not len(rows) else "a value is not finite")
+        except (OSError, KeyError, ValueError, TypeError) as e:  # (TypeError: a row cut short)
+            fail(f"{path}: unreadable ({e}): delete it and run `make ensemble PRESET={preset}`")
         profiles.append((h, drag))
     top = max(float(h.max()) for h, _ in profiles if len(h))
     edges = np.arange(0.0, top + BIN_MM, BIN_MM)
@@ -146,14 +197,33 @@ def write_drag(out: Path, names: list, centres, table) -> None:
     tmp.replace(out / "drag.png")
 
 
+def registry_stages(path: Path) -> list:
+    try:
+        with open(path, "rb") as f:
+            return [s["name"] for s in tomllib.load(f)["stage"]]
+    except (OSError, tomllib.TOMLDecodeError, KeyError, TypeError) as e:
+        fail(f"{path}: not a stage registry ({e})")
+
+
 def main(argv: list) -> int:
-    if len(argv) < 4:
-        fail("usage: aggregate.py ENSEMBLE_DIR PRESET MEMBER_DIR...")
-    out, preset = Path(argv[1]), argv[2]
-    member_dirs = [Path(d) for d in argv[3:]]
+    args = argparse.ArgumentParser(description="Aggregates an ensemble's members (docs/ensemble.md).")
+    args.add_argument("--registry", type=Path, default=Path(__file__).resolve().parents[1] / "stages.toml",
+                      help="the stage registry whose stages every member must have (pipeline/stages.toml)")
+    args.add_argument("out", type=Path, metavar="ENSEMBLE_DIR")
+    args.add_argument("preset", metavar="PRESET")
+    args.add_argument("member_dirs", type=Path, nargs="+", metavar="MEMBER_DIR")
+    a = args.parse_args(argv[1:])
+    out, preset, member_dirs = a.out, a.preset, a.member_dirs
+    stages = registry_stages(a.registry)
     members = [read_json(d / "metrics.json", f"make ensemble PRESET={preset}") for d in member_dirs]
+    problems = member_problems(members, member_dirs, preset, stages)
+    if problems:
+        fail(f"{len(problems)} problem(s) with the members; none is aggregated until each is fixed (delete the "
+             f"member's folder and run `make ensemble PRESET={preset}` to remake it):\n  " + "\n  ".join(problems[:20]) +
+             (f"\n  ... and {len(problems) - 20} more" if len(problems) > 20 else ""))
     names = [d.name for d in member_dirs]
-    stats = statistics(members)
+    stats = statistics(members, stages)
+    centres, table = drag_bins(member_dirs, preset)  # (read before anything is written)
     out.mkdir(parents=True, exist_ok=True)
     doc = {"preset": preset, "members": names, "code_versions": sorted({m.get("code_version", "") for m in members}),
            "bootstrap": {"resamples": RESAMPLES, "seed": SEED, "interval": "95 % percentile interval of the mean"},
@@ -162,7 +232,6 @@ def main(argv: list) -> int:
     means = nested(stats)
     means["preset"], means["members"] = preset, len(names)
     write_atomic(out / "metrics.json", json.dumps(means, indent=2) + "\n")
-    centres, table = drag_bins(member_dirs, preset)
     write_drag(out, names, centres, table)
     print(f"aggregate: {len(names)} members, {len(stats)} metrics -> {out}", file=sys.stderr)
     return 0
