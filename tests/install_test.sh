@@ -6,6 +6,7 @@
 # (no-paths: a debug or sanitizer build, whose debug information names the
 # sources by design: the path check is left out, and said so)
 set -uo pipefail
+unset DEM2D_SHARE  # (the programs must find their own)
 BUILD=$(realpath "$1")
 SRC=$(cd "$(dirname "$0")/.." && pwd)
 P=$(mktemp -d /tmp/dem2d_install.XXXXXX)
@@ -44,6 +45,20 @@ import sys, dem2d
 with dem2d.open_run(sys.argv[1]) as run:
     assert run.n_particles > 0 and len(run) > 0 and run.units("contacts/fn") == "N/m", run
 ' "$P/run/run.h5" 2>"$P/python.err" || fail "the installed Python reader: $(tail -3 "$P/python.err")"
+# its own data missing: an error naming where they belong and DEM2D_SHARE, never another installation's
+# share above the prefix or ./share in the current folder (both were taken, with their code version)
+mkdir -p "$P/share/dem2d/data" "$P/cwd/share/dem2d/data"
+cp "$I/share/dem2d/data/"*.toml "$P/share/dem2d/data/" && cp "$I/share/dem2d/data/"*.toml "$P/cwd/share/dem2d/data/"
+mv "$I/share" "$I/share.away"
+for cmd in "$I/bin/dem2d check $SRC/tests/scenes/valid_minimal.toml" "$I/libexec/dem2d/spectrum $P/run/run.h5 --out $P/sp"; do
+  out=$(cd "$P/cwd" && $cmd 2>&1); rc=$?
+  [ "$rc" -eq 2 ] || fail "$cmd without its share/ exited $rc, expected 2: $out"
+  grep -qF "no $I/share/dem2d/data, where its installation" <<<"$out" && grep -qF DEM2D_SHARE <<<"$out" ||
+    fail "$cmd without its share/ said: $out"
+done
+DEM2D_SHARE="$I/share.away/dem2d" "$I/bin/dem2d" check "$SRC/tests/scenes/valid_minimal.toml" >/dev/null 2>&1 ||
+  fail "DEM2D_SHARE did not name the share/ to use"
+mv "$I/share.away" "$I/share"
 # another project: find_package(dem2d) from the (moved) prefix, link the engine, run a scene, read it back
 for f in lib/libdem2d_core.a lib/libdem2d_runfile.a lib/cmake/dem2d/dem2dConfig.cmake include/dem2d/run/run.hpp \
   include/dem2d/io/run_reader.hpp; do

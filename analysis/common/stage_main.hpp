@@ -51,6 +51,10 @@ class StageCommand {
     } catch (const CLI::ParseError& e) {
       return app_.exit(e) == 0 ? 0 : kExitBadInput;
     }
+    if (const std::string problem = share_problem(); !problem.empty()) {  // (its data, its code version)
+      std::fprintf(stderr, "%s: %s\n", name_.c_str(), problem.c_str());
+      return kExitBadInput;
+    }
     decltype(compute()) result;
     try {
       result = compute();

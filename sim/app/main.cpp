@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "app/bench.hpp"
+#include "core/share_dir.hpp"
 #include "core/version.hpp"
 #include "io/toml_reader.hpp"  // did_you_mean, show_key
 #include "run/run.hpp"
@@ -167,6 +168,10 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;  // --help, --version: 0; a bad command line: 2, as bad input
+  }
+  if (const std::string problem = dem2d::share_problem(); !problem.empty()) {  // its data, its code version
+    std::fprintf(stderr, "dem2d: %s\n", problem.c_str());
+    return kExitBadInput;
   }
   try {
     if (*run) return cmd_run(scene_path, extra, run_opt, threads);

@@ -9,9 +9,8 @@ namespace dem2d {
 
 const std::string& code_version() {
   static const std::string version = [] {
-    std::ifstream in(share_dir() + "/code_version.txt");  // written at every build, installed beside data/
-    std::ostringstream git;
-    if (in) git << in.rdbuf();
+    std::ostringstream git;  // code_version.txt: written at every build, installed beside data/
+    if (std::ifstream in(share_dir() + "/code_version.txt"); !share_dir().empty() && in) git << in.rdbuf();
     const std::string g = git.str();
     return std::string(DEM2D_PROJECT_VERSION) + "+" + (g.empty() ? "unknown" : g);
   }();
