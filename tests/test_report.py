@@ -1,11 +1,15 @@
 #!/usr/bin/python3
 """The report's reasons quote the run's own numbers (pipeline/report/report.py,
 fill_in): placeholders in deviations.toml are filled in from metrics.json,
-and one that names no value stops the report with an error naming it."""
+and one that names no value stops the report with an error naming it. Its
+writers leave nothing half-written on a full disk and say so (exit 2, no
+traceback); an unreadable input is to be deleted and made again."""
 import contextlib
 import io
 import re
+import subprocess
 import sys
+import tempfile
 import tomllib
 import unittest
 from pathlib import Path
@@ -18,6 +22,49 @@ import report  # noqa: E402
 METRICS = {"fill": {"solid_fraction": 0.8414430434, "bed_height_mm": 141.1},
            "spectrum": {"envelope_fit_upper": {"slope": -0.2436, "r2": 0.3625}},
            "cg": {"cone_angle_sd_deg": None}}
+
+
+FULL_DISK = """
+import resource, signal, sys
+sys.path.insert(0, sys.argv[1])
+signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # writes past the limit fail with EFBIG, as on a full disk
+resource.setrlimit(resource.RLIMIT_FSIZE, (4096, 4096))
+import files, common
+if sys.argv[2] == "text":
+    files.write_atomic(__import__("pathlib").Path(sys.argv[3]) / "report.html", "x" * 100000)
+else:
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots()
+    ax.imshow(__import__("numpy").random.default_rng(1).random((400, 400)))
+    common.save(fig, sys.argv[3], "fig.png")
+"""
+
+
+class Writes(unittest.TestCase):
+    def test_a_full_disk_leaves_nothing_half_written_and_says_so(self):
+        for kind, name in (("text", "report.html"), ("figure", "fig.png")):
+            with self.subTest(kind=kind), tempfile.TemporaryDirectory() as out:
+                r = subprocess.run([sys.executable, "-c", FULL_DISK, str(ROOT / "pipeline" / "report"), kind, out],
+                                   capture_output=True, text=True)
+                self.assertEqual(r.returncode, 2, r.stderr)
+                self.assertNotIn("Traceback", r.stderr)
+                self.assertIn(f"{name}: cannot write it", r.stderr)
+                self.assertEqual(list(Path(out).iterdir()), [], "a file was left behind")
+
+    def test_an_unreadable_input_is_to_be_deleted_and_made_again(self):
+        with tempfile.TemporaryDirectory() as d:
+            cut = Path(d) / "metrics.json"
+            cut.write_text('{"fill": {"solid_fra')
+            err = io.StringIO()
+            with contextlib.redirect_stderr(err), self.assertRaises(SystemExit):
+                files.read_json(cut, "make ensemble PRESET=fast")
+            self.assertIn(f"{cut}: unreadable", err.getvalue())
+            self.assertIn("delete it and run `make ensemble PRESET=fast`", err.getvalue())
+
+    def test_the_make_target_is_written_last(self):
+        source = (ROOT / "pipeline" / "report" / "report.py").read_text()
+        self.assertLess(source.index('write_atomic(results / "report.html"'),
+                        source.index('write_atomic(results / "report.md"'))
 
 
 class FillIn(unittest.TestCase):

@@ -193,8 +193,12 @@ def write_drag(out: Path, names: list, centres, table) -> None:
     ax.legend(fontsize=7, ncol=2)
     fig.tight_layout()
     tmp = out / "drag.tmp.png"
-    fig.savefig(tmp)
-    tmp.replace(out / "drag.png")
+    try:
+        fig.savefig(tmp)
+        tmp.replace(out / "drag.png")
+    except OSError as e:  # a full disk: no half-written figure, a message instead of a traceback
+        tmp.unlink(missing_ok=True)
+        fail(f"{out / 'drag.png'}: cannot write it ({e.strerror or e}); nothing was left half-written")
 
 
 def registry_stages(path: Path) -> list:

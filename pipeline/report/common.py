@@ -4,6 +4,7 @@ a few study constants, the common style, and atomic writing."""
 
 import json
 import os
+import sys
 import tomllib
 from pathlib import Path
 
@@ -204,9 +205,17 @@ def save(fig, outdir, name, stamp=""):
     if stamp:
         fig.text(0.995, 0.003, stamp, ha="right", va="bottom", fontsize=6, color="0.45")
     tmp = os.path.join(outdir, f".{name}.tmp")
-    fig.savefig(tmp, format="png", dpi=DPI)
-    plt.close(fig)
-    os.replace(tmp, os.path.join(outdir, name))
+    try:
+        fig.savefig(tmp, format="png", dpi=DPI)
+        os.replace(tmp, os.path.join(outdir, name))
+    except OSError as e:  # a full disk: no half-written figure, a message instead of a traceback
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        print(f"{os.path.join(outdir, name)}: cannot write it ({e.strerror or e}); nothing was left half-written",
+              file=sys.stderr)
+        sys.exit(2)
+    finally:
+        plt.close(fig)
 
 
 def write_json(obj, path):

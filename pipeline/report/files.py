@@ -22,8 +22,8 @@ def read_json(path: Path, target: str) -> dict:
             return json.load(f)
     except FileNotFoundError:
         fail(f"{path}: no such file: run `{target}`")
-    except (OSError, json.JSONDecodeError) as e:
-        fail(f"{path}: unreadable ({e}): rerun `{target}`")
+    except (OSError, json.JSONDecodeError) as e:  # (make would not remake a file that exists: delete it)
+        fail(f"{path}: unreadable ({e}): delete it and run `{target}`")
 
 
 def read_toml(path: Path) -> dict:
@@ -37,9 +37,15 @@ def read_toml(path: Path) -> dict:
 
 
 def write_atomic(path: Path, text: str) -> None:
+    """`path` complete or not at all: written under a temporary name, then renamed. A failure (a full disk)
+    removes the temporary and stops with the file and the reason (exit 2)."""
     tmp = Path(str(path) + ".tmp")
-    tmp.write_text(text)
-    os.replace(tmp, path)
+    try:
+        tmp.write_text(text)
+        os.replace(tmp, path)
+    except OSError as e:
+        tmp.unlink(missing_ok=True)
+        fail(f"{path}: cannot write it ({e.strerror or e}); nothing was left half-written")
 
 
 def write_if_changed(path: Path, text: str) -> bool:

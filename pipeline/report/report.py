@@ -272,8 +272,9 @@ def main() -> None:
         "",
         *sensitivity(metrics),
     ]
-    write_atomic(results / "report.md", "\n".join(text) + "\n")
+    # report.md, make's target, last: a failure before it (a full disk) leaves it to be made again
     write_atomic(results / "report.html", html_page("\n".join(text), results, preset))
+    write_atomic(results / "report.md", "\n".join(text) + "\n")
     print(f"report: {len(rows) - len(failed)}/{len(rows)} targets pass -> {results / 'report.md'}", file=sys.stderr)
 
 
