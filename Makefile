@@ -49,6 +49,7 @@ $(call check_count,JOBS,1,1024)
 BUILD := build/release
 # the analysis stages' registry (docs/stages.md)
 STAGE_REGISTRY ?= pipeline/stages.toml
+export STAGE_REGISTRY
 SANITIZE_BUILD := build/sanitize
 # INSTALLED=DIR: the study's targets run the programs of `make install PREFIX=DIR`
 # (DIR/bin/dem2d, DIR/libexec/dem2d/<stage>) instead of building them here
@@ -199,8 +200,9 @@ bench-compare: build
 
 # --- the study's stages: file targets, so only what is stale reruns --------
 # The analysis stages' rules come from their registry, pipeline/stages.toml
-# (generated into $(BUILD)/stages.mk; docs/stages.md).
-STAGES_MK := $(BUILD)/$(basename $(notdir $(STAGE_REGISTRY))).mk
+# (generated into $(BUILD)/registries/<its path>.mk; docs/stages.md).
+# one file per registry path (registries/<its absolute path>.mk): two registries named alike never share one
+STAGES_MK := $(BUILD)/registries$(abspath $(STAGE_REGISTRY)).mk
 ifneq ($(MAKECMDGOALS),clean)
 include $(STAGES_MK)
 endif
@@ -222,16 +224,17 @@ $(DEM2D) $(STAGE_PROGRAMS) $(CHECK):
 	@echo "make: INSTALLED=$(INSTALLED) has no $@: run make install PREFIX=$(INSTALLED) first" >&2; exit 1
 endif
 
-# $(call timed,COMMAND): runs COMMAND, then records its wall time beside the
-# target ($(@D)/timing.json, read into the cost table of the report). When it
-# fails, says how to remake a missing or corrupt input.
+# $(call timed,COMMAND): runs COMMAND (one program and its words, parsed by the
+# shell into an array: never run as shell text), then records its wall time
+# beside the target ($(@D)/timing.json, read into the cost table of the
+# report). When it fails, says how to remake a missing or corrupt input.
 # $(call started,WHAT): a line saying which stage starts, where, and when
 started = echo "make: $(1) $(@D) started $$(date +%T)"
 simulating = $(call started,simulation) && echo "  (a progress line every $(PROGRESS) s of wall time, also in $(@D)/run.log)"
 # every simulation's: its threads, its progress lines
 RUN_OPTIONS = --threads $(THREADS) --progress $(PROGRESS)
-timed = $(call started,stage) && echo '  $(strip $(1))' && t0=$$(date +%s.%N) && \
-  { $(1) || { echo "make: $(@D) failed. If the message above names a missing or corrupt input file, delete it and run \`make reproduce PRESET=$(PRESET)\`, which remakes it." >&2; exit 1; }; } && awk -v t0=$$t0 -v t1=$$(date +%s.%N) \
+timed = $(call started,stage) && cmd=($(1)) && echo "  $${cmd[*]}" && t0=$$(date +%s.%N) && \
+  { "$${cmd[@]}" || { echo "make: $(@D) failed. If the message above names a missing or corrupt input file, delete it and run \`make reproduce PRESET=$(PRESET)\`, which remakes it." >&2; exit 1; }; } && awk -v t0=$$t0 -v t1=$$(date +%s.%N) \
   'BEGIN { printf "{\"wall_seconds\": %.3f}\n", t1 - t0 }' > $(@D)/timing.json.tmp && \
   mv $(@D)/timing.json.tmp $(@D)/timing.json
 
@@ -255,15 +258,15 @@ $(SLICE_DIR)/run.h5: $(PULLOFF_SCENE) $(PRESET_FILE) pipeline/slice_5mm.toml res
 	$(DEM2D) run $(PULLOFF_SCENE) $(OVERLAY) --overlay pipeline/slice_5mm.toml \
 	  --initial results/$(BED_FROM)/fill/run.h5 --out $(@D) $(RUN_OPTIONS)
 
-$(SLICE_DIR)/metrics.json: $(SLICE_DIR)/run.h5 data/study.toml $(PULLOFF_METRICS)
-	$(PULLOFF_METRICS) $< --out $(@D)
+$(SLICE_DIR)/metrics.json: $(SLICE_DIR)/run.h5 data/study.toml $(STAGE_PROGRAM_pulloff_metrics)
+	$(STAGE_PROGRAM_pulloff_metrics) $< --out $(@D)
 
 $(RESULTS)/cyclic/run.h5: $(CYCLIC_SCENE) $(OVERLAY_FILES) $(FILL_RUN) $(DEM2D)
 	@$(simulating)
 	$(DEM2D) run $(CYCLIC_SCENE) $(OVERLAY) --initial $(FILL_RUN) --out $(@D) $(RUN_OPTIONS)
 
-$(RESULTS)/cyclic/metrics.json: $(RESULTS)/cyclic/run.h5 data/study.toml $(PULLOFF_METRICS)
-	$(PULLOFF_METRICS) $< --out $(@D) --cycles
+$(RESULTS)/cyclic/metrics.json: $(RESULTS)/cyclic/run.h5 data/study.toml $(STAGE_PROGRAM_pulloff_metrics)
+	$(STAGE_PROGRAM_pulloff_metrics) $< --out $(@D) --cycles
 
 # --- metrics, tolerance tests, figures, report -------------------------------
 $(RESULTS)/metrics.json: $(STAGE_METRICS) pipeline/stages.toml $(REPORT_SCRIPTS)/merge_metrics.py $(REPORT_SCRIPTS)/files.py

@@ -20,3 +20,8 @@ check_name = $(if $(and $(filter 1,$(words $($(1)))),$(filter $($(1)),$(2))),,\
 
 PRESET_NAMES := quick $(sort $(basename $(notdir $(wildcard pipeline/presets/*.toml))))
 INTRUDER_NAMES := $(sort $(basename $(notdir $(wildcard pipeline/intruders/*.toml))))
+
+# what the generated stage rules write for a comma and parentheses inside $(call ...) (pipeline/stages.py)
+comma := ,
+lparen := (
+rparen := )

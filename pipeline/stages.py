@@ -20,6 +20,27 @@ REGISTRY = REPO / "pipeline" / "stages.toml"
 SIMULATIONS = ("fill", "pulloff")  # the run files the Makefile's dem2d rules make
 BED = "fill/run.h5"                # the bed: $(FILL_RUN), which a sweep may take from elsewhere
 KEYS = {"name", "program", "run", "config", "inputs", "args", "outputs", "threads"}
+# What a stage may not be named: its name becomes a make target and a results folder
+RESERVED = {"all", "default", "FORCE", "stages", "registries", "figures", "metrics", "ensemble", "members"}
+
+
+def makefile_targets() -> set:
+    """The Makefile's own targets (`name:` at the start of a line): a stage named like one would take it over."""
+    try:
+        text = (REPO / "Makefile").read_text()
+    except OSError:
+        return set()
+    return {t for line in re.findall(r"^([A-Za-z][\w .-]*?)\s*::?(?!=)", text, re.M) for t in line.split()}
+
+
+MAKE_ESCAPES = {"$": "$$", ",": "$(comma)", "(": "$(lparen)", ")": "$(rparen)"}  # (pipeline/make_vars.mk)
+
+
+def shell_word(text: str) -> str:
+    """`text` as one word for the shell inside a $(call timed,...) recipe: single-quoted for the shell, and
+    what make would read (a `$`, and the commas and parentheses of the call) escaped."""
+    quoted = "'" + text.replace("'", "'\\''") + "'"
+    return "".join(MAKE_ESCAPES.get(c, c) for c in quoted)
 
 
 class RegistryError(Exception):
@@ -50,9 +71,16 @@ class Stage:
 def load(path: Path = REGISTRY) -> list:
     try:
         with open(path, "rb") as f:
-            entries = tomllib.load(f).get("stage", [])
+            doc = tomllib.load(f)
     except (OSError, tomllib.TOMLDecodeError) as e:
         raise RegistryError(f"{path}: {e}")
+    unknown = sorted(set(doc) - {"stage"})
+    if unknown:
+        raise RegistryError(f"{path}: unknown key '{unknown[0]}' (allowed: [[stage]] entries)")
+    entries = doc.get("stage", [])
+    if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
+        raise RegistryError(f"{path}: stage = {str(entries)[:60]}: must be [[stage]] tables")
+    reserved = RESERVED | makefile_targets()
     stages = []
     for k, e in enumerate(entries):
         where = f"{path}: stage[{k}]" + (f" ({e['name']})" if isinstance(e.get("name"), str) else "")
@@ -70,19 +98,23 @@ def load(path: Path = REGISTRY) -> list:
             raise bad("name", "must be a lower-case identifier")
         if e["name"] in (s.name for s in stages):
             raise bad("name", "another stage has this name")
+        if e["name"] in reserved or e["name"] in SIMULATIONS and e["name"] != e["run"]:
+            raise bad("name", "a name the Makefile uses already (a target, or a simulation's folder)")
         if not isinstance(e["program"], str) or not re.fullmatch(r"[a-z][a-z0-9_]*", e["program"]):
             raise bad("program", "must be a program name (build/release/analysis/<program>)")
         if e["run"] not in SIMULATIONS:
             raise bad("run", f"allowed: {', '.join(SIMULATIONS)}")
         config = e.get("config", "")
-        if config and not (REPO / config).is_file():
-            raise bad("config", "no such file in the repository")
+        if not isinstance(config, str) or config and not (
+                re.fullmatch(r"[A-Za-z0-9_./-]+", config) and not config.startswith("/") and ".." not in config.split("/")
+                and (REPO / config).is_file()):
+            raise bad("config", "must be a settings file in the repository, given relative to it (data/<stage>.toml)")
         inputs = e.get("inputs", {})
         if not isinstance(inputs, dict):
             raise bad("inputs", "must be a table { \"--flag\" = \"<stage>/<file>\" }")
         earlier = {s.name: s for s in stages}
         for flag, p in inputs.items():
-            if not flag.startswith("--") or not isinstance(p, str):
+            if not re.fullmatch(r"--[a-z][a-z0-9-]*", flag) or not isinstance(p, str):
                 raise bad("inputs", f"'{flag}' = {p!r}: a --flag and a path \"<stage>/<file>\"")
             stage, _, name = p.partition("/")
             if p != BED and (stage not in earlier or name not in earlier[stage].outputs):
@@ -90,11 +122,13 @@ def load(path: Path = REGISTRY) -> list:
                                     + ", ".join(f"{s}/{o}" for s in earlier for o in earlier[s].outputs)
                                     + f", or {BED})")
         args = e.get("args", [])
-        if not isinstance(args, list) or not all(isinstance(a, str) for a in args):
-            raise bad("args", "must be an array of strings")
+        if not isinstance(args, list) or not all(isinstance(a, str) and a.isprintable() for a in args):
+            raise bad("args", "must be an array of strings (printable: no line breaks)")
         outputs = e["outputs"]
-        if not isinstance(outputs, list) or not outputs or outputs[-1] != "metrics.json":
-            raise bad("outputs", "must be an array of file names ending with \"metrics.json\" (written last)")
+        if (not isinstance(outputs, list) or not outputs or outputs[-1] != "metrics.json"
+                or not all(isinstance(o, str) and re.fullmatch(r"[A-Za-z0-9_][A-Za-z0-9_.-]*", o) for o in outputs)):
+            raise bad("outputs", "must be an array of file names (letters, digits, _ . -) ending with "
+                                 "\"metrics.json\" (written last)")
         threads = e.get("threads", False)
         if not isinstance(threads, bool):
             raise bad("threads", "must be true or false")
@@ -109,18 +143,20 @@ def make_rules(stages: list, registry: str) -> str:
     """Make rules of the stages; they use the Makefile's STAGE_BIN, RESULTS, FILL_RUN,
     THREADS and its `timed` function."""
     run_file = {"fill": "$(FILL_RUN)", "pulloff": "$(RESULTS)/pulloff/run.h5"}
+    # every variable it defines starts with STAGE (the Makefile's own never do): a program's name
+    # cannot replace one of the Makefile's variables (python, path, shell...)
     out = [f"# Generated from {registry} by pipeline/stages.py: do not edit.",
            f"STAGES := {' '.join(s.name for s in stages)}"]
     programs = []
     for s in stages:
-        var = s.program.upper()
+        var = f"STAGE_PROGRAM_{s.program}"
         out.append(f"{var} := $(STAGE_BIN)/{s.program}")
         programs.append(f"$({var})")
     out.append(f"STAGE_PROGRAMS := {' '.join(dict.fromkeys(programs))}")
     out.append("STAGE_METRICS := $(foreach s,$(STAGES),$(RESULTS)/$(s)/metrics.json)")
     out.append(f".PHONY: {' '.join(s.name for s in stages)}")
     for s in stages:
-        prog = f"$({s.program.upper()})"
+        prog = f"$(STAGE_PROGRAM_{s.program})"
         deps = [run_file[s.run]]
         deps += ["$(FILL_RUN)" if p == BED else f"$(RESULTS)/{p.split('/')[0]}/metrics.json"
                  for p in s.inputs.values()]
@@ -130,7 +166,8 @@ def make_rules(stages: list, registry: str) -> str:
             cmd += ["--config", s.config]
         for flag, p in s.inputs.items():
             cmd += [flag, "$(FILL_RUN)" if p == BED else f"$(RESULTS)/{p}"]
-        cmd += [a.replace("{dir}", "$(@D)") for a in s.args]
+        # every argument one shell word, taken as written (no make or shell expansion); {dir}: the stage's folder
+        cmd += ["'$(@D)'".join(shell_word(piece) for piece in a.split("{dir}")) for a in s.args]
         if s.threads:
             cmd += ["--threads", "$(THREADS)"]
         target = f"$(RESULTS)/{s.name}/metrics.json"

@@ -116,7 +116,7 @@ make --no-print-directory "$R/friction_again/metrics.json" PRESET=quick STAGE_RE
   >"$WORK/more.out" 2>&1 || fail "a stage added to the registry did not run: $(cat "$WORK/more.out")"
 grep -q "analysis/friction .*--out $R/friction_again" "$WORK/more.out" || fail "the added stage ran no program"
 [ -s "$R/friction_again/metrics.json" ] || fail "the added stage wrote no metrics.json"
-rm -rf "$R/friction_again" build/release/more.mk
+rm -rf "$R/friction_again" "build/release/registries$WORK/more.toml.mk"
 sed 's|"spectrum/metrics.json"|"spectra/metrics.json"|' pipeline/stages.toml >"$WORK/bad.toml"
 expect_msg "stage\[4\] (network): inputs = .*'spectra/metrics.json': not an output of an earlier stage" -- \
   $PY pipeline/stages.py make "$WORK/bad.toml"

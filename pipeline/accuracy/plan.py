@@ -157,8 +157,8 @@ def main() -> None:
         write_if_changed(cfg, toml_text(f"cg setting {c['name']} (over data/cg.toml's defaults)",
                                         {"kernel": {"w_over_d": c["w_over_d"]}, "grid": {"spacing_mm": c["spacing_mm"]},
                                          "output": {"field_every_mm": 0.0, "field_max_snapshots": 1}}))
-        rules.append(f"{d}/metrics.json: {run_dir}/metrics.json {cfg} $(CG)\n"
-                     f"\t@$(call timed,$(CG) {run_dir}/pulloff/run.h5 --config {cfg} --out $(@D) "
+        rules.append(f"{d}/metrics.json: {run_dir}/metrics.json {cfg} $(STAGE_PROGRAM_cg)\n"
+                     f"\t@$(call timed,$(STAGE_PROGRAM_cg) {run_dir}/pulloff/run.h5 --config {cfg} --out $(@D) "
                      f"--events {run_dir}/spectrum/spectrum.h5 --threads {threads})\n")
         targets.append(f"{d}/metrics.json")
 
