@@ -42,6 +42,30 @@ expect 0 "run.h5" -- "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WOR
 [ -d "$WORK/minimal/.run.work" ] && fail "work directory left behind"
 $CHECK "$WORK/minimal/run.h5" >/dev/null || fail "check_run_file on the minimal run"
 
+# the output folder: a run never replaces or deletes a file it did not make, never writes through a
+# link it did not make, never replaces the run it starts from, and a second run into the folder is refused
+MIN=$TESTS/scenes/valid_minimal.toml
+mkdir -p "$WORK/own" && echo "my notes" >"$WORK/own/run.h5" && echo "my view" >"$WORK/own/run.xdmf"
+expect 2 "own/run.h5 is not a dem2d run file: dem2d does not replace a file it did not make" -- \
+  "$DEM2D" run "$MIN" --out "$WORK/own"
+[ "$(cat "$WORK/own/run.h5")" = "my notes" ] || fail "a user's run.h5 was replaced"
+mv "$WORK/own/run.h5" "$WORK/own_notes"
+expect 2 "own/run.xdmf is not a dem2d run's XDMF" -- "$DEM2D" run "$MIN" --out "$WORK/own"
+expect 0 "run.h5" -- "$DEM2D" run "$MIN" --out "$WORK/own" --overwrite
+echo "elsewhere" >"$WORK/elsewhere.log" && mkdir -p "$WORK/link" && ln -s "$WORK/elsewhere.log" "$WORK/link/run.log"
+expect 2 "link/run.log is a symbolic link: dem2d does not write through one" -- "$DEM2D" run "$MIN" --out "$WORK/link"
+[ "$(cat "$WORK/elsewhere.log")" = "elsewhere" ] || fail "run.log was written through a link"
+mkdir -p "$WORK/work/.run.work" && echo keep >"$WORK/work/.run.work/mine.txt" && echo keep >"$WORK/work/run.h5.tmp"
+expect 2 "holds mine.txt, which dem2d did not make" -- "$DEM2D" run "$MIN" --out "$WORK/work"
+[ -e "$WORK/work/.run.work/mine.txt" ] || fail "a user's file in .run.work was deleted"
+rm "$WORK/work/.run.work/mine.txt"
+expect 0 "run.h5" -- "$DEM2D" run "$MIN" --out "$WORK/work"
+[ "$(cat "$WORK/work/run.h5.tmp" 2>/dev/null)" = keep ] || fail "a user's run.h5.tmp was replaced or deleted"
+cp "$WORK/minimal/run.h5" "$WORK/bed_copy.h5"
+expect 2 "holds the run this one starts from (--initial" -- \
+  "$DEM2D" run "$TESTS/scenes/quick_pulloff.toml" --initial "$WORK/minimal/run.h5" --out "$WORK/minimal"
+cmp -s "$WORK/minimal/run.h5" "$WORK/bed_copy.h5" || fail "the bed a run starts from was replaced"
+
 # reference: the pour, uninterrupted
 SCENE=$TESTS/scenes/pour_resume.toml
 expect 0 "run.h5" -- "$DEM2D" run "$SCENE" --out "$WORK/ref" --threads 2
@@ -55,6 +79,14 @@ grep -Eq '^\[dem2d\] t = [0-9.e+-]+ s  step [0-9]+  [0-9.]+ % of [0-9.]+ s \(the
   fail "run.log and stderr disagree on the progress lines"
 "$DEM2D" run "$SCENE" --out "$WORK/quiet" --threads 1 --progress 0 2>"$WORK/quiet.err" >/dev/null
 grep -q '^\[dem2d\] t = ' "$WORK/quiet.err" && fail "--progress 0 still printed progress lines"
+
+# two runs into one folder: the second is refused, naming the first's pid, and the first completes
+"$DEM2D" run "$SCENE" --out "$WORK/twice" --threads 1 >/dev/null 2>&1 &
+first=$!
+for _ in $(seq 100); do [ -e "$WORK/twice/.run.work" ] && break; sleep 0.05; done
+expect 2 "another dem2d run (pid $first) is writing into this folder" -- "$DEM2D" run "$SCENE" --out "$WORK/twice" --threads 1
+wait "$first" || fail "the first of two runs into one folder failed"
+$CHECK "$WORK/twice/run.h5" --same-as "$WORK/ref/run.h5" >/dev/null || fail "the first of two runs into one folder differs"
 
 # start_and_signal SIGNAL DIR: runs the pour into DIR in the background and
 # sends SIGNAL once its first checkpoint exists; leaves its exit code in $rc

@@ -1,5 +1,5 @@
 // dem2d: the command line.
-//   dem2d run SCENE.toml --out DIR [--overlay FILE]... [--initial RUN.h5] [--threads N] [--fresh] [--progress S]
+//   dem2d run SCENE.toml --out DIR [--overlay FILE]... [--initial RUN.h5] [--threads N] [--fresh] [--overwrite] [--progress S]
 //   dem2d check SCENE.toml [--overlay FILE]... [--initial RUN.h5] [--json]
 //   dem2d bench [--scene FILE] [--steps N] [--threads 1,2]
 // Exit codes: 0 done, 1 run failed, 2 bad input, 3 interrupted (checkpoint written).
@@ -20,6 +20,7 @@
 
 #include "app/bench.hpp"
 #include "core/share_dir.hpp"
+#include "run/output_dir.hpp"
 #include "core/version.hpp"
 #include "io/toml_reader.hpp"  // did_you_mean, show_key
 #include "run/run.hpp"
@@ -126,6 +127,8 @@ int main(int argc, char** argv) {
   run->add_option("--out", run_opt.out_dir, "Output directory")->required();
   run->add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(thread_count);
   run->add_flag("--fresh", run_opt.fresh, "Discard a checkpoint in DIR instead of resuming from it");
+  run->add_flag("--overwrite", run_opt.overwrite,
+                "Replace DIR/run.h5 and DIR/run.xdmf even if they are not a dem2d run's (never through a link)");
   run->add_option("--progress", run_opt.progress.every,
                   "Seconds of wall time between progress lines in DIR/run.log, and on stderr when it is not a "
                   "terminal (0: none)")
@@ -178,6 +181,9 @@ int main(int argc, char** argv) {
     if (*check) return cmd_check(scene_path, extra, check_json);
     if (*bench) return dem2d::run_bench(bench_opt);
   } catch (const dem2d::SceneError& e) {
+    std::fprintf(stderr, "dem2d: %s\n", e.what());
+    return kExitBadInput;
+  } catch (const dem2d::OutputDirError& e) {
     std::fprintf(stderr, "dem2d: %s\n", e.what());
     return kExitBadInput;
   } catch (const std::bad_alloc&) {

@@ -291,7 +291,9 @@ void RunRecorder::finish(const System& sys, const RunInfo& info, const std::stri
                          const std::string& stop_reason) {
   flush_segment();
   const fs::path out(out_path), xdmf = fs::path(out_path).replace_extension(".xdmf");
-  const std::string out_tmp = out.string() + ".tmp", xdmf_tmp = xdmf.string() + ".tmp";
+  // assembled in the working folder (no temporary beside the user's files), then renamed into place
+  const std::string out_tmp = (fs::path(work_dir_) / "run.h5.partial").string(),
+                    xdmf_tmp = (fs::path(work_dir_) / "run.xdmf.partial").string();
   try {
     h5::File f = h5::File::create(out_tmp);
     write_header(f, sys, info, stop_reason);

@@ -14,6 +14,7 @@
 #include "run/body_removals.hpp"
 #include "run/checkpoint.hpp"
 #include "run/jam_control.hpp"
+#include "run/output_dir.hpp"
 #include "run/output_control.hpp"
 #include "run/progress.hpp"
 #include "run/stop_criteria.hpp"
@@ -35,10 +36,10 @@ void request_interrupt() { g_interrupt.store(true); }
 RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   g_interrupt.store(false);
   const auto t_start = Clock::now();
-  const fs::path out_dir(opt.out_dir);
-  const fs::path work = out_dir / ".run.work";
+  const OutputDir folder(opt.out_dir, scene.initial_run, opt.overwrite);  // checked and locked for this run
+  const fs::path out_dir = folder.path();
+  const fs::path work = folder.work();
   const std::string ckpt = (work / "checkpoint.h5").string();
-  fs::create_directories(out_dir);
 
   System sys(scene);
   RunReport report;
@@ -58,10 +59,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   }
   if (resume && ckpt_scene != scene.text)
     throw unusable(ckpt + " was written by a different scene or dem2d version");
-  if (!resume) {
-    fs::remove_all(work);
-    fs::create_directories(work);
-  }
+  if (!resume) folder.fresh_work();
   RunRecorder recorder(sys, work.string());
   // what acts at given steps, in the order it acts within a step
   BodyRemovals removals(scene);
@@ -153,7 +151,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   info.displacement_window = output.displacement_window(scene.dt);
   report.run_file = (out_dir / "run.h5").string();
   recorder.finish(sys, info, report.run_file, report.stop_reason);
-  fs::remove_all(work);
+  folder.remove_work();
   progress.note("finished at step " + std::to_string(sys.state.step) + " (t = " + std::to_string(sys.time()) + " s): " +
                 report.stop_reason + " -> " + report.run_file);
   return finish_report(true);

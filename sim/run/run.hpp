@@ -20,6 +20,7 @@ namespace dem2d {
 struct RunOptions {
   std::string out_dir;
   bool fresh = false;     // discard an existing checkpoint instead of resuming
+  bool overwrite = false;  // replace DIR/run.h5 and run.xdmf even if they are not a dem2d run's
   ProgressOptions progress{};  // where and how often to say how far the run is (run/progress.hpp)
   // For tests: act as if interrupted once this step is reached (-1: never).
   std::int64_t interrupt_at_step = -1;
