@@ -4,8 +4,9 @@
 # cluster in a temporary folder (pipeline/slurm/local_cluster.sh), runs a
 # 4-member ensemble of the quick scene through it (make ensemble
 # EXECUTOR=slurm) and the same ensemble with the local executor, checks that
-# every member's run files and the aggregate are the same, and stops the
-# daemons it started. Exit 0: passed; 1: failed; 77: skipped (said loudly).
+# every member's run files and the aggregate are the same, that an ensemble
+# with a failing member ends non-zero naming it, and stops the daemons it
+# started. Exit 0: passed; 1: failed; 77: skipped (said loudly).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 PY=${PYTHON:-/usr/bin/python3}
@@ -60,6 +61,15 @@ assert a == b, [k for k in a if a[k] != b.get(k)][:5]
 print(f"slurm_test: aggregates equal ({len(a)} metrics)")
 PYEOF
 cmp -s "$WORK/local/ensemble/table.md" "$WORK/slurm/ensemble/table.md" || fail "table.md differs"
+# a member that fails: the submission exits non-zero naming it and its log, never "done"
+mkdir -p "$WORK/failing/ensemble/member_001"
+printf '[time]\nnot_a_key = 1\n' >"$WORK/failing/ensemble/member_001/member.toml"  # (newer than what makes it)
+make --no-print-directory ensemble PRESET=quick MEMBERS=2 RESULTS="$WORK/failing" EXECUTOR=slurm SLURM_WAIT=1 \
+  >"$WORK/failing.log" 2>&1 && fail "an ensemble with a failing member was reported as a success: $(tail -5 "$WORK/failing.log")"
+grep -q "member_001/metrics.json: failed (exit [1-9][0-9]*): .*wave1_1.log" "$WORK/failing.log" ||
+  fail "the failing member is not named: $(tail -8 "$WORK/failing.log")"
+grep -q "table.md: never ran" "$WORK/failing.log" || fail "the aggregate's fate is not said: $(tail -8 "$WORK/failing.log")"
+grep -q ", done" "$WORK/failing.log" && fail "a failed ensemble said done"
 awk -v a="$t0" -v b="$t1" -v c="$t2" -v d="$t3" -v k=$MEMBERS 'BEGIN {
   printf "slurm_test: %d members: local executor %.1f s, Slurm %.1f s (cluster start %.1f s)\n", k, b - a, d - c, c - b }'
 pipeline/slurm/local_cluster.sh stop "$WORK/cluster" || fail "the daemons did not stop"
