@@ -60,6 +60,11 @@ def leaves(tree, prefix=""):
         yield prefix, tree
 
 
+def flat(member: dict, stages: list) -> dict:
+    """{dotted path: value} of a member's metrics, its registry stages only."""
+    return dict(leaves({k: v for k, v in member.items() if k in stages}))
+
+
 def is_number(v) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool)
 
@@ -78,7 +83,7 @@ def member_problems(members: list, dirs: list, preset: str, stages: list) -> lis
         missing = [s for s in stages if not isinstance(m.get(s), dict)]
         if missing:
             problems.append(f"{where}: no metrics of the stage(s) {', '.join(missing)}")
-        flats.append(dict(leaves({k: v for k, v in m.items() if k in stages})))
+        flats.append(flat(m, stages))
     numeric = {path for f in flats if f for path, v in f.items() if is_number(v)}
     for d, f in zip(dirs, flats):
         if f is None:
@@ -108,13 +113,13 @@ def bootstrap_ci(values: np.ndarray, rng) -> list:
 
 
 def statistics(members: list, stages: list) -> dict:
-    flats = [dict(leaves({k: v for k, v in m.items() if k in stages})) for m in members]
+    flats = [flat(m, stages) for m in members]
     # every number or null (a detector's "none") a member has, in the order they first appear
     paths = list(dict.fromkeys(path for f in flats for path, v in f.items() if v is None or is_number(v)))
     rng = np.random.default_rng(SEED)
     stats = {}
     for path in paths:
-        values = [float(f[path]) if f[path] is not None else math.nan for f in flats]
+        values = [float(f[path]) if f.get(path) is not None else math.nan for f in flats]
         finite = np.array([v for v in values if math.isfinite(v)])
         entry = {"values": [v if math.isfinite(v) else None for v in values], "n": int(len(finite))}
         if len(finite):

@@ -7,7 +7,6 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 #include <regex>
 
 #include "io/h5.hpp"
@@ -69,9 +68,8 @@ OutputDir::OutputDir(const std::string& dir, const std::string& initial_run, boo
                          (got > 0 ? " (pid " + std::string(pid, static_cast<std::size_t>(got)) + ")" : "") +
                          " is writing into this folder; wait for it to end, or give another --out");
   }
-  const std::string me = std::to_string(::getpid());
-  if (::ftruncate(lock_fd_, 0) != 0 || ::pwrite(lock_fd_, me.data(), me.size(), 0) < 0) {
-  }  // (the pid is for the message of a second run only)
+  const std::string me = std::to_string(::getpid());  // for a second run's message only: failing to write it is harmless
+  if (::ftruncate(lock_fd_, 0) == 0) (void)!::pwrite(lock_fd_, me.data(), me.size(), 0);
   if (!overwrite) {
     if (fs::exists(run, ec) && !is_run_file(run))
       throw OutputDirError(run.string() + " is not a dem2d run file: dem2d does not replace a file it did not "
