@@ -49,7 +49,8 @@ $(call check_count,JOBS,1,1024)
 BUILD := build/release
 # the analysis stages' registry (docs/stages.md)
 STAGE_REGISTRY ?= pipeline/stages.toml
-export STAGE_REGISTRY
+# the scripts make runs read the same registry (absolute: a test or a job may run elsewhere)
+export DEM2D_STAGE_REGISTRY := $(abspath $(STAGE_REGISTRY))
 SANITIZE_BUILD := build/sanitize
 # INSTALLED=DIR: the study's targets run the programs of `make install PREFIX=DIR`
 # (DIR/bin/dem2d, DIR/libexec/dem2d/<stage>) instead of building them here

@@ -131,7 +131,7 @@ class Registry(unittest.TestCase):
         copy = self.registry(extra(name="extra"))
         r = subprocess.run([sys.executable, "-c", "import sys; sys.path.insert(0, 'pipeline/report'); import files; "
                             "print(' '.join(s.name for s in files.stages()))"], cwd=ROOT, capture_output=True,
-                           text=True, env={**os.environ, "STAGE_REGISTRY": str(copy)})
+                           text=True, env={**os.environ, "DEM2D_STAGE_REGISTRY": str(copy)})
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertTrue(r.stdout.split()[-1] == "extra", r.stdout)
 

@@ -61,12 +61,12 @@ def write_if_changed(path: Path, text: str) -> bool:
 
 def stages() -> list:
     """The analysis stages of the registry (pipeline/stages.py): the Makefile's STAGE_REGISTRY, which it
-    exports, else pipeline/stages.toml."""
+    exports as DEM2D_STAGE_REGISTRY (an absolute path), else pipeline/stages.toml."""
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
     from stages import REGISTRY, RegistryError, load
 
     try:
-        return load(Path(os.environ.get("STAGE_REGISTRY") or REGISTRY))
+        return load(Path(os.environ.get("DEM2D_STAGE_REGISTRY") or REGISTRY))
     except RegistryError as e:
         fail(str(e))
 
