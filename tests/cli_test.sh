@@ -34,13 +34,18 @@ expect 2 "threads: 65536: must be an integer from 0 (all processors) to" -- \
   "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/many" --threads 65536
 [ -e "$WORK/many" ] && fail "a rejected --threads left an output folder"
 expect 2 "threads: -1: must be an integer" -- "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/many" --threads -1
-expect 2 "unknown command 'rnu' (commands: run, check, bench); did you mean 'run'?" -- "$DEM2D" rnu "$TESTS/scenes/valid_minimal.toml"
+expect 2 "unknown command 'rnu' (commands: run, check, bench, inspect); did you mean 'run'?" -- "$DEM2D" rnu "$TESTS/scenes/valid_minimal.toml"
 "$DEM2D" run --help | grep -q -- "--interrupt-at-step" && fail "the test-only --interrupt-at-step shows in run --help"
 
+MIN_SCENE=$TESTS/scenes/valid_minimal.toml
 # a complete run: run file and XDMF, valid layout, no work directory left
 expect 0 "run.h5" -- "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/minimal"
 [ -d "$WORK/minimal/.run.work" ] && fail "work directory left behind"
 $CHECK "$WORK/minimal/run.h5" >/dev/null || fail "check_run_file on the minimal run"
+# inspect: the whole file through the analyses' reader; damage is bad input naming the file and dataset
+"$DEM2D" inspect "$WORK/minimal/run.h5" | grep -q "a sound run file" || fail "inspect of the minimal run"
+expect 2 "not-a-run.h5: no such file" -- "$DEM2D" inspect "$WORK/not-a-run.h5"
+expect 2 "valid_minimal.toml: cannot open as HDF5" -- "$DEM2D" inspect "$MIN_SCENE"
 
 # the output folder: a run never replaces or deletes a file it did not make, never writes through a
 # link it did not make, never replaces the run it starts from, and a second run into the folder is refused

@@ -14,7 +14,8 @@ Units are SI per unit depth (forces N/m, masses kg/m); every dataset's unit
 and meaning are its `units` and `description` attributes (run.units(path),
 run.description(path)). The layout: docs/run_file.md; this package: docs/python.md.
 """
-from .run import Body, Contacts, Run, Series, Snapshot, open_run
+from .checks import RunFileError
+from .run import Body, Contacts, Run, Series, Snapshot, check_run, open_run
 
-__all__ = ["Body", "Contacts", "Run", "Series", "Snapshot", "open_run"]
+__all__ = ["Body", "Contacts", "Run", "RunFileError", "Series", "Snapshot", "check_run", "open_run"]
 __version__ = "0.1.0"

@@ -7,12 +7,35 @@ from functools import cached_property
 import h5py
 import numpy as np
 
-FORMATS = ("dem2d-run-2",)
+from .checks import FORMATS, SERIES, Checker, RunFileError, check_contacts, check_parameter, check_parameter_keys, \
+    check_series_dataset, check_structure
+
 
 
 def open_run(path):
-    """A Run for the run file at `path` (use it in a with-statement, or call close())."""
+    """A Run for the run file at `path` (use it in a with-statement, or call close()).
+    RunFileError if it is damaged or not a run file (the message names the file and the dataset)."""
     return Run(path)
+
+
+def check_run(path):
+    """Reads the whole run file with every check (as `dem2d inspect` does); RunFileError at the first problem.
+    Returns a one-line summary."""
+    with Run(path) as run:
+        run.parameters
+        if "series" in run.file:
+            for name in SERIES:
+                run._c.need(f"series/{name}")
+        for name in run.series.names():
+            run.series[name]
+        if "bodies/velocity" in run.file:
+            run._c.finite("bodies/velocity", run.file["bodies/velocity"][...])
+        if "contacts/line" in run.file:
+            run._c.finite("contacts/line", run.file["contacts/line"][...])
+        contacts = sum(len(s.contacts) for s in run)
+        return (f"{run.path}: a sound run file of scene {run.parameters.name}: {run.n_particles} grains, "
+                f"{len(run.bodies)} bodies, {len(run)} snapshots, {len(run.series.time)} series rows, "
+                f"{contacts} contact rows")
 
 
 @dataclass(frozen=True)
@@ -63,21 +86,33 @@ class Parameters:
 PARAMETERS_FORMAT = "dem2d-parameters-1"
 
 
-def _read_parameters(path, g: h5py.Group) -> Parameters:
+def _read_parameters(c: Checker, g: h5py.Group) -> Parameters:
+    try:
+        return _parameters(c, g)
+    except (KeyError, ValueError, TypeError) as e:
+        if isinstance(e, RunFileError):
+            raise
+        c.fail(f"/parameters is incomplete or damaged: {e}")
+
+
+def _parameters(c: Checker, g: h5py.Group) -> Parameters:
     units = {}
 
     def values(group):
         out = {}
         for k, v in group.items():
-            if isinstance(v, h5py.Dataset) and v.dtype.kind == "f":
-                x = v[()]
+            if isinstance(v, h5py.Dataset) and h5py.check_string_dtype(v.dtype) is None:
+                x = check_parameter(c, v)
                 out[k] = float(x) if np.ndim(x) == 0 else np.asarray(x, dtype=float)
                 units[v.name[len("/parameters/"):]] = v.attrs.get("units", "-")
         return out
 
     fmt = g.attrs.get("format")
     if fmt != PARAMETERS_FORMAT:
-        raise ValueError(f"{path}: /parameters has format {fmt!r}; this reader knows {PARAMETERS_FORMAT}")
+        c.fail(f"/parameters has format {fmt!r}; this reader knows {PARAMETERS_FORMAT}")
+    check_parameter_keys(c, g)
+    if "free_time" in g["stop"] and "body_free" not in g["stop"].attrs:
+        c.fail("/parameters/stop@body_free: missing (the body whose freedom ends the run)")
     bodies = []
     for k in range(int(g.attrs["bodies"])):
         b = g[f"bodies/{k}"]
@@ -98,7 +133,7 @@ def _read_parameters(path, g: h5py.Group) -> Parameters:
         gravity=values(g["gravity"])["g"] if "gravity" in g else np.zeros(2),
         contact={k: values(g["contact"][k]) for k in g["contact"]},
         stop={**values(g["stop"]), **({"body_free": g["stop"].attrs["body_free"]} if "body_free" in g["stop"].attrs else {})},
-        output=values(g["output"]), domain=np.asarray(g["domain"][...]), skin=values(g["neighbour"])["skin"],
+        output=values(g["output"]), domain=check_parameter(c, g["domain"]), skin=values(g["neighbour"])["skin"],
         bodies=bodies, jam=({**values(g["jam"]), "bodies": list(g["jam/bodies"].asstr()[...])} if "jam" in g else {}),
         units=units)
 
@@ -154,56 +189,74 @@ class Snapshot:
 
 
 class Series:
-    """The time series (one row per series interval): time (s), step, and per body force/torque."""
+    """The time series (one row per series interval): time (s), step, and per body force/torque.
+    Every dataset handed out is checked: one row per series time, numbers, floats finite."""
 
-    def __init__(self, group: h5py.Group):
-        self._g = group
-        self.time = group["time"][...]
-        self.step = group["step"][...]
+    def __init__(self, checker: Checker, time, n_bodies):
+        self._c, self.time, self._B = checker, time, n_bodies
+        self._g = checker.f["series"] if "series" in checker.f else {}
+        self.step = self["step"] if "series/step" in checker.f else np.zeros(0, dtype=np.int64)
 
     def __getitem__(self, name):
         """Any series dataset by name, e.g. series["kinetic_energy"] or series["energy/sliding"]."""
-        return self._g[name][...]
+        return check_series_dataset(self._c, name, len(self.time))
+
+    def _rows(self, name, row_shape):
+        data = self[name]
+        if data.shape[1:] != tuple(row_shape):
+            self._c.fail(f"dataset /series/{name} has shape {list(data.shape)}, expected "
+                         f"{[len(self.time), *row_shape]}")
+        return data
 
     def names(self):
         out = []
-        self._g.visititems(lambda n, o: out.append(n) if isinstance(o, h5py.Dataset) else None)
+        if self._g:
+            self._g.visititems(lambda n, o: out.append(n) if isinstance(o, h5py.Dataset) else None)
         return out
 
     def body_force(self, body: Body, mean=True):
         """[T, 2] force (fx, fy) of the grains on `body` (N/m): the mean over each interval, or the
         value at the row's step (mean=False)."""
-        return self._g["body_force_mean" if mean else "body_force"][:, body.index, :]
+        return self._rows("body_force_mean" if mean else "body_force", (self._B, 2))[:, body.index, :]
 
     def body_torque(self, body: Body, mean=True):
-        return self._g["body_torque_mean" if mean else "body_torque"][:, body.index]
+        return self._rows("body_torque_mean" if mean else "body_torque", (self._B,))[:, body.index]
 
     def body_vertices(self, body: Body):
         """[T, vertex_count, 2] core vertices of `body` (m)."""
-        return self._g["body_vertices"][:, body.index, :body.vertex_count, :]
+        K = self._c.f["snapshots/body_vertices"].shape[2]
+        return self._rows("body_vertices", (self._B, K, 2))[:, body.index, :body.vertex_count, :]
 
 
 class Run:
-    """A run file, opened read-only. Snapshots are read when asked for."""
+    """A run file, opened read-only, its structure checked (dem2d.checks). Snapshots are read, and
+    their values checked, when asked for. Every refusal is a RunFileError naming the file and dataset."""
 
     def __init__(self, path):
         self.path = str(path)
         try:
             self.file = h5py.File(self.path, "r")
+        except FileNotFoundError:
+            raise RunFileError(f"{self.path}: no such file") from None
         except OSError as e:
-            raise OSError(f"{self.path}: cannot open as a run file: {e}") from None
-        fmt = self.file.attrs.get("format")
-        if fmt not in FORMATS:
+            raise RunFileError(f"{self.path}: cannot open as a run file (HDF5): {e}") from None
+        self._c = Checker(self.path, self.file)
+        try:
+            self._dims = self._checked(check_structure, self._c)
+        except BaseException:
             self.file.close()
-            raise ValueError(f"{self.path}: format {fmt!r} is not a dem2d run file ({', '.join(FORMATS)})")
+            raise
         self.attrs = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in self.file.attrs.items()}
-        if "parameters" not in self.file:
-            self.file.close()
-            raise ValueError(f"{self.path}: written by dem2d {self.attrs.get('code_version', '(unknown version)')}, "
-                             "before run files carried their parameters (/parameters): run its scene again with "
-                             "this dem2d (make rebuilds the study's run files)")
-        self._start = self.file["snapshots/contact_start"][...]
-        self.times = self.file["snapshots/time"][...]
+        self._start, self.times = self._dims["start"], self._dims["times"]
+
+    def _checked(self, fn, *args):
+        """fn(*args), HDF5's own read errors (a cut or damaged file) as RunFileError naming the file."""
+        try:
+            return fn(*args)
+        except RunFileError:
+            raise
+        except (OSError, KeyError) as e:
+            self._c.fail(f"cannot read: {e}")
 
     def close(self):
         self.file.close()
@@ -229,7 +282,7 @@ class Run:
 
     @property
     def n_particles(self):
-        return int(self.attrs["n_particles"])
+        return self._dims["N"]
 
     @property
     def stop_reason(self):
@@ -242,20 +295,24 @@ class Run:
         return self.attrs.get("stopped_by", "")
 
     def dataset(self, name):
-        """A whole dataset by its path in the file (docs/run_file.md), e.g. "series/kinetic_energy"."""
-        if name not in self.file:
+        """A whole dataset by its path in the file (docs/run_file.md), e.g. "contacts/mu_star": as stored,
+        its shape checked on opening where the format fixes it, its values not (series[...] and
+        snapshot(k) check them)."""
+        if name not in self.file or not isinstance(self.file[name], h5py.Dataset):
             raise KeyError(f"{self.path}: no dataset /{name}")
-        return self.file[name][...]
+        return self._checked(lambda: self.file[name][...])
 
     @cached_property
     def parameters(self) -> Parameters:
         """What the run ran with (/parameters): the laws, bodies and schedules, time step, stop criteria."""
-        return _read_parameters(self.path, self.file["parameters"])
+        return self._checked(_read_parameters, self._c, self.file["parameters"])
 
     @cached_property
     def particles(self) -> Particles:
         p = self.file["particles"]
-        return Particles(p["diameter"][...], p["mass"][...], p["inertia"][...])
+        N = self._dims["N"]
+        inertia = p["inertia"][...] if "inertia" in p else np.full(N, np.nan)
+        return Particles(p["diameter"][...], p["mass"][...], inertia)
 
     @cached_property
     def bodies(self) -> list[Body]:
@@ -274,21 +331,28 @@ class Run:
         raise KeyError(f"{self.path}: no body with role or name {key!r} "
                        f"(bodies: {', '.join(b.name + (f' ({b.role})' if b.role else '') for b in self.bodies)})")
 
+    def _outlines(self, b: Body):
+        """[S, vertex_count, 2] body b's core at every snapshot (m), checked finite."""
+        v = self._checked(lambda: self.file["snapshots/body_vertices"][:, b.index, :b.vertex_count, :])
+        return self._c.finite("snapshots/body_vertices", v, "snapshot")
+
     def floor_top(self) -> float:
         """Height of the floor's face (m): the top of its rounded core."""
         floor = self.body("floor")
-        return float(self.file["snapshots/body_vertices"][0, floor.index, :floor.vertex_count, 1].max()
-                     + floor.thickness / 2)
+        if not len(self):
+            self._c.fail("the run file has no snapshots (/snapshots/time is empty)")
+        return float(self._outlines(floor)[0, :, 1].max() + floor.thickness / 2)
 
     def heights(self, body="intruder"):
         """[S] height of a body's centre (the mean of its core's vertices) above the floor's face, per snapshot (m):
         the study's intruder height H."""
-        b = self.body(body)
-        return self.file["snapshots/body_vertices"][:, b.index, :b.vertex_count, 1].mean(axis=1) - self.floor_top()
+        return self._outlines(self.body(body))[:, :, 1].mean(axis=1) - self.floor_top()
 
     @cached_property
     def series(self) -> Series:
-        return Series(self.file["series"])
+        """The time series; empty (no rows) if the run wrote none."""
+        time = self._checked(lambda: self.file["series/time"][...]) if "series/time" in self.file else np.zeros(0)
+        return self._checked(Series, self._c, time, self._dims["B"])
 
     def units(self, path: str) -> str:
         """The unit of a dataset, e.g. units("contacts/fn") == "N/m"."""
@@ -307,10 +371,18 @@ class Run:
         if not -n <= k < n:
             raise IndexError(f"{self.path}: snapshot {k} of {n}")
         k %= n
-        s = self.file["snapshots"]
-        return Snapshot(k, float(self.times[k]), int(s["step"][k]), s["position"][k], s["velocity"][k],
-                        s["omega"][k], s["theta"][k], s["active"][k].astype(bool), s["body_vertices"][k],
-                        self.contacts(k))
+        return self._checked(self._snapshot, k)
+
+    def _snapshot(self, k):
+        s, c = self.file["snapshots"], self._c
+        at = f" at snapshot {k}"
+        position = c.finite("snapshots/position" + at, s["position"][k], "grain")
+        velocity = c.finite("snapshots/velocity" + at, s["velocity"][k], "grain")
+        omega = c.finite("snapshots/omega" + at, s["omega"][k], "grain")
+        theta = c.finite("snapshots/theta" + at, s["theta"][k], "grain") if "theta" in s else np.zeros_like(omega)
+        outlines = c.finite("snapshots/body_vertices" + at, s["body_vertices"][k], "body")
+        return Snapshot(k, float(self.times[k]), int(s["step"][k]), position, velocity, omega, theta,
+                        s["active"][k].astype(bool), outlines, self.contacts(k))
 
     def snapshot_at(self, time: float) -> Snapshot:
         """The snapshot nearest to `time` (s)."""
@@ -321,6 +393,9 @@ class Run:
             yield self.snapshot(k)
 
     def contacts(self, k: int) -> Contacts:
-        a, b = self._start[k], self._start[k + 1]
+        """Snapshot k's contacts, checked (finite values; i, j and sliding in range)."""
+        a, b = int(self._start[k]), int(self._start[k + 1])
         g = self.file["contacts"]
-        return Contacts({name: g[name][a:b] for name in g})
+        rows = self._checked(lambda: {name: g[name][a:b] for name in g if isinstance(g[name], h5py.Dataset)})
+        check_contacts(self._c, k, a, rows, self._dims["N"], self._dims["B"])
+        return Contacts(rows)

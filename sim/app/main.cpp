@@ -2,6 +2,7 @@
 //   dem2d run SCENE.toml --out DIR [--overlay FILE]... [--initial RUN.h5] [--threads N] [--fresh] [--overwrite] [--progress S]
 //   dem2d check SCENE.toml [--overlay FILE]... [--initial RUN.h5] [--json]
 //   dem2d bench [--scene FILE] [--steps N] [--threads 1,2]
+//   dem2d inspect RUN.h5
 // Exit codes: 0 done, 1 run failed, 2 bad input, 3 interrupted (checkpoint written).
 #include <unistd.h>
 
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "app/bench.hpp"
+#include "app/inspect.hpp"
 #include "core/share_dir.hpp"
 #include "run/output_dir.hpp"
 #include "core/version.hpp"
@@ -158,11 +160,16 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
 
+  std::string inspect_path;
+  auto* inspect = app.add_subcommand("inspect", "Read a whole run file with every check the analyses apply, and "
+                                                "say what it holds (exit 2 if it is damaged)");
+  inspect->add_option("run", inspect_path, "Run file (run.h5)")->required();
+
   // A misspelt command: say which, and the nearest (CLI11 says only that one is required).
   if (argc > 1 && argv[1][0] != '-') {
-    const std::vector<std::string_view> commands = {"run", "check", "bench"};
+    const std::vector<std::string_view> commands = {"run", "check", "bench", "inspect"};
     if (std::find(commands.begin(), commands.end(), std::string_view(argv[1])) == commands.end()) {
-      std::fprintf(stderr, "dem2d: unknown command '%s' (commands: run, check, bench)%s\n",
+      std::fprintf(stderr, "dem2d: unknown command '%s' (commands: run, check, bench, inspect)%s\n",
                    dem2d::show_key(argv[1]).c_str(), dem2d::did_you_mean(argv[1], commands).c_str());
       return kExitBadInput;
     }
@@ -180,6 +187,7 @@ int main(int argc, char** argv) {
     if (*run) return cmd_run(scene_path, extra, run_opt, threads);
     if (*check) return cmd_check(scene_path, extra, check_json);
     if (*bench) return dem2d::run_bench(bench_opt);
+    if (*inspect) return dem2d::inspect_run_file(inspect_path);
   } catch (const dem2d::SceneError& e) {
     std::fprintf(stderr, "dem2d: %s\n", e.what());
     return kExitBadInput;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -43,6 +44,22 @@ inline bool obeys(const Num& n, double v) {
       return std::isfinite(v) && (n.lo_open ? v > n.lo : v >= n.lo) && (n.hi_open ? v < n.hi : v <= n.hi);
   }
   return false;
+}
+
+// Whether v obeys a rule as rule_text spells it ("finite", "> 0", ">= 0",
+// "in (0, 1]", "in [lo, hi)"); nothing if the text is none of these.
+inline std::optional<bool> obeys_rule_text(const std::string& rule, double v) {
+  if (rule == "finite") return std::isfinite(v);
+  if (rule == "> 0") return std::isfinite(v) && v > 0.0;
+  if (rule == ">= 0") return std::isfinite(v) && v >= 0.0;
+  if (rule.size() < 8 || rule.compare(0, 3, "in ") != 0 || (rule[3] != '(' && rule[3] != '[') ||
+      (rule.back() != ')' && rule.back() != ']'))
+    return std::nullopt;
+  std::istringstream is(std::string(rule.begin() + 4, rule.end() - 1));
+  double lo = 0.0, hi = 0.0;
+  char comma = 0;
+  if (!(is >> lo >> comma >> hi) || comma != ',' || !(is >> std::ws).eof()) return std::nullopt;
+  return std::isfinite(v) && (rule[3] == '(' ? v > lo : v >= lo) && (rule.back() == ')' ? v < hi : v <= hi);
 }
 
 // "normal stiffness in N/m"

@@ -213,6 +213,33 @@ bool exists(const File& f, const std::string& name) {
   }
 }
 
+namespace {
+
+void collect_datasets(const File& f, hid_t group, const std::string& prefix, std::vector<std::string>& out) {
+  H5G_info_t info;
+  if (H5Gget_info(group, &info) < 0) throw std::runtime_error(f.path() + ": cannot list group " + prefix);
+  for (hsize_t k = 0; k < info.nlinks; ++k) {
+    const ssize_t size = H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, k, nullptr, 0, H5P_DEFAULT);
+    if (size < 0) throw std::runtime_error(f.path() + ": cannot list group " + prefix);
+    std::string name(static_cast<std::size_t>(size) + 1, '\0');
+    H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, k, name.data(), name.size(), H5P_DEFAULT);
+    name.resize(static_cast<std::size_t>(size));
+    Handle obj(H5Oopen(group, name.c_str(), H5P_DEFAULT), H5Oclose);
+    if (obj.id() < 0) throw std::runtime_error(f.path() + ": cannot open " + prefix + name);
+    if (H5Iget_type(obj) == H5I_GROUP) collect_datasets(f, obj, prefix + name + "/", out);
+    else if (H5Iget_type(obj) == H5I_DATASET) out.push_back(prefix + name);
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> datasets_under(const File& f, const std::string& group) {
+  Handle g = check(H5Gopen2(f.id(), group.c_str(), H5P_DEFAULT), H5Gclose, f, "no group " + group);
+  std::vector<std::string> out;
+  collect_datasets(f, g, "", out);
+  return out;
+}
+
 std::string dtype(const File& f, const std::string& name) {
   Handle ds = check(H5Dopen2(f.id(), name.c_str(), H5P_DEFAULT), H5Dclose, f, "no dataset " + name);
   Handle type(H5Dget_type(ds), H5Tclose);

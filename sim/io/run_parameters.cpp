@@ -1,6 +1,7 @@
 // Reading /parameters (io/run_parameters.hpp).
 #include "io/run_parameters.hpp"
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -27,6 +28,12 @@ class Reader {
     return v[0];
   }
   double number_or(const std::string& name, double fallback) const { return has(name) ? number(name) : fallback; }
+  // an on/off flag: 1 or 0
+  bool flag(const std::string& name) const {
+    const double v = number(name);
+    if (v != 0.0 && v != 1.0) fail(name, shortest(v) + ": must be 1 (on) or 0 (off)");
+    return v == 1.0;
+  }
   // a scalar the scene reader would accept under `spec`
   double checked(const std::string& name, const Num& spec) const {
     const double v = number(name);
@@ -50,9 +57,17 @@ class Reader {
   }
 
  private:
+  // every value checked against the rule the writer stored with it (attribute `valid`; finite without one)
   std::vector<double> read_as_double(const std::string& name, std::vector<hsize_t>* dims) const {
     if (h5::dtype(f_, name) != "f8") fail(name, "not float64");
-    return h5::read<double>(f_, name, dims);
+    std::vector<double> v = h5::read<double>(f_, name, dims);
+    const std::string rule = h5::has_attr(f_, name, "valid") ? h5::read_attr_string(f_, name, "valid") : "finite";
+    for (const double x : v) {
+      const std::optional<bool> ok = obeys_rule_text(rule, x);
+      if (!ok) fail(name + "@valid", "'" + rule + "' is not a rule this reader knows");
+      if (!*ok) fail(name, shortest(x) + ": must be " + rule);
+    }
+    return v;
   }
   const h5::File& f_;
 };
@@ -74,8 +89,10 @@ StopCondition read_stop(const Reader& r) {
     s.body_free = r.text("parameters/stop", "body_free");
     s.free_time = r.checked("parameters/stop/free_time", scene_key::free_time);
   }
-  s.check_interval = r.number_or("parameters/stop/check_interval", 0.0);
-  s.min_time = r.number_or("parameters/stop/min_time", 0.0);
+  if (s.energy_criterion() || !s.body_free.empty()) {  // written with a criterion that is checked
+    s.check_interval = r.number("parameters/stop/check_interval");
+    s.min_time = r.number("parameters/stop/min_time");
+  }
   return s;
 }
 
@@ -141,13 +158,13 @@ bool has_parameters(const h5::File& f) { return h5::exists(f, "parameters"); }
 RunParameters read_parameters(const h5::File& f) {
   const Reader r(f);
   if (r.text("parameters", "format") != kParametersFormat)
-    r.fail("parameters@format", "'" + r.text("parameters", "format") + "', this reader knows " + kParametersFormat);
+    r.fail("parameters@format", std::string("'") + r.text("parameters", "format") + "', this reader knows " + kParametersFormat);
   RunParameters p;
   p.name = r.text("parameters", "scene");
   for (const EffectName& e : kEffectNames)
-    if (r.number("parameters/effects/" + std::string(e.key)) != 0.0) p.effects |= e.bit;
+    if (r.flag("parameters/effects/" + std::string(e.key))) p.effects |= e.bit;
   p.dt = r.checked("parameters/time/dt", scene_key::dt);
-  p.dt_forced = r.number("parameters/time/dt_forced") != 0.0;
+  p.dt_forced = r.flag("parameters/time/dt_forced");
   p.density = r.checked("parameters/material/density", scene_key::density);
   if (has(p.effects, effect::gravity)) {
     const std::vector<double> g = r.values("parameters/gravity/g", 2);
@@ -160,7 +177,7 @@ RunParameters read_parameters(const h5::File& f) {
   p.output.snapshot_interval = r.number("parameters/output/snapshot_interval");
   p.output.checkpoint_interval = r.number("parameters/output/checkpoint_interval");
   p.output.displacement_window = r.number("parameters/output/displacement_window");
-  p.output.energy_balance = r.number("parameters/output/energy_balance") != 0.0;
+  p.output.energy_balance = r.flag("parameters/output/energy_balance");
   const std::vector<double> d = r.values("parameters/domain", 4);
   p.domain = {d[0], d[1], d[2], d[3]};
   p.skin = r.number("parameters/neighbour/skin");

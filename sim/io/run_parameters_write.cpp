@@ -1,5 +1,6 @@
 // Writing /parameters (io/run_parameters.hpp). In the engine's library: it
 // holds the engine's contact law (its layout follows the law's list of terms).
+#include <map>
 #include <string>
 #include <vector>
 
@@ -11,17 +12,22 @@ namespace dem2d {
 
 namespace {
 
-void number(const h5::File& f, const std::string& name, double v, const Num& spec) {
-  h5::write_scalar(f, name, v);
+// units, description, and the rule every reader checks the value against ("> 0", "in (0, 1]": rule_text)
+void describe(const h5::File& f, const std::string& name, const Num& spec) {
   h5::write_attr(f, name, "units", std::string(*spec.unit ? spec.unit : "-"));
   h5::write_attr(f, name, "description", std::string(spec.what));
+  h5::write_attr(f, name, "valid", rule_text(spec));
+}
+
+void number(const h5::File& f, const std::string& name, double v, const Num& spec) {
+  h5::write_scalar(f, name, v);
+  describe(f, name, spec);
 }
 
 void vector(const h5::File& f, const std::string& name, const std::vector<double>& v, const Num& spec,
             std::vector<hsize_t> dims = {}) {
   h5::write(f, name, v, std::move(dims));
-  h5::write_attr(f, name, "units", std::string(*spec.unit ? spec.unit : "-"));
-  h5::write_attr(f, name, "description", std::string(spec.what));
+  describe(f, name, spec);
 }
 
 void flag(const h5::File& f, const std::string& name, bool on, const char* what) {
@@ -123,6 +129,15 @@ void write_parameters(const h5::File& f, const Scene& s) {
   number(f, "parameters/neighbour/skin", s.skin, scene_key::skin);
   bodies(f, s.bodies);
   jam(f, s.jam);
+  // every group names the values it holds (attribute `keys`), so that any reader can tell one that is missing
+  std::map<std::string, std::string> keys;
+  for (const std::string& d : h5::datasets_under(f, "parameters")) {
+    const std::size_t slash = d.rfind('/');
+    std::string& list = keys[slash == std::string::npos ? "parameters" : "parameters/" + d.substr(0, slash)];
+    if (!list.empty()) list += ',';
+    list += d.substr(slash == std::string::npos ? 0 : slash + 1);
+  }
+  for (const auto& [group, list] : keys) h5::write_attr(f, group, "keys", list);
   h5::write_attr(f, "parameters", "format", std::string(kParametersFormat));
   h5::write_attr(f, "parameters", "scene", s.name);
   h5::write_attr(f, "parameters", "bodies", static_cast<std::int64_t>(s.bodies.size()));

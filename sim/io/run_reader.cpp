@@ -222,6 +222,10 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
       fail("/bodies/vertex_count has " + std::to_string(n) + ", expected 1.." + std::to_string(Shape::kMaxVertices));
     max_vertices_ = std::max<hsize_t>(max_vertices_, static_cast<hsize_t>(n));
   }
+  for (const auto& [attr, count] : {std::pair<const char*, hsize_t>{"n_particles", N}, {"n_bodies", B}})
+    if (h5::has_attr(file_, "/", attr) && h5::read_attr_int(file_, "/", attr) != static_cast<std::int64_t>(count))
+      fail("root attribute " + std::string(attr) + " is " + std::to_string(h5::read_attr_int(file_, "/", attr)) +
+           ", but the file holds " + std::to_string(count) + (attr[2] == 'p' ? " grains (/particles)" : " bodies (/bodies)"));
   const hsize_t S = length("snapshots/time");
   times_ = checked<double>("snapshots/time", {S});
   steps_ = checked<std::int64_t>("snapshots/step", {S});
@@ -261,12 +265,17 @@ void RunReader::check_records(hsize_t N, hsize_t S) const {
     for (std::size_t i = 0; i < id.size(); ++i)
       if (id[i] != static_cast<std::int32_t>(i)) fail("dataset /particles/id: row " + std::to_string(i) + " holds " + std::to_string(id[i]));
   }
-  if (has("particles/inertia"))
-    for (const double v : checked<double>("particles/inertia", {N}))
+  if (has("particles/inertia")) {  // > 0; +infinity for a grain that does not rotate
+    check_dataset("particles/inertia", {N}, "f8");
+    for (const double v : h5::read<double>(file_, "particles/inertia"))
       if (!(v > 0.0)) fail("dataset /particles/inertia holds " + shortest(v) + ": moments of inertia are > 0");
+  }
   if (has("snapshots/theta")) check_dataset("snapshots/theta", {S, N}, "f8");
   if (has("bodies/velocity")) check_dataset("bodies/velocity", {static_cast<hsize_t>(body_names_.size()), 2}, "f8");
   if (has("snapshots/displacement")) check_dataset("snapshots/displacement", {S, N, 2}, "f8");
+  const auto C = static_cast<hsize_t>(contact_start_.back());
+  if (has("contacts/mu_star")) check_dataset("contacts/mu_star", {C}, "f8");  // (NaN without friction)
+  if (has("contacts/line")) check_dataset("contacts/line", {C, 2, 2}, "f8");
   if (has("lost/id")) {
     const hsize_t L = rows("lost/id");
     for (const std::int32_t i : checked<std::int32_t>("lost/id", {L}))
@@ -289,6 +298,28 @@ std::vector<double> RunReader::series(const std::string& name, const std::vector
   std::vector<hsize_t> dims = {series_rows()};
   dims.insert(dims.end(), row_shape.begin(), row_shape.end());
   return checked<double>("series/" + name, dims);
+}
+
+void RunReader::check_rest() const {
+  if (h5::exists(file_, "bodies/velocity")) body_velocities();
+  if (h5::exists(file_, "contacts/line")) checked<double>("contacts/line", {static_cast<hsize_t>(contact_start_.back()), 2, 2});
+  if (!h5::exists(file_, "series")) return;
+  for (const char* name : {"step", "contacts", "body_force", "body_force_mean", "body_torque", "body_torque_mean",
+                           "body_vertices", "kinetic_energy", "max_overlap"})
+    if (!h5::exists(file_, "series/" + std::string(name))) fail("dataset /series/" + std::string(name) + " is missing");
+  for (const std::string& member : h5::datasets_under(file_, "series")) {
+    const std::string name = "series/" + member;
+    std::vector<hsize_t> dims = h5::shape(file_, name);
+    if (dims.empty() || dims[0] != series_rows())
+      fail("dataset /" + name + " has shape " + show(dims) + ", expected " + std::to_string(series_rows()) +
+           " rows (one per /series/time)");
+    if (member == "step" || member == "contacts") {  // counts; every other series holds floats
+      check_dataset(name, dims, "i8");
+    } else {
+      dims.erase(dims.begin());
+      series(member, dims);
+    }
+  }
 }
 
 std::vector<Vec2> RunReader::body_velocities() const {
@@ -359,6 +390,9 @@ Snapshot RunReader::snapshot(std::size_t k) const {
   s.velocity = vec2("snapshots/velocity");
   s.omega = read_rows<double>(file_, "snapshots/omega", k, 1);
   check_finite("snapshots/omega at snapshot " + std::to_string(k), s.omega, 1, "grain", 0);
+  if (h5::exists(file_, "snapshots/theta"))  // (files written before rotation angles lack it)
+    check_finite("snapshots/theta at snapshot " + std::to_string(k), read_rows<double>(file_, "snapshots/theta", k, 1),
+                 1, "grain", 0);
   s.active = read_rows<std::uint8_t>(file_, "snapshots/active", k, 1);
   const std::vector<double> outlines = read_rows<double>(file_, vertices_dataset("snapshots"), k, 1);
   check_finite(vertices_dataset("snapshots") + " at snapshot " + std::to_string(k), outlines,

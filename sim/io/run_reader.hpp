@@ -130,6 +130,10 @@ class RunReader {
   // Dataset /series/<name>, checked to be [T, row_shape...] float64 with finite
   // values, flattened row-major; e.g. series("body_force_mean", {bodies(), 2}).
   std::vector<double> series(const std::string& name, const std::vector<hsize_t>& row_shape = {}) const;
+  // What reading the snapshots does not check: every dataset under /series
+  // (energy/ included) has T rows and finite floats; /contacts/line and
+  // /bodies/velocity hold finite values. (dem2d inspect: the whole file.)
+  void check_rest() const;
   // /bodies/velocity: each body's prescribed velocity at the end of the run (m/s) [B].
   std::vector<Vec2> body_velocities() const;
 

@@ -11,6 +11,9 @@ build/sanitize). Deterministic for a seed. Classes:
            (data/study.toml), each stage on the suite's pull-off run
   runfile  corrupted copies of that run file, read by every stage and by
            dem2d check --initial
+  reader   corrupted copies of the run file read whole by both readers, the
+           C++ one (dem2d inspect) and the Python one (python/dem2d,
+           check_run): their verdicts must agree, and both refuse damage
   fault    SIGKILL, SIGTERM, SIGINT at random moments, a full disk (a file
            size limit), a damaged work directory: the rerun must resume to a
            run file bitwise identical to the uninterrupted one, or refuse and
@@ -20,7 +23,8 @@ names the file), failed (exit 1 with a message: out of memory, a run that
 diverges, a damaged work directory), and the defects: crash (a signal or
 another exit code), sanitizer (an ASan/UBSan report), hang (no exit within
 the time limit), message (exit 2 whose message does not name the file, or is
-too long), disagree (check accepts what run refuses), silent (exit 0 on an
+too long), disagree (check accepts what run refuses; the two readers differ),
+traceback (the Python reader fails without a RunFileError), silent (exit 0 on an
 input the program must refuse), fault (a resume that differs or a wrong
 file). Prints counts per class and outcome; exit 1 if any defect."""
 import argparse
@@ -43,12 +47,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import mutate  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent.parent
-DEFECTS = ("crash", "sanitizer", "hang", "message", "disagree", "silent", "fault")
+DEFECTS = ("crash", "sanitizer", "hang", "message", "disagree", "traceback", "silent", "fault")
 STAGES = ("bed_metrics", "pulloff_metrics", "spectrum", "cg", "network", "friction")
 SCENES = ["tests/scenes/valid_minimal.toml", "tests/scenes/quick_fill.toml", "examples/box/scene.toml",
           "examples/silo/scene.toml", "tests/fuzz/tiny_fill.toml", "tests/fuzz/tiny_pulloff.toml"]
-COUNTS = {"quick": {"scene": 40, "config": 30, "runfile": 10, "fault": 6},
-          "full": {"scene": 1200, "config": 700, "runfile": 300, "fault": 40}}
+COUNTS = {"quick": {"scene": 40, "config": 30, "runfile": 10, "reader": 16, "fault": 6},
+          "full": {"scene": 1200, "config": 700, "runfile": 300, "reader": 400, "fault": 40}}
 TIMEOUT = 60.0  # s per program run (x 4 in a sanitizer build)
 
 
@@ -279,6 +283,55 @@ class Suite:
         for kind, outcome, what in self.parallel(cases, one):
             self.record("runfile", kind, outcome, what)
 
+    # ---- the two readers ----
+    def must_refuse_whole(self, kind, name, where):
+        """What a reader of the whole file must refuse: any damage to a record it reads."""
+        if kind in ("truncate_file", "attr_count"):
+            return True
+        if where == "none" or kind in ("negative", "huge"):
+            return name.startswith(("particles/diameter", "particles/mass")) and kind == "negative"
+        if name.startswith(("xdmf/", "contacts/mu_star", "snapshots/displacement")):
+            return False  # neither reader reads the XDMF index; NaN is allowed where nothing was recorded
+        if kind == "delete":
+            return not name.startswith(self.OPTIONAL + ("parameters/", "series/energy/"))
+        return not name.startswith("parameters/") or kind in ("nan", "inf")
+
+    def readers(self):
+        d = self.fresh("reader")
+        cases = []
+        for k in range(self.counts["reader"]):
+            path = d / f"{k:05d}.h5"
+            shutil.copy(self.pull, path)
+            with h5py.File(path, "r+") as f:
+                if self.rng.random() < 0.15:  # a count that does not match the file
+                    attr = self.rng.choice(["n_particles", "n_bodies"])
+                    f.attrs[attr] = int(f.attrs[attr]) + self.rng.choice([-1, 1, 95])
+                    kind, name, where = "attr_count", attr, "all"
+                else:
+                    kind, name, where = mutate.mutate_run(self.rng, f)
+            if kind == "truncate_file":
+                with open(path, "r+b") as fh:
+                    fh.truncate(self.rng.randrange(path.stat().st_size))
+            cases.append((kind, name, where, path))
+        py_reader = Path(__file__).resolve().parent / "py_reader.py"
+
+        def one(case):
+            kind, name, where, path = case
+            cpp = classify(execute([self.dem2d, "inspect", path], self.timeout), "dem2d", [path])
+            r = execute([sys.executable, py_reader, path], self.timeout)
+            py = "traceback" if r.rc == 1 and "Traceback" in r.err else classify(r, "dem2d-python", [path])
+            what = f"{path} ({kind} {name} {where}): dem2d inspect {cpp}, python {py}: {r.err.strip()[-300:]}"
+            if py == "traceback" or cpp in DEFECTS or py in DEFECTS:
+                return kind, py if py in DEFECTS else cpp, what
+            if cpp != py:
+                return kind, "disagree", what
+            if cpp == "ok" and self.must_refuse_whole(kind, name, where):
+                return kind, "silent", what
+            return kind, cpp, what
+
+        for kind, outcome, what in self.parallel(cases, one):
+            self.record("reader", kind, outcome, what)
+
     # ---- faults ----
     def faults(self):
         d = self.fresh("fault")
@@ -435,7 +488,7 @@ def main():
     ap.add_argument("--quick", action="store_true", help="the short version (make test)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--work", default=None, help="working folder (default: a temporary one)")
-    ap.add_argument("--only", default="scene,config,runfile,fault")
+    ap.add_argument("--only", default="scene,config,runfile,reader,fault")
     ap.add_argument("--jobs", type=int, default=2)
     args = ap.parse_args()
     tmp = None
@@ -446,7 +499,8 @@ def main():
     suite = Suite(args)
     suite.setup()
     for cls in args.only.split(","):
-        {"scene": suite.scenes, "config": suite.configs, "runfile": suite.runfiles, "fault": suite.faults}[cls]()
+        {"scene": suite.scenes, "config": suite.configs, "runfile": suite.runfiles, "reader": suite.readers,
+         "fault": suite.faults}[cls]()
     rc = suite.report(time.monotonic() - t0)
     if tmp:
         tmp.cleanup()

@@ -1,5 +1,8 @@
 """The Python reader (python/dem2d) on the examples' run files: what it resolves
 (bodies of contacts, lines, heights) agrees with the engine's own records."""
+import re
+import subprocess
+
 import h5py
 import numpy as np
 import pytest
@@ -86,10 +89,81 @@ def test_what_is_not_a_run_file_is_refused(tmp_path):
     other = tmp_path / "other.h5"
     with h5py.File(other, "w") as f:
         f.attrs["format"] = "something-else"
-    with pytest.raises(ValueError, match="other.h5: format 'something-else' is not a dem2d run file"):
+    with pytest.raises(dem2d.RunFileError, match="other.h5: not a dem2d run file: format attribute is something-else"):
         dem2d.open_run(other)
-    with pytest.raises(OSError, match="missing.h5: cannot open as a run file"):
+    with pytest.raises(dem2d.RunFileError, match="missing.h5: no such file"):
         dem2d.open_run(tmp_path / "missing.h5")
+
+
+def _set(name, change):
+    def damage(f):
+        data = f[name][...]
+        change(data)
+        f[name][...] = data
+    return damage
+
+
+def _replace(name, data):
+    def damage(f):
+        attrs, new = dict(f[name].attrs), data(f)
+        del f[name]
+        f.create_dataset(name, data=new)
+        f[name].attrs.update(attrs)
+    return damage
+
+
+# Damage, where the reader meets it, and the dataset its refusal must name. Both readers (this one and
+# `dem2d inspect`, the analyses') refuse each, and the message names the file and the dataset.
+DAMAGE = {
+    "a shape that does not match": (_replace("snapshots/omega", lambda f: f["snapshots/omega"][:, :-1]), "open",
+                                    "/snapshots/omega has shape"),
+    "a contact on body 99 of 4": (_set("contacts/j", lambda j: j.__setitem__(-1, -100)), "snapshot",
+                                  "contact row .* is not a contact"),
+    "times going backwards": (_set("snapshots/time", lambda t: t.__setitem__(5, t[4] - 1)), "open",
+                              "/snapshots/time is not strictly increasing"),
+    "a NaN position": (_set("snapshots/position", lambda x: x.__setitem__((-1, 7, 0), np.nan)), "snapshot",
+                       "/snapshots/position at snapshot .*: grain 7 holds NaN"),
+    "a wrong n_particles": (lambda f: f.attrs.__setitem__("n_particles", 5), "open",
+                            "root attribute n_particles is 5, but the file holds"),
+    "a missing dataset": (lambda f: f.__delitem__("contacts/fn"), "open", "/contacts/fn is missing"),
+    "a series shorter than its times": (_replace("series/body_force_mean", lambda f: f["series/body_force_mean"][:-1]),
+                                        "series", "/series/body_force_mean has shape"),
+    "a law value out of its range": (_set("parameters/contact/grain_grain/kn", lambda v: v.__setitem__((), -1.0)),
+                                     "parameters", "/parameters/contact/grain_grain/kn: -1: must be > 0"),
+    "a missing law value": (lambda f: f.__delitem__("parameters/contact/grain_grain/friction"), "parameters",
+                            "/parameters/contact/grain_grain/friction: missing"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(DAMAGE))
+def test_damaged_run_files_are_refused_by_both_readers_naming_the_file_and_dataset(example_runs, tmp_path, case):
+    from conftest import dem2d_bin
+    damage, where, message = DAMAGE[case]
+    path = tmp_path / "damaged.h5"
+    path.write_bytes(open(example_runs["pulloff"], "rb").read())
+    with h5py.File(path, "r+") as f:
+        damage(f)
+    pattern = f"damaged.h5: .*{message}"
+    if where == "open":
+        with pytest.raises(dem2d.RunFileError, match=pattern):
+            dem2d.open_run(path)
+    else:
+        with dem2d.open_run(path) as run:  # the file opens: the damage is met where it is read
+            with pytest.raises(dem2d.RunFileError, match=pattern):
+                {"snapshot": lambda: run.snapshot(-1), "series": lambda: run.series.body_force(run.body("intruder")),
+                 "parameters": lambda: run.parameters}[where]()
+    with pytest.raises(dem2d.RunFileError, match=pattern):
+        dem2d.check_run(path)
+    r = subprocess.run([dem2d_bin(), "inspect", str(path)], capture_output=True, text=True)
+    assert r.returncode == 2 and re.search(pattern, r.stderr), r.stderr
+
+
+def test_a_sound_run_file_passes_both_readers(example_runs):
+    from conftest import dem2d_bin
+    for path in example_runs.values():
+        assert "a sound run file" in dem2d.check_run(path)
+        r = subprocess.run([dem2d_bin(), "inspect", path], capture_output=True, text=True)
+        assert r.returncode == 0 and "a sound run file" in r.stdout, r.stderr
 
 
 def test_parameters_are_the_scenes_typed_with_units(example_runs, tmp_path):
@@ -107,5 +181,5 @@ def test_parameters_are_the_scenes_typed_with_units(example_runs, tmp_path):
     old.write_bytes(open(example_runs["box"], "rb").read())
     with h5py.File(old, "a") as f:
         del f["parameters"]
-    with pytest.raises(ValueError, match="old.h5: written by dem2d .* before run files carried their parameters"):
+    with pytest.raises(dem2d.RunFileError, match="old.h5: written by dem2d .* before run files carried their parameters"):
         dem2d.open_run(old)

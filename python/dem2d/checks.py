@@ -1,0 +1,259 @@
+"""The run file's rules, as the analyses' C++ reader applies them (sim/io/run_reader.cpp).
+
+A Run checks the file's structure when it is opened (format, counts, every
+dataset's shape and element type, the constants' values, times strictly
+increasing) and a snapshot's or series dataset's values when they are read.
+`dem2d inspect RUN.h5` and check_run(path) read a whole file with these rules
+and must agree on every file (make fuzz, class `reader`). Every refusal is a
+RunFileError whose message starts with the file's path and names the dataset.
+"""
+from __future__ import annotations
+
+import h5py
+import numpy as np
+
+FORMATS = ("dem2d-run-2",)
+MAX_VERTICES = 16  # a body's core outline has 1 to 16 vertices (docs/run_file.md)
+
+
+class RunFileError(ValueError):
+    """A damaged run file, or not a run file: the message names the file and the dataset."""
+
+
+def dtype_code(ds) -> str:
+    """The element type as numpy spells it ("f8", "i4", "u1"; "str" for strings)."""
+    if h5py.check_string_dtype(ds.dtype) is not None:
+        return "str"
+    return ds.dtype.kind + str(ds.dtype.itemsize)
+
+
+def _dtype_ok(got, want):
+    # floats may be stored as f4; integers only as the exact type written
+    return got == want or (want == "f8" and got == "f4")
+
+
+class Checker:
+    """The checks of one open run file; fail() raises a RunFileError naming it."""
+
+    def __init__(self, path, f: h5py.File):
+        self.path, self.f = str(path), f
+
+    def fail(self, what):
+        raise RunFileError(f"{self.path}: {what}")
+
+    def need(self, name):
+        if name not in self.f or not isinstance(self.f[name], h5py.Dataset):
+            self.fail(f"dataset /{name} is missing (truncated or not a run file?)")
+        return self.f[name]
+
+    def length(self, name):
+        """The length of a 1-D dataset that sets a count."""
+        ds = self.need(name)
+        if ds.ndim != 1:
+            self.fail(f"dataset /{name} has shape {list(ds.shape)}, expected one dimension")
+        return ds.shape[0]
+
+    def dataset(self, name, shape, dtype):
+        ds = self.need(name)
+        if tuple(ds.shape) != tuple(shape):
+            self.fail(f"dataset /{name} has shape {list(ds.shape)}, expected {list(shape)}")
+        if not _dtype_ok(dtype_code(ds), dtype):
+            self.fail(f"dataset /{name} holds {dtype_code(ds)}, expected {dtype}")
+        return ds
+
+    def finite(self, name, values, row_word="row", row0=0):
+        v = np.asarray(values, dtype=float)
+        bad = ~np.isfinite(v)
+        if bad.any():
+            k = int(np.flatnonzero(bad.reshape(len(v), -1).any(axis=1))[0]) if v.ndim else 0
+            what = "NaN" if np.isnan(v.reshape(len(v), -1)[k] if v.ndim else v).any() else "an infinite value"
+            self.fail(f"dataset /{name}: {row_word} {row0 + k} holds {what}: a run file holds finite numbers only")
+        return values
+
+    def checked(self, name, shape, dtype):
+        """The whole dataset, its shape and type checked, floats finite."""
+        data = self.dataset(name, shape, dtype)[...]
+        return self.finite(name, data) if dtype == "f8" else data
+
+    def increasing(self, name, t, unit=" s"):
+        for k in np.flatnonzero(~(np.diff(t) > 0))[:1]:
+            self.fail(f"dataset /{name} is not strictly increasing: row {k + 1} is {t[k + 1]:g}{unit} "
+                      f"after {t[k]:g}{unit}")
+
+    def strings(self, name, count=None):
+        ds = self.need(name)
+        if h5py.check_string_dtype(ds.dtype) is None or ds.ndim != 1:
+            self.fail(f"dataset /{name} is not a list of strings")
+        if count is not None and ds.shape[0] != count:
+            self.fail(f"/{name} must have one entry per body ({count})")
+        return [str(s) for s in ds.asstr()[...]]
+
+
+def check_structure(c: Checker) -> dict:
+    """What is checked on opening; returns the counts N, B, K, S, C, T and the per-snapshot contact index."""
+    f = c.f
+    fmt = f.attrs.get("format")
+    fmt = fmt.decode() if isinstance(fmt, bytes) else fmt
+    if fmt not in FORMATS:
+        c.fail(f"not a dem2d run file: format attribute is {fmt if fmt is not None else '(none)'}, "
+               f"expected {', '.join(FORMATS)}")
+    if "parameters" not in f:
+        c.fail(f"written by dem2d {f.attrs.get('code_version', 'an unknown version')}, before run files carried "
+               "their parameters (/parameters): run its scene again with this dem2d (make rebuilds the study's "
+               "run files)")
+    c.need("bodies/name")
+    N = c.length("particles/diameter")
+    diameter = c.checked("particles/diameter", (N,), "f8")
+    mass = c.checked("particles/mass", (N,), "f8")
+    for i in np.flatnonzero(~((diameter > 0) & (mass > 0)))[:1]:
+        c.fail(f"grain {i} has diameter {diameter[i]:g} m and mass {mass[i]:g} kg/m in /particles: both must be > 0")
+    B = len(c.strings("bodies/name"))
+    thickness = c.checked("bodies/thickness", (B,), "f8")
+    for b in np.flatnonzero(thickness < 0)[:1]:
+        c.fail(f"dataset /bodies/thickness: body {b} has a negative thickness")
+    c.strings("bodies/role", B)
+    c.strings("bodies/shape", B)
+    counts = c.checked("bodies/vertex_count", (B,), "i4")
+    for n in counts[(counts < 1) | (counts > MAX_VERTICES)][:1]:
+        c.fail(f"/bodies/vertex_count has {n}, expected 1..{MAX_VERTICES}")
+    K = int(max([1, *counts]))
+    for attr, count, what in (("n_particles", N, "grains (/particles)"), ("n_bodies", B, "bodies (/bodies)")):
+        if attr in f.attrs and int(f.attrs[attr]) != count:
+            c.fail(f"root attribute {attr} is {int(f.attrs[attr])}, but the file holds {count} {what}")
+    S = c.length("snapshots/time")
+    times = c.checked("snapshots/time", (S,), "f8")
+    steps = c.checked("snapshots/step", (S,), "i8")
+    start = c.checked("snapshots/contact_start", (S + 1,), "i8")
+    c.increasing("snapshots/time", times)
+    for k in np.flatnonzero(np.diff(steps) <= 0)[:1]:
+        c.fail(f"dataset /snapshots/step is not strictly increasing (row {k + 1})")
+    if start[0] != 0 or np.any(np.diff(start) < 0):
+        c.fail("/snapshots/contact_start is not a non-decreasing index starting at 0")
+    C = int(start[-1])
+    for name, shape, dtype in (("snapshots/position", (S, N, 2), "f8"), ("snapshots/velocity", (S, N, 2), "f8"),
+                               ("snapshots/omega", (S, N), "f8"), ("snapshots/active", (S, N), "u1"),
+                               ("snapshots/body_vertices", (S, B, K, 2), "f8"),
+                               *((f"contacts/{q}", (C,), "i4") for q in ("i", "j")),
+                               *((f"contacts/{q}", (C,), "f8") for q in ("fn", "ft", "overlap", "nx", "ny", "mr")),
+                               ("contacts/sliding", (C,), "u1")):
+        c.dataset(name, shape, dtype)
+    T = 0
+    if "series/time" in f:
+        T = c.length("series/time")
+        c.increasing("series/time", c.checked("series/time", (T,), "f8"))
+    check_records(c, N, B, S, C)
+    return {"N": N, "B": B, "K": K, "S": S, "C": C, "T": T, "times": times, "start": start}
+
+
+def check_records(c: Checker, N, B, S, C):
+    """What no snapshot read needs but a run file holds; files written before these existed lack them."""
+    f = c.f
+    if "particles/id" in f:
+        ids = c.checked("particles/id", (N,), "i4")
+        for i in np.flatnonzero(ids != np.arange(N))[:1]:
+            c.fail(f"dataset /particles/id: row {i} holds {ids[i]}")
+    if "particles/inertia" in f:  # > 0; +infinity for a grain that does not rotate
+        inertia = c.dataset("particles/inertia", (N,), "f8")[...]
+        for v in inertia[~(inertia > 0)][:1]:
+            c.fail(f"dataset /particles/inertia holds {v:g}: moments of inertia are > 0")
+    for name, shape in (("snapshots/theta", (S, N)), ("bodies/velocity", (B, 2)), ("snapshots/displacement", (S, N, 2)),
+                        ("contacts/mu_star", (C,)), ("contacts/line", (C, 2, 2))):
+        if name in f:
+            c.dataset(name, shape, "f8")
+    if "lost/id" in f:
+        L = c.length("lost/id")
+        ids = c.checked("lost/id", (L,), "i4")
+        for i in ids[(ids < 0) | (ids >= N)][:1]:
+            c.fail(f"dataset /lost/id holds {i}, not a grain")
+        c.checked("lost/step", (L,), "i8")
+        c.checked("lost/x", (L,), "f8")
+        c.checked("lost/y", (L,), "f8")
+    if "events/jam_time" in f:
+        c.increasing("events/jam_time", c.checked("events/jam_time", (c.length("events/jam_time"),), "f8"))
+
+
+def check_contacts(c: Checker, k, first, rows: dict, N, B):
+    """A snapshot's contact rows: finite values, i a grain, j a grain > i or a body (-1 - b), sliding 0/1."""
+    for name in ("fn", "ft", "overlap", "nx", "ny", "mr", "line"):
+        if name in rows:
+            c.finite(f"contacts/{name}", rows[name], "row", first)
+    i, j, sliding = rows["i"], rows["j"], rows["sliding"]
+    grain = j >= 0
+    bad = (i < 0) | (i >= N) | np.where(grain, (j >= N) | (j <= i), -1 - j >= B) | (sliding > 1)
+    for r in np.flatnonzero(bad)[:1]:
+        c.fail(f"snapshot {k}: contact row {first + r} (i = {i[r]}, j = {j[r]}, sliding = {sliding[r]}) is not a "
+               "contact: /contacts/i must name a grain, /contacts/j a grain j > i or a body (-1 - b), "
+               "/contacts/sliding 0 or 1")
+
+
+SERIES = ("step", "contacts", "body_force", "body_force_mean", "body_torque", "body_torque_mean", "body_vertices",
+          "kinetic_energy", "max_overlap")  # what /series holds in every run file
+SERIES_COUNTS = ("step", "contacts")    # integers (i8); every other series holds floats
+
+
+def check_series_dataset(c: Checker, name, T):
+    """/series/<name>: T rows; i8 for the counts, finite floats for the rest."""
+    ds = c.need(f"series/{name}")
+    if ds.ndim == 0 or ds.shape[0] != T:
+        c.fail(f"dataset /series/{name} has shape {list(ds.shape)}, expected {T} rows (one per /series/time)")
+    if name in SERIES_COUNTS:
+        return c.checked(f"series/{name}", ds.shape, "i8")
+    return c.checked(f"series/{name}", ds.shape, "f8")
+
+
+def obeys_rule(rule: str, v: float):
+    """Whether v obeys a rule as the writer spells it ("finite", "> 0", ">= 0", "in (0, 1]"); None if unknown."""
+    if rule == "finite":
+        return bool(np.isfinite(v))
+    if rule == "> 0":
+        return bool(np.isfinite(v) and v > 0)
+    if rule == ">= 0":
+        return bool(np.isfinite(v) and v >= 0)
+    if not (rule.startswith(("in (", "in [")) and rule.endswith((")", "]"))):
+        return None
+    try:
+        lo, hi = (float(x) for x in rule[4:-1].split(","))
+    except ValueError:
+        return None
+    return bool(np.isfinite(v) and (v > lo if rule[3] == "(" else v >= lo) and (v < hi if rule[-1] == ")" else v <= hi))
+
+
+# /parameters values that are not one number (docs/run_file.md): their sizes; "vertices" holds any number of (x, y)
+PARAMETER_VECTORS = {"g": 2, "domain": 4, "velocity": 2, "amplitude": 2, "tap_velocity": 2, "vertices": None}
+PARAMETER_FLAGS = ("dt_forced", "energy_balance")  # and every /parameters/effects value: 1 (on) or 0 (off)
+
+
+def check_parameter_keys(c: Checker, g: h5py.Group):
+    """Every value a /parameters group lists in its attribute `keys` is there."""
+    groups = [g]
+    g.visititems(lambda n, o: groups.append(o) if isinstance(o, h5py.Group) else None)
+    for group in groups:
+        listed = group.attrs.get("keys")
+        for key in (listed.decode() if isinstance(listed, bytes) else listed or "").split(","):
+            if key and not isinstance(group.get(key), h5py.Dataset):
+                c.fail(f"{group.name}/{key}: missing")
+
+
+def check_parameter(c: Checker, ds: h5py.Dataset):
+    """A /parameters value: float64, one number or a vector of its size, each number obeying the rule
+    stored with it (attribute `valid`); flags 1 or 0."""
+    name = ds.name.lstrip("/")
+    if dtype_code(ds) != "f8":
+        c.fail(f"/{name}: not float64")
+    key = name.rsplit("/", 1)[-1]
+    values = np.asarray(ds[()], dtype=float).reshape(-1)
+    if key not in PARAMETER_VECTORS and ds.ndim != 0:
+        c.fail(f"/{name}: not a scalar")
+    if PARAMETER_VECTORS.get(key) and values.size != PARAMETER_VECTORS[key]:
+        c.fail(f"/{name}: {values.size} values, expected {PARAMETER_VECTORS[key]}")
+    if (key in PARAMETER_FLAGS or name.startswith("parameters/effects/")) and values[0] not in (0.0, 1.0):
+        c.fail(f"/{name}: {values[0]:g}: must be 1 (on) or 0 (off)")
+    rule = ds.attrs.get("valid", "finite")
+    rule = rule.decode() if isinstance(rule, bytes) else str(rule)
+    for v in values:
+        ok = obeys_rule(rule, float(v))
+        if ok is None:
+            c.fail(f"/{name}@valid: '{rule}' is not a rule this reader knows")
+        if not ok:
+            c.fail(f"/{name}: {float(v):g}: must be {rule}")
+    return ds[()]
