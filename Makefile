@@ -365,7 +365,7 @@ $(ENSEMBLE)/table.md: $(ENSEMBLE)/check.json pipeline/ensemble/table.py
 	$(PYTHON) pipeline/ensemble/table.py $(@D)
 
 # EXECUTOR=slurm: an array job of the same member targets, then the aggregate
-# (pipeline/slurm/submit_ensemble.sh; SLURM_WAIT=1 waits for it)
+# (pipeline/slurm/submit_ensemble.sh; SLURM_WAIT=1 waits for it, at most SLURM_WAIT_MINUTES)
 SLURM_WAIT ?=
 ifeq ($(EXECUTOR),local)
 ensemble:
@@ -373,7 +373,9 @@ ensemble:
 	@echo "make ensemble: $(MEMBERS) members of $(PRESET) in $(ENSEMBLE); the table is $(ENSEMBLE)/table.md"
 else ifeq ($(EXECUTOR),slurm)
 ensemble: $(DEM2D) $(STAGE_PROGRAMS) $(CHECK)
-	pipeline/slurm/submit_ensemble.sh $(ENSEMBLE) $(MEMBERS) "$(SLURM_WAIT)" PRESET=$(PRESET) MEMBERS=$(MEMBERS) \
+	pipeline/slurm/submit_ensemble.sh $(ENSEMBLE) $(MEMBERS) \
+	  "$$($(PYTHON) pipeline/slurm/member_minutes.py $(FILL_SCENE) $(PULLOFF_SCENE) $(PRESET_FILE))" "$(SLURM_WAIT)" \
+	  PRESET=$(PRESET) MEMBERS=$(MEMBERS) \
 	  RESULTS=$(RESULTS) $(if $(INTRUDER),INTRUDER=$(INTRUDER)) $(if $(INSTALLED),INSTALLED=$(INSTALLED)) PYTHON=$(PYTHON)
 else
 ensemble:

@@ -5,8 +5,8 @@
 # 4-member ensemble of the quick scene through it (make ensemble
 # EXECUTOR=slurm) and the same ensemble with the local executor, checks that
 # every member's run files and the aggregate are the same, that an ensemble
-# with a failing member ends non-zero naming it, and stops the daemons it
-# started. Exit 0: passed; 1: failed; 77: skipped (said loudly).
+# with a failing member, and one whose node is killed under it, end non-zero
+# naming the member, and stops the daemons it started. Exit 0: passed; 1: failed; 77: skipped (said loudly).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 PY=${PYTHON:-/usr/bin/python3}
@@ -70,6 +70,25 @@ grep -q "member_001/metrics.json: failed (exit [1-9][0-9]*): .*wave1_1.log" "$WO
   fail "the failing member is not named: $(tail -8 "$WORK/failing.log")"
 grep -q "table.md: never ran" "$WORK/failing.log" || fail "the aggregate's fate is not said: $(tail -8 "$WORK/failing.log")"
 grep -q ", done" "$WORK/failing.log" && fail "a failed ensemble said done"
+# a node lost under a member (slurmd and the member's processes killed): the wait ends at its bound and the
+# submission exits non-zero naming the member; a resubmission while its jobs are still listed is refused
+descendants() { local p; for p in $(pgrep -P "$1"); do descendants "$p"; echo "$p"; done; }
+SLURM_WAIT_MINUTES=2 SLURM_POLL_SECONDS=2 make --no-print-directory ensemble PRESET=quick MEMBERS=1 \
+  RESULTS="$WORK/lost" EXECUTOR=slurm SLURM_WAIT=1 >"$WORK/lost.log" 2>&1 &
+lost_make=$!
+for _ in $(seq 120); do [ -e "$WORK/lost/ensemble/member_000/fill/run.log" ] && break; sleep 0.5; done
+[ -e "$WORK/lost/ensemble/member_000/fill/run.log" ] || fail "the member never started: $(tail -5 "$WORK/lost.log")"
+job=$(head -1 "$WORK/lost/ensemble/slurm/jobs" 2>/dev/null)
+kill -9 "$(cat "$WORK/cluster/slurmd.pid")"
+for stepd in $(pgrep -f "^slurmstepd: \[$job[._]"); do kill -9 $(descendants "$stepd") "$stepd" 2>/dev/null; done
+t_lost=$(date +%s)
+wait $lost_make && fail "a member on a lost node was reported as a success: $(tail -5 "$WORK/lost.log")"
+echo "slurm_test: the lost node's submission ended $(( $(date +%s) - t_lost )) s after the node was killed"
+grep -q "member_000/metrics.json: never ran or did not finish (.*node was lost).*wave1_0.log" "$WORK/lost.log" ||
+  fail "the member on the lost node is not named: $(tail -8 "$WORK/lost.log")"
+make --no-print-directory ensemble PRESET=quick MEMBERS=1 RESULTS="$WORK/lost" EXECUTOR=slurm \
+  >"$WORK/again.log" 2>&1 && fail "a resubmission while the old jobs are listed was accepted"
+grep -q "still queued or running" "$WORK/again.log" || fail "the refused resubmission does not say why: $(tail -5 "$WORK/again.log")"
 awk -v a="$t0" -v b="$t1" -v c="$t2" -v d="$t3" -v k=$MEMBERS 'BEGIN {
   printf "slurm_test: %d members: local executor %.1f s, Slurm %.1f s (cluster start %.1f s)\n", k, b - a, d - c, c - b }'
 pipeline/slurm/local_cluster.sh stop "$WORK/cluster" || fail "the daemons did not stop"

@@ -86,8 +86,11 @@ class ParamsPlan(unittest.TestCase):
             self.assertAlmostEqual(fast[table][key] * v, base[table][key] * v0, places=15, msg=key)
         shared = next(p for p in self.points["reduced"] if p["point"] == "pull_speed_12")
         self.assertTrue(shared["shared_bed"])  # the base's beds: only the pull changes
-        waves = (self.out["reduced"] / "targets.txt").read_text().split("\n")
-        self.assertIn("2 " + shared["members"][0] + "/metrics.json", waves)
+        waves = [line.split() for line in (self.out["reduced"] / "targets.txt").read_text().splitlines()]
+        line = next(w for w in waves if w[1] == shared["members"][0] + "/metrics.json")
+        self.assertEqual(line[0], "2")
+        # each Slurm task's time limit (minutes): 3 x its estimate, at least 10
+        self.assertTrue(all(len(w) == 3 and int(w[2]) >= 10 for w in waves), waves[:3])
 
     def test_law_knobs_are_overlays_after_the_preset(self):
         coh = tomllib.loads((self.out["reduced"] / "points/cohesion_5/overlay.toml").read_text())

@@ -57,6 +57,15 @@ NS_PER_PARTICLE_STEP = 25.0
 ANALYSIS_S = 100.0
 SETTLE_S = 1.0     # simulated seconds a settled bed takes (0.6 s measured on the base)
 HOPPER_S = 20.0    # simulated seconds the hopper's pour takes (the fast ensemble's fills: 19.98 s)
+# A Slurm task's time limit (--time): this many times its estimate, and at least MIN_TASK_MINUTES, so that a
+# task on a lost node ends (and is requeued) instead of holding the study forever (docs/ensemble.md)
+TIME_LIMIT_FACTOR = 3.0
+MIN_TASK_MINUTES = 10
+
+
+def task_minutes(seconds: float) -> int:
+    """The --time limit (minutes) of a Slurm task estimated to take `seconds` on one core."""
+    return max(MIN_TASK_MINUTES, math.ceil(TIME_LIMIT_FACTOR * seconds / 60))
 
 
 def mean_grain(scene: dict) -> tuple[float, float]:
@@ -160,7 +169,9 @@ def cyclic(scene: dict, v_mm_s: float, cycles: int) -> dict:
 
 
 def time_step(fill: dict, preset: dict) -> float:
-    """The run's time step (s): dt_over_critical x dt_c, dt_c = sqrt(m_min / k_n) for the smallest grain."""
+    """The run's time step (s): dt_over_critical x dt_c, dt_c = sqrt(m_min / k_n) for the smallest grain (or dt)."""
+    if "dt" in preset["time"]:
+        return preset["time"]["dt"]
     d_min = fill["generator"][0]["diameter"]["min"]
     m_min = fill["material"]["density"] * math.pi * d_min ** 2 / 4
     return preset["time"]["dt_over_critical"] * math.sqrt(m_min / preset["contact"]["kn"])
@@ -278,7 +289,8 @@ def main() -> None:
             write_if_changed(d / "cyclic.toml", tomlwrite.dumps(dict(cyclic_scene, name=f"cyclic_{name}"), head))
         shared_bed = knob in ("pull_speed_mm_s", "cycles")  # only the pull changes: the base point's beds
         members = plan["base_members"] if name == "base" else plan["members"]
-        cost += members * run_cost(fill, pull, cyclic_scene, settings, plan, preset, not shared_bed)
+        member_cost = run_cost(fill, pull, cyclic_scene, settings, plan, preset, not shared_bed)
+        cost += members * member_cost
         member_dirs = []
         for k in range(members):
             m = d / f"member_{k:03d}"
@@ -297,7 +309,7 @@ def main() -> None:
             if shared_bed:
                 rules.append(f"{fill_run}: {out / 'points' / 'base' / f'member_{k:03d}' / 'metrics.json'}\n")
             member_dirs.append(str(m))
-            waves.append(f"{2 if shared_bed else 1} {target}")  # for Slurm: shared beds first
+            waves.append(f"{2 if shared_bed else 1} {target} {task_minutes(member_cost)}")  # Slurm: shared beds first
         if cyc:  # read by the report itself (drag per cycle, the bed between cycles)
             stats += [f"{m}/cyclic/metrics.json" for m in member_dirs]
         else:
