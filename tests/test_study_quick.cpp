@@ -154,21 +154,28 @@ TEST_F(QuickStudy, StaticLoadIsTheBedsAtRestNotThePullsFirstRow) {
   EXPECT_TRUE(analysis::pulloff_metrics(run, p, study)["pulloff"]["drag_static_N_per_m"].is_null());
 }
 
+// Resumed at half the run, and at 26.5 % of it: there a contact that touched
+// in the bed the run starts from and has opened since closes again soon after
+// the checkpoint. The resumed run used to give it the history the new process
+// had at its start (1.8e-9 m off at the next snapshot, growing to 3e-4 m);
+// a resumed contact list now starts empty, as the uninterrupted one is.
 TEST_F(QuickStudy, ResumedPullOffEqualsUninterrupted) {
   const Scene s = scene("quick_pulloff.toml", fill.run_file);
-  RunOptions opt{(dir / "pulloff_resumed").string()};
-  opt.interrupt_at_step = pull.final_step / 2;
-  ASSERT_FALSE(run_scene(s, opt).complete);
-  opt.interrupt_at_step = -1;
-  const RunReport r = run_scene(s, opt);
-  ASSERT_TRUE(r.complete);
-  EXPECT_TRUE(r.resumed);
-  EXPECT_EQ(r.final_step, pull.final_step);
-  const h5::File fa = h5::File::open_read(pull.run_file), fb = h5::File::open_read(r.run_file);
-  for (const char* name : {"series/body_force_mean", "snapshots/position", "snapshots/velocity", "contacts/ft"}) {
-    const auto x = h5::read<double>(fa, name), y = h5::read<double>(fb, name);
-    ASSERT_EQ(x.size(), y.size()) << name;
-    EXPECT_EQ(std::memcmp(x.data(), y.data(), x.size() * sizeof(double)), 0) << name;
+  for (const double at : {0.5, 0.265}) {
+    RunOptions opt{(dir / ("pulloff_resumed_" + std::to_string(at))).string()};
+    opt.interrupt_at_step = static_cast<std::int64_t>(at * static_cast<double>(pull.final_step));
+    ASSERT_FALSE(run_scene(s, opt).complete);
+    opt.interrupt_at_step = -1;
+    const RunReport r = run_scene(s, opt);
+    ASSERT_TRUE(r.complete);
+    EXPECT_TRUE(r.resumed);
+    EXPECT_EQ(r.final_step, pull.final_step) << "resumed at " << at;
+    const h5::File fa = h5::File::open_read(pull.run_file), fb = h5::File::open_read(r.run_file);
+    for (const char* name : {"series/body_force_mean", "snapshots/position", "snapshots/velocity", "contacts/ft"}) {
+      const auto x = h5::read<double>(fa, name), y = h5::read<double>(fb, name);
+      ASSERT_EQ(x.size(), y.size()) << name << " resumed at " << at;
+      EXPECT_EQ(std::memcmp(x.data(), y.data(), x.size() * sizeof(double)), 0) << name << " resumed at " << at;
+    }
   }
 }
 

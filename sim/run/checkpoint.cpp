@@ -1,5 +1,6 @@
 #include "run/checkpoint.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -73,6 +74,11 @@ void read_history(const h5::File& f, const std::string& group, List& L, const Ne
     if (column.size() != row.size()) throw std::runtime_error(f.path() + ": " + group + "/" + name + " has the wrong length");
     for (std::size_t c = 0; c < row.size(); ++c) (L.*a)[static_cast<std::size_t>(slot[c])] = column[c];
   }
+}
+
+template <class List>
+void clear_carried(List& L) {
+  for (const auto& [name, a] : List::carried()) std::fill((L.*a).begin(), (L.*a).end(), 0.0);
 }
 
 std::string controller_group(const Controller* c) { return "controllers/" + c->name(); }
@@ -173,6 +179,11 @@ double read_checkpoint(const std::string& path, System& sys, std::span<Controlle
   B.removing.assign(B.size(), 0);
   sys.place_bodies();
   sys.rebuild();
+  // the lists this process had (from the scene's start) carry nothing into the checkpoint's state: every
+  // slot starts empty, then the checkpoint's contacts are put back (a contact that was open at the checkpoint
+  // has no history, as in the uninterrupted run)
+  clear_carried(sys.state.lists.pairs);
+  clear_carried(sys.state.lists.walls);
   B.removing = removing;
   sys.state.rebuild_pending = h5::read_attr_int(f, "/", "rebuild_pending") != 0;
   read_history(f, "pairs", sys.state.lists.pairs, sys.state.lists, false);

@@ -258,18 +258,28 @@ class Suite:
             return reads and name != "contacts/mr"
         return False
 
+    def damaged_copy(self, path, wrong_counts=False):
+        """A copy of the pull-off's run file at `path` with one mutation (mutate.mutate_run; with
+        wrong_counts, 15 % of them a root count that does not match the file): (kind, dataset, where)."""
+        shutil.copy(self.pull, path)
+        with h5py.File(path, "r+") as f:
+            if wrong_counts and self.rng.random() < 0.15:
+                attr = self.rng.choice(["n_particles", "n_bodies"])
+                f.attrs[attr] = int(f.attrs[attr]) + self.rng.choice([-1, 1, 95])
+                kind, name, where = "attr_count", attr, "all"
+            else:
+                kind, name, where = mutate.mutate_run(self.rng, f)
+        if kind == "truncate_file":
+            with open(path, "r+b") as fh:
+                fh.truncate(self.rng.randrange(path.stat().st_size))
+        return kind, name, where
+
     def runfiles(self):
         d = self.fresh("runfile")
         cases = []
         for k in range(self.counts["runfile"]):
             path = d / f"{k:05d}.h5"
-            shutil.copy(self.pull, path)
-            with h5py.File(path, "r+") as f:
-                kind, name, where = mutate.mutate_run(self.rng, f)
-            if kind == "truncate_file":
-                size = path.stat().st_size
-                with open(path, "r+b") as fh:
-                    fh.truncate(self.rng.randrange(size))
+            kind, name, where = self.damaged_copy(path)
             for consumer, cmd in self.consumers(path, d / f"{k:05d}_out").items():
                 cases.append((kind, name, where, consumer, path, cmd))
 
@@ -301,18 +311,7 @@ class Suite:
         cases = []
         for k in range(self.counts["reader"]):
             path = d / f"{k:05d}.h5"
-            shutil.copy(self.pull, path)
-            with h5py.File(path, "r+") as f:
-                if self.rng.random() < 0.15:  # a count that does not match the file
-                    attr = self.rng.choice(["n_particles", "n_bodies"])
-                    f.attrs[attr] = int(f.attrs[attr]) + self.rng.choice([-1, 1, 95])
-                    kind, name, where = "attr_count", attr, "all"
-                else:
-                    kind, name, where = mutate.mutate_run(self.rng, f)
-            if kind == "truncate_file":
-                with open(path, "r+b") as fh:
-                    fh.truncate(self.rng.randrange(path.stat().st_size))
-            cases.append((kind, name, where, path))
+            cases.append((*self.damaged_copy(path, wrong_counts=True), path))
         py_reader = Path(__file__).resolve().parent / "py_reader.py"
 
         def one(case):
