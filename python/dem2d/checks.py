@@ -65,8 +65,9 @@ class Checker:
         v = np.asarray(values, dtype=float)
         bad = ~np.isfinite(v)
         if bad.any():
-            k = int(np.flatnonzero(bad.reshape(len(v), -1).any(axis=1))[0]) if v.ndim else 0
-            what = "NaN" if np.isnan(v.reshape(len(v), -1)[k] if v.ndim else v).any() else "an infinite value"
+            rows = v.reshape(len(v), -1) if v.ndim else v.reshape(1, 1)
+            k = int(np.argmax(~np.isfinite(rows).all(axis=1)))  # the first row holding one
+            what = "NaN" if np.isnan(rows[k]).any() else "an infinite value"
             self.fail(f"dataset /{name}: {row_word} {row0 + k} holds {what}: a run file holds finite numbers only")
         return values
 

@@ -89,9 +89,9 @@ PARAMETERS_FORMAT = "dem2d-parameters-1"
 def _read_parameters(c: Checker, g: h5py.Group) -> Parameters:
     try:
         return _parameters(c, g)
+    except RunFileError:
+        raise
     except (KeyError, ValueError, TypeError) as e:
-        if isinstance(e, RunFileError):
-            raise
         c.fail(f"/parameters is incomplete or damaged: {e}")
 
 

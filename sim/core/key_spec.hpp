@@ -46,20 +46,22 @@ inline bool obeys(const Num& n, double v) {
   return false;
 }
 
-// Whether v obeys a rule as rule_text spells it ("finite", "> 0", ">= 0",
-// "in (0, 1]", "in [lo, hi)"); nothing if the text is none of these.
-inline std::optional<bool> obeys_rule_text(const std::string& rule, double v) {
-  if (rule == "finite") return std::isfinite(v);
-  if (rule == "> 0") return std::isfinite(v) && v > 0.0;
-  if (rule == ">= 0") return std::isfinite(v) && v >= 0.0;
+// The rule rule_text spells ("finite", "> 0", ">= 0", "in (0, 1]", "in [lo, hi)"), to check values
+// with obeys(); nothing if the text is none of these.
+inline std::optional<Num> rule_from_text(const std::string& rule) {
+  constexpr const char* kText[] = {"finite", "> 0", ">= 0"};
+  for (const Rule r : {Rule::finite, Rule::positive, Rule::non_negative})
+    if (rule == kText[static_cast<int>(r)]) return Num{"", "", r};
   if (rule.size() < 8 || rule.compare(0, 3, "in ") != 0 || (rule[3] != '(' && rule[3] != '[') ||
       (rule.back() != ')' && rule.back() != ']'))
     return std::nullopt;
   std::istringstream is(std::string(rule.begin() + 4, rule.end() - 1));
-  double lo = 0.0, hi = 0.0;
+  Num n{"", "", Rule::interval};
   char comma = 0;
-  if (!(is >> lo >> comma >> hi) || comma != ',' || !(is >> std::ws).eof()) return std::nullopt;
-  return std::isfinite(v) && (rule[3] == '(' ? v > lo : v >= lo) && (rule.back() == ')' ? v < hi : v <= hi);
+  if (!(is >> n.lo >> comma >> n.hi) || comma != ',' || !(is >> std::ws).eof()) return std::nullopt;
+  n.lo_open = rule[3] == '(';
+  n.hi_open = rule.back() == ')';
+  return n;
 }
 
 // "normal stiffness in N/m"

@@ -62,11 +62,10 @@ class Reader {
     if (h5::dtype(f_, name) != "f8") fail(name, "not float64");
     std::vector<double> v = h5::read<double>(f_, name, dims);
     const std::string rule = h5::has_attr(f_, name, "valid") ? h5::read_attr_string(f_, name, "valid") : "finite";
-    for (const double x : v) {
-      const std::optional<bool> ok = obeys_rule_text(rule, x);
-      if (!ok) fail(name + "@valid", "'" + rule + "' is not a rule this reader knows");
-      if (!*ok) fail(name, shortest(x) + ": must be " + rule);
-    }
+    const std::optional<Num> spec = rule_from_text(rule);
+    if (!spec) fail(name + "@valid", "'" + rule + "' is not a rule this reader knows");
+    for (const double x : v)
+      if (!obeys(*spec, x)) fail(name, shortest(x) + ": must be " + rule);
     return v;
   }
   const h5::File& f_;

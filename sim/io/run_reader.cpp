@@ -222,10 +222,14 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
       fail("/bodies/vertex_count has " + std::to_string(n) + ", expected 1.." + std::to_string(Shape::kMaxVertices));
     max_vertices_ = std::max<hsize_t>(max_vertices_, static_cast<hsize_t>(n));
   }
-  for (const auto& [attr, count] : {std::pair<const char*, hsize_t>{"n_particles", N}, {"n_bodies", B}})
-    if (h5::has_attr(file_, "/", attr) && h5::read_attr_int(file_, "/", attr) != static_cast<std::int64_t>(count))
-      fail("root attribute " + std::string(attr) + " is " + std::to_string(h5::read_attr_int(file_, "/", attr)) +
-           ", but the file holds " + std::to_string(count) + (attr[2] == 'p' ? " grains (/particles)" : " bodies (/bodies)"));
+  for (const auto& [attr, count, what] : {std::tuple<const char*, hsize_t, const char*>{"n_particles", N, " grains (/particles)"},
+                                          {"n_bodies", B, " bodies (/bodies)"}}) {
+    if (!h5::has_attr(file_, "/", attr)) continue;
+    const std::int64_t said = h5::read_attr_int(file_, "/", attr);
+    if (said != static_cast<std::int64_t>(count))
+      fail("root attribute " + std::string(attr) + " is " + std::to_string(said) + ", but the file holds " +
+           std::to_string(count) + what);
+  }
   const hsize_t S = length("snapshots/time");
   times_ = checked<double>("snapshots/time", {S});
   steps_ = checked<std::int64_t>("snapshots/step", {S});
@@ -302,7 +306,8 @@ std::vector<double> RunReader::series(const std::string& name, const std::vector
 
 void RunReader::check_rest() const {
   if (h5::exists(file_, "bodies/velocity")) body_velocities();
-  if (h5::exists(file_, "contacts/line")) checked<double>("contacts/line", {static_cast<hsize_t>(contact_start_.back()), 2, 2});
+  if (h5::exists(file_, "contacts/line"))  // (its shape: checked on opening)
+    check_finite("contacts/line", h5::read<double>(file_, "contacts/line"), 4, "row", 0);
   if (!h5::exists(file_, "series")) return;
   for (const char* name : {"step", "contacts", "body_force", "body_force_mean", "body_torque", "body_torque_mean",
                            "body_vertices", "kinetic_energy", "max_overlap"})

@@ -86,7 +86,7 @@ OutputDir::~OutputDir() {
 }
 
 void OutputDir::fresh_work() const {
-  if (fs::exists(work())) remove_work();
+  remove_work();
   fs::create_directories(work());
 }
 
