@@ -68,6 +68,19 @@ class Stage:
         return sorted({p.split("/")[0] for p in self.inputs.values() if p != BED})
 
 
+def short(value) -> str:
+    """A value or key as a message shows it: at most 60 characters of its repr."""
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def is_file(path: Path) -> bool:
+    try:
+        return path.is_file()
+    except OSError:  # (a name too long, say)
+        return False
+
+
 def load(path: Path = REGISTRY) -> list:
     try:
         with open(path, "rb") as f:
@@ -76,49 +89,49 @@ def load(path: Path = REGISTRY) -> list:
         raise RegistryError(f"{path}: {e}")
     unknown = sorted(set(doc) - {"stage"})
     if unknown:
-        raise RegistryError(f"{path}: unknown key '{unknown[0]}' (allowed: [[stage]] entries)")
+        raise RegistryError(f"{path}: unknown key {short(unknown[0])} (allowed: [[stage]] entries)")
     entries = doc.get("stage", [])
     if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
         raise RegistryError(f"{path}: stage = {str(entries)[:60]}: must be [[stage]] tables")
     reserved = RESERVED | makefile_targets()
     stages = []
     for k, e in enumerate(entries):
-        where = f"{path}: stage[{k}]" + (f" ({e['name']})" if isinstance(e.get("name"), str) else "")
+        where = f"{path}: stage[{k}]" + (f" ({short(e['name'])})" if isinstance(e.get("name"), str) else "")
 
         def bad(key, why):
-            return RegistryError(f"{where}: {key} = {e.get(key)!r}: {why}")
+            return RegistryError(f"{where}: {key} = {short(e.get(key))}: {why}")
 
         for key in e:
             if key not in KEYS:
-                raise RegistryError(f"{where}: unknown key '{key}' (allowed: {', '.join(sorted(KEYS))})")
+                raise RegistryError(f"{where}: unknown key {short(key)} (allowed: {', '.join(sorted(KEYS))})")
         for key in ("name", "program", "run", "outputs"):
             if key not in e:
                 raise RegistryError(f"{where}: missing key '{key}'")
-        if not isinstance(e["name"], str) or not re.fullmatch(r"[a-z][a-z0-9_]*", e["name"]):
-            raise bad("name", "must be a lower-case identifier")
+        if not isinstance(e["name"], str) or not re.fullmatch(r"[a-z][a-z0-9_]{0,63}", e["name"]):
+            raise bad("name", "must be a lower-case identifier of at most 64 characters")
         if e["name"] in (s.name for s in stages):
             raise bad("name", "another stage has this name")
         if e["name"] in reserved or e["name"] in SIMULATIONS and e["name"] != e["run"]:
             raise bad("name", "a name the Makefile uses already (a target, or a simulation's folder)")
-        if not isinstance(e["program"], str) or not re.fullmatch(r"[a-z][a-z0-9_]*", e["program"]):
-            raise bad("program", "must be a program name (build/release/analysis/<program>)")
+        if not isinstance(e["program"], str) or not re.fullmatch(r"[a-z][a-z0-9_]{0,63}", e["program"]):
+            raise bad("program", "must be a program name of at most 64 characters (build/release/analysis/<program>)")
         if e["run"] not in SIMULATIONS:
             raise bad("run", f"allowed: {', '.join(SIMULATIONS)}")
         config = e.get("config", "")
         if not isinstance(config, str) or config and not (
                 re.fullmatch(r"[A-Za-z0-9_./-]+", config) and not config.startswith("/") and ".." not in config.split("/")
-                and (REPO / config).is_file()):
+                and is_file(REPO / config)):
             raise bad("config", "must be a settings file in the repository, given relative to it (data/<stage>.toml)")
         inputs = e.get("inputs", {})
         if not isinstance(inputs, dict):
             raise bad("inputs", "must be a table { \"--flag\" = \"<stage>/<file>\" }")
         earlier = {s.name: s for s in stages}
         for flag, p in inputs.items():
-            if not re.fullmatch(r"--[a-z][a-z0-9-]*", flag) or not isinstance(p, str):
-                raise bad("inputs", f"'{flag}' = {p!r}: a --flag and a path \"<stage>/<file>\"")
+            if not re.fullmatch(r"--[a-z][a-z0-9-]{0,63}", flag) or not isinstance(p, str):
+                raise bad("inputs", f"{short(flag)} = {short(p)}: a --flag and a path \"<stage>/<file>\"")
             stage, _, name = p.partition("/")
             if p != BED and (stage not in earlier or name not in earlier[stage].outputs):
-                raise bad("inputs", f"'{flag}' = '{p}': not an output of an earlier stage (earlier: "
+                raise bad("inputs", f"{short(flag)} = {short(p)}: not an output of an earlier stage (earlier: "
                                     + ", ".join(f"{s}/{o}" for s in earlier for o in earlier[s].outputs)
                                     + f", or {BED})")
         args = e.get("args", [])

@@ -70,6 +70,10 @@ cp "$WORK/minimal/run.h5" "$WORK/bed_copy.h5"
 expect 2 "holds the run this one starts from (--initial" -- \
   "$DEM2D" run "$TESTS/scenes/quick_pulloff.toml" --initial "$WORK/minimal/run.h5" --out "$WORK/minimal"
 cmp -s "$WORK/minimal/run.h5" "$WORK/bed_copy.h5" || fail "the bed a run starts from was replaced"
+mkdir -p "$WORK/minimal/beds" && cp "$WORK/bed_copy.h5" "$WORK/minimal/beds/bed.h5"
+expect 2 "holds the run this one starts from (--initial" -- \
+  "$DEM2D" run "$TESTS/scenes/quick_pulloff.toml" --initial "$WORK/minimal/beds/bed.h5" --out "$WORK/minimal"
+cmp -s "$WORK/minimal/beds/bed.h5" "$WORK/bed_copy.h5" || fail "a bed inside --out was touched"
 
 # reference: the pour, uninterrupted
 SCENE=$TESTS/scenes/pour_resume.toml

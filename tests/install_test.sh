@@ -58,6 +58,9 @@ for cmd in "$I/bin/dem2d check $SRC/tests/scenes/valid_minimal.toml" "$I/libexec
 done
 DEM2D_SHARE="$I/share.away/dem2d" "$I/bin/dem2d" check "$SRC/tests/scenes/valid_minimal.toml" >/dev/null 2>&1 ||
   fail "DEM2D_SHARE did not name the share/ to use"
+out=$(DEM2D_SHARE="$P/cwd" "$I/bin/dem2d" check "$SRC/tests/scenes/valid_minimal.toml" 2>&1); rc=$?
+[ "$rc" -eq 2 ] && grep -qF "DEM2D_SHARE=$P/cwd holds no data/ folder" <<<"$out" ||
+  fail "DEM2D_SHARE naming a folder without data/ gave exit $rc: $out"
 mv "$I/share.away" "$I/share"
 # another project: find_package(dem2d) from the (moved) prefix, link the engine, run a scene, read it back
 for f in lib/libdem2d_core.a lib/libdem2d_runfile.a lib/cmake/dem2d/dem2dConfig.cmake include/dem2d/run/run.hpp \

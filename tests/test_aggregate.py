@@ -73,10 +73,10 @@ class Aggregate(unittest.TestCase):
             self.assertEqual((self.dir / "ensemble" / name).read_bytes(), (self.dir / "again" / name).read_bytes())
 
     def test_a_member_value_that_is_not_a_number_or_null(self):
-        for bad in (float("nan"), float("inf"), "0.2", True, [0.2]):
+        for bad in (float("nan"), float("inf"), "0.2", True, [0.2], 10**400):
             m = metrics(1)
             m["spectrum"]["rupture_spacing_d"] = bad
-            with self.subTest(bad=bad):
+            with self.subTest(bad=repr(bad)[:20]):
                 self.refused([metrics(0), m], "member_001/metrics.json: spectrum.rupture_spacing_d",
                              "not a finite number or null")
 
@@ -91,12 +91,23 @@ class Aggregate(unittest.TestCase):
         self.refused([metrics(0), no_stage], "no metrics of the stage(s) spectrum")
         lacking = metrics(1)
         del lacking["fill"]["solid_fraction"]
-        self.refused([metrics(0), lacking], "member_001/metrics.json: fill.solid_fraction is missing")
+        self.refused([metrics(0), lacking], "member_001/metrics.json: fill.solid_fraction is missing (member_000 has it)")
 
     def test_a_cut_drag_file(self):
         for cut in ("height_mm,drag_N_per_m\n1.0,10\n2.0", "height_mm,drag_N_per_m\n", "height_mm,drag_N_per_m\n1,nan\n"):
             with self.subTest(cut=cut):
                 self.refused([metrics(0), metrics(1)], "member_001/pulloff/drag.csv: unreadable", drag=cut)
+
+    def test_drag_heights_out_of_any_bed(self):
+        self.refused([metrics(0), metrics(1)], "member_001/pulloff/drag.csv: heights from 0 to 1e+12 mm",
+                     drag="height_mm,drag_N_per_m\n1.0,10\n1e12,3\n")
+
+    def test_drag_below_the_floor_is_binned_not_dropped(self):
+        dirs = self.members([metrics(0), metrics(1)], drag="height_mm,drag_N_per_m\n-2.5,7\n1.0,10\n")
+        self.assertEqual(self.aggregate(dirs).returncode, 0)
+        rows = (self.dir / "ensemble/drag.csv").read_text().splitlines()
+        self.assertTrue(rows[1].startswith("-2.5,"), rows[:3])  # the bin [-3, -2) mm, member_001's 7 N/m
+        self.assertIn(",7,", rows[1])
 
     def test_huge_values_keep_a_finite_interval(self):
         a, b = metrics(0), metrics(1)

@@ -85,6 +85,17 @@ class Registry(unittest.TestCase):
             with self.subTest(text=text[-60:]):
                 self.refused(text, str(self.dir / "stages.toml"))
 
+    def test_huge_keys_names_and_paths_give_a_short_message(self):
+        long = "x" * 100000
+        for text in (extra(name="a" * 65), extra(program="p" * 65), extra(config=f'"data/{long}.toml"'),
+                     BASE + f'\n[[stage]]\n{long} = 1\n', BASE.replace('"--bed"', f'"--{long}"', 1)):
+            with self.subTest(text=text[-40:]):
+                r = self.generate(text)
+                self.assertEqual(r.returncode, 2, r.stderr[-300:])
+                self.assertNotIn("Traceback", r.stderr)
+                self.assertIn(str(self.dir / "stages.toml"), r.stderr)
+                self.assertLess(len(r.stderr), 600, r.stderr[:300])
+
     def test_arguments_are_one_word_each_and_never_expanded(self):
         marker = self.dir / "ran"
         args = ["a b", f"; touch {marker}", f"$(shell touch {marker})", "# rest", "`touch x`", "it's", "--out={dir}/x",

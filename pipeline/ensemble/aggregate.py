@@ -43,6 +43,7 @@ from files import fail, read_json, write_atomic  # noqa: E402
 RESAMPLES = 10000
 SEED = 20261124
 BIN_MM = 1.0
+MAX_BINS = 10**6  # bins of the drag profile: a height range wider than this is a damaged file
 
 
 def is_time(path: str) -> bool:
@@ -69,6 +70,14 @@ def is_number(v) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
+def is_finite(v) -> bool:
+    """A number a float holds finitely (JSON's integers have no bound: 10**400 is not one)."""
+    try:
+        return is_number(v) and math.isfinite(v)
+    except OverflowError:
+        return False
+
+
 def member_problems(members: list, dirs: list, preset: str, stages: list) -> list:
     """What keeps each member from being judged with the others (empty if nothing)."""
     problems, flats = [], []
@@ -90,8 +99,9 @@ def member_problems(members: list, dirs: list, preset: str, stages: list) -> lis
             continue
         for path in sorted(numeric):
             if path not in f:
-                problems.append(f"{d / 'metrics.json'}: {path} is missing (other members have it)")
-            elif f[path] is not None and not (is_number(f[path]) and math.isfinite(f[path])):
+                holder = next(h for h, g in zip(dirs, flats) if g and is_number(g.get(path)))
+                problems.append(f"{d / 'metrics.json'}: {path} is missing ({holder.name} has it)")
+            elif f[path] is not None and not is_finite(f[path]):
                 problems.append(f"{d / 'metrics.json'}: {path} = {json.dumps(f[path])[:60]}: "
                                 "not a finite number or null")
     return problems
@@ -158,8 +168,13 @@ def drag_bins(member_dirs: list, preset: str) -> tuple:
         except (OSError, KeyError, ValueError, TypeError) as e:  # (TypeError: a row cut short)
             fail(f"{path}: unreadable ({e}): delete it and run `make ensemble PRESET={preset}`")
         profiles.append((h, drag))
-    top = max(float(h.max()) for h, _ in profiles if len(h))
-    edges = np.arange(0.0, top + BIN_MM, BIN_MM)
+    low = min(0.0, BIN_MM * math.floor(min(float(h.min()) for h, _ in profiles) / BIN_MM))
+    top = max(float(h.max()) for h, _ in profiles)
+    if (top - low) / BIN_MM > MAX_BINS:
+        worst = max(zip(member_dirs, profiles), key=lambda m: float(np.abs(m[1][0]).max()))[0]
+        fail(f"{worst / 'pulloff' / 'drag.csv'}: heights from {low:g} to {top:g} mm: more than {MAX_BINS} bins of "
+             f"{BIN_MM:g} mm (a pull-off is at most metres); delete it and run `make ensemble PRESET={preset}`")
+    edges = np.arange(low, top + BIN_MM, BIN_MM)
     centres = 0.5 * (edges[1:] + edges[:-1])
     table = np.full((len(profiles), len(centres)), np.nan)
     for k, (h, drag) in enumerate(profiles):

@@ -13,6 +13,7 @@ struct Share {
   std::string dir;       // share/dem2d, or "" if it is not where it belongs
   std::string expected;  // where it belongs, for the message
   std::string program;
+  bool from_env = false;  // DEM2D_SHARE named it
 };
 
 // Only where this project puts share/dem2d, never a parent's or the current
@@ -24,11 +25,13 @@ struct Share {
 const Share& share() {
   static const Share s = [] {
     Share r;
+    std::error_code ec;
     if (const char* env = std::getenv("DEM2D_SHARE"); env && *env) {
-      r.dir = r.expected = env;
+      r.expected = env;
+      r.from_env = true;
+      if (fs::is_directory(fs::path(env) / "data", ec)) r.dir = env;  // (else the error names the variable)
       return r;
     }
-    std::error_code ec;
     const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
     if (ec) {
       r.expected = "(the program's own folder is unknown: /proc/self/exe)";
@@ -56,6 +59,9 @@ const std::string& share_dir() { return share().dir; }
 std::string share_problem() {
   const Share& s = share();
   if (!s.dir.empty()) return "";
+  if (s.from_env)
+    return "DEM2D_SHARE=" + s.expected + " holds no data/ folder: set it to a share/dem2d folder of an "
+           "installation (the one holding data/ and code_version.txt), or unset it";
   return (s.program.empty() ? std::string("this program") : s.program) + ": its data are missing: no " + s.expected +
          "/data, where its installation (make install) or build tree keeps them; install it again, or set "
          "DEM2D_SHARE to a share/dem2d folder to use that one";

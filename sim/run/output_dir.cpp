@@ -4,6 +4,7 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -41,6 +42,15 @@ bool is_run_xdmf(const fs::path& p) {
   return head.find("<Xdmf") != std::string::npos && head.find("run.h5:/") != std::string::npos;
 }
 
+// `p` is `dir` or lies (through any links) below it.
+bool inside(const fs::path& p, const fs::path& dir) {
+  std::error_code ec;
+  const fs::path a = fs::weakly_canonical(p, ec), b = fs::weakly_canonical(dir, ec);
+  if (ec) return false;
+  const auto [end, _] = std::mismatch(b.begin(), b.end(), a.begin(), a.end());
+  return end == b.end();
+}
+
 }  // namespace
 
 OutputDir::OutputDir(const std::string& dir, const std::string& initial_run, bool overwrite) : dir_(dir) {
@@ -49,9 +59,10 @@ OutputDir::OutputDir(const std::string& dir, const std::string& initial_run, boo
     throw OutputDirError("--out " + dir + ": not a folder");
   fs::create_directories(dir_);
   const fs::path run = dir_ / "run.h5";
-  if (!initial_run.empty() && fs::exists(run, ec) && fs::equivalent(initial_run, run, ec))
+  // anywhere inside it, not only its run.h5: the run's work folder and its run.h5 are replaced or deleted
+  if (!initial_run.empty() && (inside(initial_run, dir_) || (fs::exists(run, ec) && fs::equivalent(initial_run, run, ec))))
     throw OutputDirError("--out " + dir + " holds the run this one starts from (--initial " + initial_run +
-                         "): its run.h5 would be replaced; give another --out");
+                         "): a run replaces and deletes files in its --out; give another --out");
   for (const char* name : {"run.h5", "run.xdmf", "run.log", ".run.work", ".run.lock"})
     if (fs::is_symlink(dir_ / name, ec))
       throw OutputDirError((dir_ / name).string() + " is a symbolic link: dem2d does not write through one it "

@@ -18,15 +18,27 @@ build/sanitize). Deterministic for a seed. Classes:
            size limit), a damaged work directory: the rerun must resume to a
            run file bitwise identical to the uninterrupted one, or refuse and
            say --fresh; a run file that exists is never wrong
+  pipeline the layers above the engine (tests/fuzz/layers.py): mutated and
+           hostile stage registries, make's user variables, damaged ensemble
+           members, dem2d run into folders holding a user's files
+  install  the installed programs with their share/ moved or missing, another
+           installation's beside them, DEM2D_SHARE good or bad
+           (tests/fuzz/install.py)
+  slurm    quick ensembles through a real one-node Slurm with a failing
+           member, a lost node, a cancelled job or a resubmission
+           (tests/fuzz/cluster.py; root; none in --quick)
 Outcomes per input: ok (accepted), error (exit 2, bad input, the message
 names the file), failed (exit 1 with a message: out of memory, a run that
 diverges, a damaged work directory), and the defects: crash (a signal or
 another exit code), sanitizer (an ASan/UBSan report), hang (no exit within
 the time limit), message (exit 2 whose message does not name the file, or is
 too long), disagree (check accepts what run refuses; the two readers differ),
-traceback (the Python reader fails without a RunFileError), silent (exit 0 on an
+traceback (a Python tool fails with its own exception), silent (exit 0 on an
 input the program must refuse), fault (a resume that differs or a wrong
-file). Prints counts per class and outcome; exit 1 if any defect."""
+file), ran (text of an input ran as a command or changed the Makefile), destroyed
+(a user's file replaced or deleted), foreign (another installation's data used,
+a file outside the output folder written). Prints counts per class and
+outcome; exit 1 if any defect."""
 import argparse
 import collections
 import os
@@ -45,56 +57,27 @@ import h5py
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import mutate  # noqa: E402
+from cluster import Cluster  # noqa: E402
+from install import Install  # noqa: E402
+from layers import Pipeline  # noqa: E402
+from outcomes import DEFECTS, classify, execute  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent.parent
-DEFECTS = ("crash", "sanitizer", "hang", "message", "disagree", "traceback", "silent", "fault")
 STAGES = ("bed_metrics", "pulloff_metrics", "spectrum", "cg", "network", "friction")
 SCENES = ["tests/scenes/valid_minimal.toml", "tests/scenes/quick_fill.toml", "examples/box/scene.toml",
           "examples/silo/scene.toml", "tests/fuzz/tiny_fill.toml", "tests/fuzz/tiny_pulloff.toml"]
-COUNTS = {"quick": {"scene": 40, "config": 30, "runfile": 10, "reader": 16, "fault": 6},
-          "full": {"scene": 1200, "config": 700, "runfile": 300, "reader": 400, "fault": 40}}
+COUNTS = {"quick": {"scene": 40, "config": 30, "runfile": 10, "reader": 16, "fault": 6, "pipeline": 20,
+                    "install": 6, "slurm": 0},
+          "full": {"scene": 1200, "config": 700, "runfile": 300, "reader": 400, "fault": 40, "pipeline": 400,
+                   "install": 60, "slurm": 5}}
+CLASSES = ("scene", "config", "runfile", "reader", "fault", "pipeline", "install", "slurm")
 TIMEOUT = 60.0  # s per program run (x 4 in a sanitizer build)
-
-
-class Result:
-    def __init__(self, rc, err, seconds):
-        self.rc, self.err, self.seconds = rc, err, seconds
 
 
 # A file HDF5 could not flush stays in its memory until the exit: LeakSanitizer's report of it is expected
 # in the full-disk trials, and only there (lsan_full_disk.supp).
 FULL_DISK_ENV = dict(os.environ, LSAN_OPTIONS=":".join(
     filter(None, [os.environ.get("LSAN_OPTIONS"), f"suppressions={Path(__file__).resolve().parent / 'lsan_full_disk.supp'}"])))
-
-
-def execute(cmd, timeout, preexec=None, env=None):
-    t0 = time.monotonic()
-    try:
-        p = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, errors="replace",
-                           timeout=timeout, preexec_fn=preexec, env=env)
-        return Result(p.returncode, p.stderr, time.monotonic() - t0)
-    except subprocess.TimeoutExpired as e:
-        err = e.stderr.decode(errors="replace") if isinstance(e.stderr, bytes) else (e.stderr or "")
-        return Result(None, err, time.monotonic() - t0)
-
-
-def classify(r, program, names, must_fail=False):
-    """The outcome of one run: `names` are the input files one of which a
-    bad-input message must name (by path or file name)."""
-    if r.rc is None:
-        return "hang"
-    if "runtime error:" in r.err or "Sanitizer" in r.err:
-        return "sanitizer"
-    if r.rc < 0 or r.rc not in (0, 1, 2, 3):
-        return "crash"
-    if r.rc == 0:
-        return "silent" if must_fail else "ok"
-    first = r.err.strip().splitlines()[0] if r.err.strip() else ""
-    sane = first.startswith(f"{program}: ") and len(r.err) <= 4000
-    if r.rc == 2:
-        named = any(str(n) in r.err or Path(n).name in r.err for n in names)
-        return "error" if sane and named else "message"
-    return "failed" if sane else "message"
 
 
 class Suite:
@@ -467,7 +450,7 @@ class Suite:
         return f"{kind} {victim.name}"
 
     def report(self, seconds):
-        outcomes = ["ok", "error", "failed", "resumed", "refused", *DEFECTS]
+        outcomes = ["ok", "error", "failed", "resumed", "refused", "skipped", *DEFECTS]
         print(f"fuzz: {self.bin} ({seconds:.0f} s)")
         print(f"{'class':8} {'kind':22} {'inputs':>6} " + " ".join(f"{o:>9}" for o in outcomes))
         total = collections.Counter()
@@ -489,7 +472,7 @@ def main():
     ap.add_argument("--quick", action="store_true", help="the short version (make test)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--work", default=None, help="working folder (default: a temporary one)")
-    ap.add_argument("--only", default="scene,config,runfile,reader,fault")
+    ap.add_argument("--only", default=",".join(CLASSES), help=f"classes, of: {','.join(CLASSES)}")
     ap.add_argument("--jobs", type=int, default=2)
     args = ap.parse_args()
     tmp = None
@@ -499,9 +482,14 @@ def main():
     t0 = time.monotonic()
     suite = Suite(args)
     suite.setup()
-    for cls in args.only.split(","):
+    classes = args.only.split(",")
+    unknown = [c for c in classes if c not in CLASSES]
+    if unknown:
+        ap.error(f"--only {args.only}: unknown class {unknown[0]!r} (allowed: {', '.join(CLASSES)})")
+    for cls in classes:
         {"scene": suite.scenes, "config": suite.configs, "runfile": suite.runfiles, "reader": suite.readers,
-         "fault": suite.faults}[cls]()
+         "fault": suite.faults, "pipeline": Pipeline(suite).run, "install": Install(suite).run,
+         "slurm": Cluster(suite).run}[cls]()
     rc = suite.report(time.monotonic() - t0)
     if tmp:
         tmp.cleanup()
