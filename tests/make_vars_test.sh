@@ -37,6 +37,8 @@ refused PRESET=nosuch "PRESET=nosuch: must be one of:"
 refused "PRESET=fast quick" "must be one of:"
 refused INTRUDER=round "INTRUDER=round: must be one of: square"
 refused INTRUDER=../intruders/square "must be one of: square"
+refused "PRESET=%" "PRESET=%: must be one of:"
+refused "INTRUDER=s%" "INTRUDER=s%: must be one of: square"
 [ -e x ] && fail "a value ran a command"
 
 accepted MEMBERS=1000 JOBS=1 THREADS=2 PROGRESS=5 PRESET=fast INTRUDER=square
