@@ -9,6 +9,7 @@
 
 #include "engine/diagnostics.hpp"
 #include "io/h5.hpp"
+#include "run/progress.hpp"
 #include "run/run.hpp"
 #include "scene/scene_toml.hpp"
 #include "scene_builder.hpp"
@@ -322,6 +323,25 @@ TEST(Stop, KineticEnergyPerGrainIsTheSameRestForAnySize) {
     EXPECT_LT(ke.back(), 1e-8 * n);
     EXPECT_LT(r.final_step, std::llround(2.0 / s.dt));  // ended early, at rest
   }
+}
+
+// The ETA's rate is averaged over a window: 100 s at 1000 steps/s, then 20 s
+// of a machine so busy the run makes 10 steps/s. The rate since the last line
+// falls 100-fold (the ETA jumped from 0:10:37 to 2:41:50 and back); the
+// window's falls by the stall's share of it, 17 %. Once the window has passed
+// the stall, the rate is the steady one again.
+TEST(Progress, EtaRateIsAveragedOverItsWindow) {
+  RateWindow w(120.0);
+  EXPECT_EQ(w.rate(), 0.0);
+  std::int64_t step = 0;
+  double t = 0.0;
+  for (; t < 100.0; t += 1.0, step += 1000) w.add(t, step);
+  EXPECT_DOUBLE_EQ(w.rate(), 1000.0);
+  for (; t < 120.0; t += 1.0, step += 10) w.add(t, step);
+  EXPECT_NEAR(w.rate(), 1000.0, 0.18 * 1000.0);
+  EXPECT_GT(w.rate(), 800.0);
+  for (int k = 0; k < 240; ++k, t += 1.0, step += 1000) w.add(t, step);
+  EXPECT_NEAR(w.rate(), 1000.0, 1e-9);
 }
 
 }  // namespace

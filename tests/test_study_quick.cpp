@@ -112,7 +112,7 @@ TEST_F(QuickStudy, ProgressForecastsThePullOffsEnd) {
   const EndForecast e = forecast_end(std::array<const Controller*, 2>{&energy, &fill_duration}, fill_sys);
   EXPECT_NEAR(e.time, f.stop.duration, f.dt);
   EXPECT_TRUE(e.may_end_sooner);
-  EXPECT_EQ(Progress::line(2.5, 1000, 1e-5, 1000.0, 200, e),
+  EXPECT_EQ(Progress::line(2.5, 1000, 1e-5, 1000.0, 200, e, 1000.0),
             "t = 2.5 s  step 1000  25.0 % of 10 s (the duration)  1e+03 steps/s  2e+05 particle-steps/s  "
             "ETA at most 0:12:30");
 }

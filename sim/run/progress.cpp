@@ -9,6 +9,7 @@ namespace dem2d {
 namespace {
 
 constexpr double kTerminalSeconds = 0.5;
+constexpr double kEtaWindowSeconds = 120.0;  // wall seconds the ETA's rate is averaged over
 
 std::string format_duration(double seconds) {
   const auto s = static_cast<long long>(std::min(seconds, 1e9));
@@ -19,10 +20,24 @@ std::string format_duration(double seconds) {
 
 }  // namespace
 
+void RateWindow::add(double seconds, std::int64_t step) {
+  samples_.push_back({seconds, step});
+  // keep the newest sample at least `window` old: the rate spans the whole window
+  while (samples_.size() > 2 && seconds - samples_[1].seconds >= window_) samples_.pop_front();
+}
+
+double RateWindow::rate() const {
+  if (samples_.size() < 2) return 0.0;
+  const Sample &a = samples_.front(), &b = samples_.back();
+  return b.seconds > a.seconds ? static_cast<double>(b.step - a.step) / (b.seconds - a.seconds) : 0.0;
+}
+
 Progress::Progress(const ProgressOptions& options, const std::filesystem::path& log, double dt,
                    std::size_t particles, std::int64_t step)
     : opt_(options), log_(std::fopen(log.string().c_str(), "a")), dt_(dt), particles_(particles),
-      term_{Clock::now(), step}, plain_{Clock::now(), step} {}
+      term_{Clock::now(), step}, plain_{Clock::now(), step}, start_(Clock::now()), eta_rate_(kEtaWindowSeconds) {
+  eta_rate_.add(0.0, step);
+}
 
 Progress::~Progress() {
   if (log_) std::fclose(log_);
@@ -38,9 +53,9 @@ bool Progress::due() const {
 }
 
 std::string Progress::line(double t, std::int64_t step, double dt, double steps_per_s, std::size_t particles,
-                           const EndForecast& end) {
+                           const EndForecast& end, double eta_steps_per_s) {
   const double left = std::max(0.0, end.time - t);  // simulated seconds
-  const double eta = steps_per_s > 0.0 ? left / dt / steps_per_s : INFINITY;
+  const double eta = eta_steps_per_s > 0.0 ? left / dt / eta_steps_per_s : INFINITY;
   const double fraction = end.time > 0.0 ? std::min(1.0, t / end.time) : 1.0;
   char buf[320];
   if (std::isfinite(end.time))
@@ -55,12 +70,13 @@ std::string Progress::line(double t, std::int64_t step, double dt, double steps_
   return buf;
 }
 
-// The rate is averaged since the mark, which moves to now.
+// The rate shown is averaged since the mark, which moves to now; the ETA's over the window.
 std::string Progress::line_since(Mark& m, Clock::time_point now, std::int64_t step, double t,
-                                 const EndForecast& end) const {
+                                 const EndForecast& end) {
   const double steps_per_s = static_cast<double>(step - m.step) / std::max(since(m, now), 1e-9);
   m = {now, step};
-  return line(t, step, dt_, steps_per_s, particles_, end);
+  eta_rate_.add(std::chrono::duration<double>(now - start_).count(), step);
+  return line(t, step, dt_, steps_per_s, particles_, end, eta_rate_.rate());
 }
 
 void Progress::update(std::int64_t step, double t, const EndForecast& end) {

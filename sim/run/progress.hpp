@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <deque>
 #include <filesystem>
 #include <string>
 
@@ -23,6 +24,25 @@ namespace dem2d {
 struct ProgressOptions {
   bool terminal = false;  // stderr is a terminal: a live line there
   double every = 60.0;    // wall seconds between plain lines (stderr when not a terminal, and the log); 0: none
+};
+
+// The rate the ETA is taken from: steps per wall second over the last
+// `window` seconds (from the first sample while the run is younger), so that
+// a few seconds of a busy machine move the ETA by their share of the window,
+// not by the ratio of the rates.
+class RateWindow {
+ public:
+  explicit RateWindow(double window_seconds) : window_(window_seconds) {}
+  void add(double seconds, std::int64_t step);
+  double rate() const;  // steps per second; 0 before two samples
+
+ private:
+  struct Sample {
+    double seconds;
+    std::int64_t step;
+  };
+  double window_;
+  std::deque<Sample> samples_;
 };
 
 class Progress {
@@ -44,8 +64,9 @@ class Progress {
   void done();
 
   // The text of a progress line (for the tests).
+  // steps_per_s is shown, eta_steps_per_s (the window's) gives the ETA.
   static std::string line(double t, std::int64_t step, double dt, double steps_per_s, std::size_t particles,
-                          const EndForecast& end);
+                          const EndForecast& end, double eta_steps_per_s);
 
  private:
   struct Mark {
@@ -53,13 +74,15 @@ class Progress {
     std::int64_t step;
   };
   double since(const Mark& m, Clock::time_point now) const;
-  std::string line_since(Mark& m, Clock::time_point now, std::int64_t step, double t, const EndForecast& end) const;
+  std::string line_since(Mark& m, Clock::time_point now, std::int64_t step, double t, const EndForecast& end);
 
   ProgressOptions opt_;
   std::FILE* log_;
   double dt_;
   std::size_t particles_;
   Mark term_, plain_;
+  Clock::time_point start_;
+  RateWindow eta_rate_;
 };
 
 // The earliest end the controllers forecast (and whether one may end it sooner).
