@@ -119,8 +119,12 @@ def check_run_file(f, errors):
         errors.append("/contacts/i or /contacts/j out of range")
     if np.any((j >= 0) & (j <= i)):
         errors.append("/contacts/j: grain partners must be > i")
-    if np.any(f["contacts/overlap"][...] <= 0) or np.any(f["contacts/fn"][...] < 0):
-        errors.append("/contacts: overlap must be > 0 and fn >= 0")
+    overlap, fn = f["contacts/overlap"][...], f["contacts/fn"][...]
+    if "cohesion" in effects:  # attraction: a contact may pull (fn < 0) and stay open across a gap (overlap < 0)
+        if not (np.isfinite(overlap).all() and np.isfinite(fn).all()):
+            errors.append("/contacts: overlap and fn must be finite")
+    elif np.any(overlap <= 0) or np.any(fn < 0):
+        errors.append("/contacts: overlap must be > 0 and fn >= 0 (without the cohesion effect)")
     if not np.allclose(np.hypot(f["contacts/nx"][...], f["contacts/ny"][...]), 1.0, atol=1e-12):
         errors.append("/contacts: normals are not unit vectors")
     if np.any(f["contacts/sliding"][...] > 1):

@@ -42,6 +42,14 @@ MIN_SCENE=$TESTS/scenes/valid_minimal.toml
 expect 0 "run.h5" -- "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/minimal"
 [ -d "$WORK/minimal/.run.work" ] && fail "work directory left behind"
 $CHECK "$WORK/minimal/run.h5" >/dev/null || fail "check_run_file on the minimal run"
+# with cohesion a contact pulls (fn < 0) and holds across a gap (overlap < 0): a valid run file
+sed -e 's/^walls = true/walls = true\nrolling_resistance = true\ncohesion = true/' \
+  -e 's/^friction = 0.5/friction = 0.5\nrolling_friction = 0.1\nrolling_stiffness = 1e-3\ncohesion_force = 2.0\ncohesion_range = 1e-5/' \
+  "$MIN_SCENE" >"$WORK/cohesive.toml"
+expect 0 "run.h5" -- "$DEM2D" run "$WORK/cohesive.toml" --out "$WORK/cohesive"
+$PY -c 'import h5py, sys; f = h5py.File(sys.argv[1]); sys.exit(not (f["contacts/fn"][...] < 0).any())' \
+  "$WORK/cohesive/run.h5" || fail "the cohesive run has no contact under tension (the check below means nothing)"
+$CHECK "$WORK/cohesive/run.h5" >/dev/null || fail "check_run_file on a cohesive run: $($CHECK "$WORK/cohesive/run.h5")"
 # inspect: the whole file through the analyses' reader; damage is bad input naming the file and dataset
 "$DEM2D" inspect "$WORK/minimal/run.h5" | grep -q "a sound run file" || fail "inspect of the minimal run"
 expect 2 "not-a-run.h5: no such file" -- "$DEM2D" inspect "$WORK/not-a-run.h5"
