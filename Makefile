@@ -109,7 +109,8 @@ DEBIAN_PACKAGES := g++ cmake make pkg-config git \
   libgtest-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev \
   python3-h5py python3-numpy python3-matplotlib python3-markdown
 TEST_PACKAGES := python3-pytest python3-paraview xvfb xauth
-SUDO := $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
+# how packages are installed: directly as root, else through sudo when there is one (SUDO= : none)
+SUDO ?= $(shell [ "$$(id -u)" -eq 0 ] || command -v sudo)
 
 .PHONY: paraview deps needs needs-test build install test test-release test-sanitize test-pipeline test-cluster fuzz bench bench-scaling bench-compare reproduce check validate \
   pulloff-slice cyclic metrics figures report accuracy ensemble clean FORCE
@@ -120,10 +121,16 @@ missing = $$(command -v dpkg >/dev/null && for p in $(1); do dpkg -s $$p >/dev/n
 # $(call apt_install,SUDO): installs the packages in $$m with apt-get
 apt_install = echo "make: installing Debian packages:" $$m; \
   $(1) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(1) apt-get install -y -qq --no-install-recommends $$m
-# make deps: what a user asks for: installs the missing packages (through sudo unless root)
+# $(call for_admin,WHO): says what is missing ($$m) and the one command an administrator runs
+for_admin = echo "$(1): missing Debian packages:" $$m; \
+  echo "  an administrator installs them with: apt-get install -y --no-install-recommends" $$m
+# make deps: what a user asks for: installs the missing packages (as root, or through sudo); without
+# either, names the command an administrator runs (exit 2). It needs nothing it installs.
 deps:
 	@m="$(call missing,$(DEBIAN_PACKAGES) $(TEST_PACKAGES))"; \
-	if [ -n "$$m" ]; then $(call apt_install,$(SUDO)); else echo "make deps: nothing missing"; fi
+	if [ -z "$$m" ]; then echo "make deps: nothing missing"; \
+	elif [ "$$(id -u)" -eq 0 ] || [ -n "$(SUDO)" ]; then $(call apt_install,$(SUDO)); \
+	else $(call for_admin,make deps); echo "  (this account is not root and has no sudo)"; exit 2; fi
 # Before a first configure: the missing packages are installed when we are root
 # on Debian (a fresh machine, CI); otherwise named, with how to get them (docs/install.md).
 # Off Debian nothing is checked: CMake names what it cannot find. NO_DEPS=1 skips the check.
@@ -132,8 +139,8 @@ needs needs-test: PACKAGES = $(DEBIAN_PACKAGES) $(if $(filter needs-test,$@),$(T
 needs needs-test:
 	@[ -n "$(NO_DEPS)" ] || { m="$(call missing,$(PACKAGES))"; [ -z "$$m" ] || \
 	  if [ "$$(id -u)" -eq 0 ]; then $(call apt_install,); \
-	  else echo "make: missing Debian packages:" $$m; \
-	    echo "  install them with \`make deps\` (apt-get through sudo) or as docs/install.md says; NO_DEPS=1 skips this check"; exit 2; fi; }
+	  else $(call for_admin,make); \
+	    echo "  (or \`make deps\`, through sudo; other systems: docs/install.md); NO_DEPS=1 skips this check"; exit 2; fi; }
 
 # NATIVE=ON (this tree's default): optimised for this machine's CPU; the installed default is portable
 NATIVE ?= ON
@@ -206,7 +213,8 @@ bench-compare: build
 # (generated into $(BUILD)/registries/<its path>.mk; docs/stages.md).
 # one file per registry path (registries/<its absolute path>.mk): two registries named alike never share one
 STAGES_MK := $(BUILD)/registries$(abspath $(STAGE_REGISTRY)).mk
-ifneq ($(MAKECMDGOALS),clean)
+# (not for make deps or clean alone: the installer must not need what it installs)
+ifneq ($(if $(MAKECMDGOALS),$(filter-out clean deps,$(MAKECMDGOALS)),build),)
 include $(STAGES_MK)
 endif
 $(STAGES_MK): $(STAGE_REGISTRY) pipeline/stages.py | needs
