@@ -73,7 +73,7 @@ REPORT_SCRIPTS := pipeline/report
 
 PRESET ?= default
 # INTRUDER=square: the experiment's square-ended 10 mm x 2 mm bar (pipeline/intruders/square.toml)
-# instead of SPEC's sphero-line, into results/<preset>_square/
+# instead of the paper's sphero-line (docs/paper.md), into results/<preset>_square/
 INTRUDER ?=
 RESULTS := results/$(PRESET)$(if $(INTRUDER),_$(INTRUDER))
 ifeq ($(PRESET),quick)
@@ -95,8 +95,11 @@ OVERLAY := $(foreach f,$(OVERLAY_FILES),--overlay $(f))
 # FILL_RUN: the bed the pull-off starts from; by default the preset's own fill
 # (make accuracy gives each sweep point a bed made elsewhere).
 FILL_RUN ?= $(RESULTS)/fill/run.h5
-THREADS ?= $(JOBS)
-$(call check_count,THREADS,1,1024)
+# OpenMP threads per simulation and stage; unset: each simulation chooses from its size and the cores
+# free when it starts (docs/engine.md, "Parallelism"), each stage takes its own default
+THREADS ?=
+$(if $(THREADS),$(call check_count,THREADS,1,1024))
+THREADS_OPTION = $(if $(THREADS),--threads $(THREADS))
 $(call check_name,PRESET,$(PRESET_NAMES))
 $(if $(INTRUDER),$(call check_name,INTRUDER,$(INTRUDER_NAMES)))
 # seconds of wall time between a simulation's progress lines (in the make log and DIR/run.log)
@@ -243,7 +246,7 @@ endif
 started = echo "make: $(1) $(@D) started $$(date +%T)"
 simulating = $(call started,simulation) && echo "  (a progress line every $(PROGRESS) s of wall time, also in $(@D)/run.log)"
 # every simulation's: its threads, its progress lines
-RUN_OPTIONS = --threads $(THREADS) --progress $(PROGRESS)
+RUN_OPTIONS = $(THREADS_OPTION) --progress $(PROGRESS)
 timed = $(call started,stage) && cmd=($(1)) && echo "  $${cmd[*]}" && t0=$$(date +%s.%N) && \
   { "$${cmd[@]}" || { echo "make: $(@D) failed. If the message above names a missing or corrupt input file, delete it and run \`make reproduce PRESET=$(PRESET)\`, which remakes it." >&2; exit 1; }; } && awk -v t0=$$t0 -v t1=$$(date +%s.%N) \
   'BEGIN { printf "{\"wall_seconds\": %.3f}\n", t1 - t0 }' > $(@D)/timing.json.tmp && \

@@ -154,7 +154,7 @@ def load(path: Path = REGISTRY) -> list:
 
 def make_rules(stages: list, registry: str) -> str:
     """Make rules of the stages; they use the Makefile's STAGE_BIN, RESULTS, FILL_RUN,
-    THREADS and its `timed` function."""
+    THREADS_OPTION and its `timed` function."""
     run_file = {"fill": "$(FILL_RUN)", "pulloff": "$(RESULTS)/pulloff/run.h5"}
     # every variable it defines starts with STAGE (the Makefile's own never do): a program's name
     # cannot replace one of the Makefile's variables (python, path, shell...)
@@ -182,7 +182,7 @@ def make_rules(stages: list, registry: str) -> str:
         # every argument one shell word, taken as written (no make or shell expansion); {dir}: the stage's folder
         cmd += ["'$(@D)'".join(shell_word(piece) for piece in a.split("{dir}")) for a in s.args]
         if s.threads:
-            cmd += ["--threads", "$(THREADS)"]
+            cmd += ["$(THREADS_OPTION)"]  # (empty, or --threads N)
         target = f"$(RESULTS)/{s.name}/metrics.json"
         out.append(f"{target}: {' '.join(dict.fromkeys(deps))}")
         out.append("\t@mkdir -p $(@D)")

@@ -26,6 +26,7 @@
 #include "core/version.hpp"
 #include "io/toml_reader.hpp"  // did_you_mean, show_key
 #include "run/run.hpp"
+#include "run/thread_choice.hpp"
 #include "scene/scene_toml.hpp"
 
 namespace {
@@ -73,7 +74,15 @@ int cmd_check(const std::string& path, const dem2d::SceneSources& extra, bool js
 
 int cmd_run(const std::string& path, const dem2d::SceneSources& extra, dem2d::RunOptions opt, int threads) {
   dem2d::Scene scene = dem2d::load_scene(path, extra);
-  scene.threads = threads;
+  if (threads == 0) {
+    const int cores = std::max(omp_get_num_procs(), 1);
+    const dem2d::ThreadChoice c = dem2d::choose_threads(scene.particles.size(), cores, dem2d::free_cores_now(cores));
+    scene.threads = c.threads;
+    opt.threads_why = c.why;
+  } else {
+    scene.threads = threads;
+    opt.threads_why = std::to_string(threads) + (threads == 1 ? " thread" : " threads") + " (--threads)";
+  }
   opt.progress.terminal = isatty(STDERR_FILENO) != 0;
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
@@ -127,7 +136,9 @@ int main(int argc, char** argv) {
   auto* run = app.add_subcommand("run", "Run a scene; writes DIR/run.h5 and DIR/run.xdmf");
   scene_options(run);
   run->add_option("--out", run_opt.out_dir, "Output directory")->required();
-  run->add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(thread_count);
+  run->add_option("--threads", threads,
+                  "OpenMP threads (default 0: chosen from the scene's size and the cores free now)")
+      ->check(thread_count);
   run->add_flag("--fresh", run_opt.fresh, "Discard a checkpoint in DIR instead of resuming from it");
   run->add_flag("--overwrite", run_opt.overwrite,
                 "Replace DIR/run.h5 and DIR/run.xdmf even if they are not a dem2d run's (never through a link)");

@@ -29,6 +29,7 @@
 #include <omp.h>
 
 #include "contact/contact_model.hpp"
+#include "engine/step_barrier.hpp"
 #include "engine/system.hpp"
 
 namespace dem2d::kernels {
@@ -362,6 +363,8 @@ template <EffectSet E>
 void advance(System& s, std::int64_t steps) {
   if (steps <= 0) return;
   bool failed = false;
+  StepBarrier barrier;  // the step's phases (step_barrier.hpp: yields its core when the machine is busy)
+  barrier.reset(s.config.threads);
 #pragma omp parallel num_threads(s.config.threads)
   {
     // every thread keeps the same displacement bound, from the same numbers
@@ -371,7 +374,7 @@ void advance(System& s, std::int64_t steps) {
     open_step_serial<E>(s);
     const bool ledger = s.state.energy.on;  // the same for every thread: the extra barriers below match
     for (std::int64_t k = 0; k < steps; ++k) {
-#pragma omp barrier
+      barrier.wait();
       if (ledger) energy::open_step(s);
       double v2max = 0.0;
       bool escaped = false;
@@ -387,21 +390,22 @@ void advance(System& s, std::int64_t steps) {
         // this barrier a thread that runs late decides otherwise, skips the
         // rebuild, and the threads' barriers no longer match (a hang, seen
         // with 2 threads sharing one core).
-#pragma omp barrier
-#pragma omp single
+        barrier.wait();
+#pragma omp master
         {
           s.rebuild_in_step(escaped);
           failed = !s.failure.empty();
-        }  // (a barrier)
+        }
+        barrier.wait();
         moved = 0.0;
         if (failed) break;
       }
       pair_forces<E>(s, ContactModel<E>{s.config.pp});
       if constexpr (has(E, effect::walls)) body_forces<E>(s, ContactModel<E>{s.config.pw});
-#pragma omp barrier
+      barrier.wait();
       if (ledger) {
         energy::close_step(s);
-#pragma omp barrier
+        barrier.wait();
       }  // no grain moves before every thread's close_step has read it
       claim_shared_grains(s);
       gather<E>(s);

@@ -101,6 +101,11 @@ void Progress::note(const std::string& what) {
   std::fflush(log_);
 }
 
+void Progress::announce(const std::string& what) {
+  if (opt_.terminal || opt_.every > 0.0) std::fprintf(stderr, "[dem2d] %s\n", what.c_str());
+  note(what);
+}
+
 void Progress::done() {
   if (opt_.terminal) std::fprintf(stderr, "\n");
 }

@@ -61,6 +61,8 @@ class Progress {
   void update(std::int64_t step, double t, const EndForecast& end);
   // A line in the log, stamped with the date and time.
   void note(const std::string& what);
+  // note(), and the same line on stderr when progress lines are on (the run's first line).
+  void announce(const std::string& what);
   void done();
 
   // The text of a progress line (for the tests).

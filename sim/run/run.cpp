@@ -84,9 +84,12 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   const std::int64_t first_rebuild = sys.state.lists.rebuild_count;
   const std::int64_t total = duration.last_step();
   Progress progress(opt.progress, out_dir / "run.log", scene.dt, sys.size(), first_step);
-  progress.note(std::string(report.resumed ? "resumed" : "started") + " '" + scene.name + "' at step " +
-                std::to_string(first_step) + " of " + std::to_string(total) + ", " + std::to_string(sys.config.threads) +
-                " threads" + (scene.path.empty() ? "" : ", scene " + scene.path));
+  const std::string threads = opt.threads_why.empty()
+                                  ? std::to_string(sys.config.threads) + (sys.config.threads == 1 ? " thread" : " threads")
+                                  : opt.threads_why;
+  progress.announce(std::string(report.resumed ? "resumed" : "started") + " '" + scene.name + "' at step " +
+                    std::to_string(first_step) + " of " + std::to_string(total) + ", " + threads +
+                    (scene.path.empty() ? "" : ", scene " + scene.path));
   auto finish_report = [&](bool complete) {
     report.complete = complete;
     report.final_step = sys.state.step;

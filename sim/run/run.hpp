@@ -22,6 +22,7 @@ struct RunOptions {
   bool fresh = false;     // discard an existing checkpoint instead of resuming
   bool overwrite = false;  // replace DIR/run.h5 and run.xdmf even if they are not a dem2d run's
   ProgressOptions progress{};  // where and how often to say how far the run is (run/progress.hpp)
+  std::string threads_why{};   // how the thread count was chosen, for the first progress line (run/thread_choice.hpp)
   // For tests: act as if interrupted once this step is reached (-1: never).
   std::int64_t interrupt_at_step = -1;
 };
