@@ -1,4 +1,4 @@
-// Scenes built in code for the tests: SPEC's glass beads and contact law,
+// Scenes built in code for the tests: the paper's glass beads and contact law,
 // with the stiffness and effects each test needs.
 #pragma once
 
@@ -17,7 +17,7 @@ namespace dem2d::test {
 inline constexpr double kDensity = 2500.0;  // kg/m^3, glass
 inline constexpr double kMeanD = 3e-3;      // m
 
-// SPEC's law with stiffness kn: k_t = k_n/2, e = 0.9, mu = 0.5,
+// The paper's law (docs/paper.md) with stiffness kn: k_t = k_n/2, e = 0.9, mu = 0.5,
 // mu_r = mu d 1e-2, k_r = d^2 k_n 1e-4.
 inline ContactLaw glass_law(double kn) {
   ContactLaw law;

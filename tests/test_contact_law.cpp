@@ -26,7 +26,7 @@ TEST(DampingRatio, InvertsTheNonAttractiveLaw) {
   EXPECT_NEAR(restitution_of_damping_ratio(1.0 + 1e-7), std::exp(-2.0), 1e-7);
   EXPECT_NEAR(restitution_of_damping_ratio(1.0 - 1e-3), restitution_of_damping_ratio(1.0 - 1e-3 + 1e-9), 1e-8);
   // nu = -ln e / sqrt(pi^2 + ln^2 e), exact only if the force may pull, gives
-  // e' = 0.550 for e = 0.5 and 0.902 for 0.9 under this law (issue 19 measured 0.551, 0.902)
+  // e' = 0.550 for e = 0.5 and 0.902 for 0.9 under this law (an independent check measured 0.551, 0.902)
   auto textbook = [](double e) { return -std::log(e) / std::sqrt(M_PI * M_PI + std::log(e) * std::log(e)); };
   EXPECT_NEAR(restitution_of_damping_ratio(textbook(0.5)), 0.550, 1e-3);
   EXPECT_NEAR(restitution_of_damping_ratio(textbook(0.9)), 0.902, 1e-3);

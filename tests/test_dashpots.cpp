@@ -1,5 +1,5 @@
 // The opt-in tangential and rolling dashpots (contact_law.hpp): without them
-// SPEC's law leaves the tangential and rolling springs undamped, so a disk
+// the paper's law (docs/paper.md) leaves the tangential and rolling springs undamped, so a disk
 // stopped by rolling resistance rocks on for ever and a rolling disk's speed
 // keeps ringing; with them both die out.
 #include <gtest/gtest.h>
@@ -15,7 +15,7 @@ namespace {
 constexpr EffectSet kRolling =
     effect::gravity | effect::normal_damping | effect::friction | effect::rolling_resistance | effect::walls;
 
-// A 3 mm disk launched rolling at 5 mm/s on a flat floor, SPEC's law
+// A 3 mm disk launched rolling at 5 mm/s on a flat floor, the paper's law
 // (rolling friction mu_r = 1.5e-5 m): it stops within ~0.08 s, then rocks on
 // its rolling spring. Returns the largest |v| over the 20 ms before t (s).
 double rocking_speed(EffectSet extra, double nu, double t) {
@@ -37,7 +37,7 @@ double rocking_speed(EffectSet extra, double nu, double t) {
 
 TEST(Dashpots, RollingDampingStopsTheRocking) {
   const double undamped = rocking_speed(0, 0.0, 0.3);
-  // SPEC's law: it rocks on, undiminished (issue 19 measured ~1.7 mm/s in its case)
+  // the paper's law: it rocks on, undiminished (an independent check measured ~1.7 mm/s in its case)
   EXPECT_GT(undamped, 1e-4);
   EXPECT_GT(undamped, 0.8 * rocking_speed(0, 0.0, 0.15));
   // with a rolling dashpot the rocking decays (exponentially: the mode's rate

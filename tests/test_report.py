@@ -40,6 +40,14 @@ else:
 """
 
 
+class Headline(unittest.TestCase):
+    def test_the_small_test_scene_is_not_judged_against_the_paper(self):
+        quick = report.headline("quick", 21, 13)
+        self.assertIn("Not comparable with the paper", quick)
+        self.assertNotIn("targets pass", quick)
+        self.assertEqual(report.headline("default", 21, 9), "**12 of 21 paper targets pass** (9 fail).")
+
+
 class Writes(unittest.TestCase):
     def test_a_full_disk_leaves_nothing_half_written_and_says_so(self):
         for kind, name in (("text", "report.html"), ("figure", "fig.png")):

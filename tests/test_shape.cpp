@@ -77,7 +77,7 @@ TEST(Shape, ClosestPointMatchesBruteForceDistance) {
   EXPECT_EQ(checked, 60000);
 }
 
-// Two vertices are exactly the sphero-line of SPEC (the same arithmetic).
+// Two vertices are exactly the sphero-line of the paper (docs/paper.md; the same arithmetic).
 TEST(Shape, TwoVerticesAreTheSpheroLine) {
   const Shape s = make_shape({{0.01, 0.02}, {0.03, 0.035}});
   const Segment g = make_segment(0.01, 0.02, 0.03, 0.035);

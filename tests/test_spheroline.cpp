@@ -1,4 +1,4 @@
-// Sphero-line geometry (SPEC eq. 1-3): the three cases agree with the paper's
+// Sphero-line geometry (paper eq. 1-3, docs/paper.md): the three cases agree with the paper's
 // formulas and join continuously at the flat/cap boundary.
 #include <gtest/gtest.h>
 

@@ -111,7 +111,7 @@ double crystal_growth(const ContactLaw& l, EffectSet effects, double fraction) {
 
 // Measured (24 x 20 crystal, 4000 steps; kinetic energy at the end over the
 // start): stable up to 1.00 x the limit, unstable from 1.01 x in all three
-// cases below (undamped: energy kept, ~0.5; e = 0.5: 4e-9; SPEC's law: 2e-4;
+// cases below (undamped: energy kept, ~0.5; e = 0.5: 4e-9; the paper's law: 2e-4;
 // at 1.01 x: infinite, 190 and 9e11).
 TEST(StabilityLimit, DensePackingStableBelowUnstableAbove) {
   struct Case {
@@ -122,7 +122,7 @@ TEST(StabilityLimit, DensePackingStableBelowUnstableAbove) {
   };
   for (const Case& c : {Case{"undamped normal springs", law(0.0, 1.0), 0, 2.0},
                         Case{"normal springs and dashpots, e = 0.5", law(0.0, 0.5), effect::normal_damping, 1.0},
-                        Case{"SPEC's law (spin mode)", law(0.5, 0.9),
+                        Case{"the paper's law (spin mode)", law(0.5, 0.9),
                              effect::normal_damping | effect::friction | effect::rolling_resistance, 1.0}}) {
     EXPECT_LT(crystal_growth(c.law, c.effects, 0.99), c.stable_below) << c.what;
     EXPECT_GT(crystal_growth(c.law, c.effects, 1.03), 1e3) << c.what;

@@ -1,4 +1,4 @@
-// Coarse-graining with a truncated Gaussian kernel (SPEC "Coarse-graining",
+// Coarse-graining with a truncated Gaussian kernel (docs/paper.md, "Coarse-graining";
 // paper section 2.3, eqs. 4-9):
 //   G(r) = exp(-r^2 / (2 w^2)) / V_w  for r <= c w, 0 beyond,  V_w = 2 pi w^2 (1 - exp(-c^2 / 2)),
 // so that G integrates to 1 over the disk r <= c w (c = 4 in the paper).

@@ -2,7 +2,7 @@
 // Drag = -F_y: the vertical force of the grains on the intruder, per unit
 // depth (N/m), positive when it resists the upward pull; the mean over each
 // series interval (/series/body_force_mean: anti-aliased, not a sample).
-// Height = the intruder's centre above the floor's top face (SPEC: heights
+// Height = the intruder's centre above the floor's top face (docs/paper.md: heights
 // from the cell floor to the intruder's centre).
 #pragma once
 

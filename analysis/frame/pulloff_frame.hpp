@@ -32,7 +32,7 @@ struct PulloffGeometry {
   double core_length = 0.0;    // extent of its core along the axis (a sphero-line's segment length) (m)
   double cap_radius = 0.0;     // half its thickness (m)
 
-  // Intruder centre above the floor's inner face (SPEC: heights from the floor
+  // Intruder centre above the floor's inner face (docs/paper.md: heights from the floor
   // to the intruder's centre; the same as pulloff_metrics).
   double height() const { return centre.y - cell.floor; }
   double length() const { return core_length + 2.0 * cap_radius; }  // tip to tip along the axis (m)

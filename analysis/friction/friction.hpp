@@ -1,6 +1,6 @@
 // Stage `friction`: friction mobilisation mu* = |F_t| / (mu F_n) at every
 // contact of a pull-off run, the slip fraction and the mean mu* of bulk and
-// wall contacts against the intruder's height (SPEC R7, R8; paper Fig. 12, 13).
+// wall contacts against the intruder's height (R7, R8 in docs/paper.md; paper Fig. 12, 13).
 // Definitions and reasons: analysis/friction/README.md. SI units (m, N/m).
 #pragma once
 

@@ -20,7 +20,7 @@
 
 namespace dem2d::analysis {
 
-// How the floor is kept from linking grains (SPEC: a path through the floor
+// How the floor is kept from linking grains (docs/paper.md: a path through the floor
 // does not count). Bodies are never passed through in either rule; with
 // bottom_layer_removed the grains touching the floor (fn > 0) are left out too.
 enum class FloorRule { vertex_removed, bottom_layer_removed };

@@ -1,4 +1,4 @@
-// The top layer (SPEC R4): the height above which the loading/rupture
+// The top layer (R4, docs/paper.md): the height above which the loading/rupture
 // fluctuations of the drag vanish, found as a change point with an interval.
 // Definitions and reasons: analysis/spectrum/README.md, "Top layer".
 //

@@ -12,11 +12,11 @@ point (docs/params.md):
   cell_width_mm            the cell's width L_c: walls, floor, intruder centred, hopper and
                            domain moved with it, the grain count scaled to keep the bed height
   intruder_length_mm       the intruder's length L, tip to tip
-  intruder_shape           "segment" (SPEC's sphero-line) or "square" (square ends)
+  intruder_shape           "segment" (the paper's sphero-line, docs/paper.md) or "square" (square ends)
   pull_speed_mm_s          V: every pull-off time given in travel scales with 1/V; the point
                            starts from the base point's beds (only the pull changes)
   friction                 mu of grains and walls
-  rolling_friction_over_r  mu_r / r of a mean grain (SPEC: mu d 1e-2 / (d/2) = 0.01)
+  rolling_friction_over_r  mu_r / r of a mean grain (docs/paper.md: mu d 1e-2 / (d/2) = 0.01)
   bond_number              cohesion: pull-off force f_c = Bo m g of a mean grain, range 0.05 d
   cycles                   cyclic loading (pipeline/cyclic.toml) from the base point's beds:
                            the rise, a rest, then this many up-and-down cycles, at the plan's speed

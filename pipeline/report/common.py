@@ -28,7 +28,7 @@ STUDY_FILE = REPO / "data" / "study.toml"
 # (pipeline/stages.toml), and the pull-off's run file, which they draw
 STAGE_FILES = {s.name: (["run.h5"] if s.name == "pulloff" else []) + s.outputs for s in stages()}
 
-# the three mobility zones of v* = |V|/V (SPEC, paper Fig. 8)
+# the three mobility zones of v* = |V|/V (docs/paper.md, paper Fig. 8)
 ZONE_COLOURS = ["#3b6fd8", "#3fae49", "#d8403b"]
 
 plt.rcParams.update({

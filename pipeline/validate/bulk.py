@@ -1,6 +1,6 @@
 """Bulk behaviour against established laws: Janssen's saturation of the
 load on a silo's floor, Beverloo's 2D discharge law, and the angle of
-repose of a heap against sliding and rolling friction. Grains: SPEC's glass,
+repose of a heap against sliding and rolling friction. Grains: the paper's glass,
 d uniform in [2, 4] mm, k_n = 1.92e6 N/m (preset fast: the bulk laws do not
 depend on the stiffness), dt = dt_c/20."""
 import math

@@ -4,7 +4,7 @@ scene run with dem2d, compared with the analytic solution of the law (normal
 impacts), the rigid-body solution where it holds (gross sliding), and an
 independent fine-step integration of the same law (impact_ode.py).
 
-Disks are SPEC's glass (rho = 2500 kg/m^3, d = 3 mm unless said),
+Disks are the paper's glass (rho = 2500 kg/m^3, d = 3 mm unless said),
 k_n = 1.92e7 N/m (the default preset), k_t = k_n/2, dt = dt_c/200."""
 import math
 from pathlib import Path

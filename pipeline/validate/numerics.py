@@ -87,7 +87,7 @@ def stability_limit(ctx) -> list:
     checks = []
     laws = [("undamped normal springs", {"kn": KN}, {}, 2.0),
             ("normal springs and dashpots, e = 0.5", {"kn": KN, "restitution": 0.5}, {"normal_damping": True}, 1.0),
-            ("SPEC's law (mu = 0.5, k_t = k_n/2, e = 0.9)", {**glass_contact(KN)}, {"normal_damping": True, "friction": True},
+            ("the paper's law (mu = 0.5, k_t = k_n/2, e = 0.9)", {**glass_contact(KN)}, {"normal_damping": True, "friction": True},
              1.0)]
     ctx.figures["stability"] = []
     for label, law, effects, stable_below in laws:

@@ -12,7 +12,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
 import dem2d  # noqa: E402  (the run-file reader, python/dem2d)
 
-DENSITY = 2500.0  # kg/m^3, glass (SPEC)
+DENSITY = 2500.0  # kg/m^3, glass (docs/paper.md)
 
 
 def disk_mass(d: float) -> float:
@@ -56,7 +56,7 @@ def toml_text(scene: dict) -> str:
 
 
 def glass_contact(kn: float, e: float = 0.9, mu: float = 0.5, kt_ratio: float = 0.5, **extra) -> dict:
-    """SPEC's law at stiffness kn (N/m): k_t = k_n/2, e, mu; extra keys as given."""
+    """The paper's law (docs/paper.md) at stiffness kn (N/m): k_t = k_n/2, e, mu; extra keys as given."""
     law = {"kn": kn, "kt": kt_ratio * kn, "restitution": e, "friction": mu}
     law.update(extra)
     return law

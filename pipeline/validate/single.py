@@ -1,6 +1,6 @@
 """Single grains against rigid-body mechanics, and a pile at rest against
 statics: slide-to-roll, rolling down an incline with and without rolling
-resistance, and the force balance of a settled pile. SPEC's glass disks
+resistance, and the force balance of a settled pile. The paper's glass disks
 (d = 3 mm) and law at k_n = 1.92e7 N/m; gravity 9.81 m/s^2."""
 import math
 

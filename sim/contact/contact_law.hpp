@@ -1,4 +1,4 @@
-// The contact law (SPEC "Contact model"), shared by particle-particle and
+// The contact law (docs/paper.md, "Contact model"), shared by particle-particle and
 // particle-body contacts: the list of its terms, applied in this order to
 // every candidate contact (contact/law_terms.hpp says what a term is).
 //

@@ -1,5 +1,5 @@
 // Normal term: a linear spring with (effect normal_damping) a viscous
-// dashpot, never attractive (SPEC "Contact model"):
+// dashpot, never attractive (docs/paper.md, "Contact model"):
 //
 //   F_n = max(0, -k_n delta - c_n vn),  c_n = 2 nu sqrt(m_eff k_n)
 //

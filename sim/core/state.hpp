@@ -39,7 +39,7 @@ struct Particles {
 };
 
 // Bodies: convex sphero-polygons (shape/shape.hpp), i.e. a core outline
-// (a point, a segment as in SPEC, or a polygon) rounded by `radius`. Vertex 0
+// (a point, a segment as in the paper, or a polygon) rounded by `radius`. Vertex 0
 // of the core is the body's reference point C1. Static walls have zero
 // velocity; kinematic bodies translate either on a schedule (anchor_step < 0:
 // C1 = origin + the schedule's displacement at t = step dt, core/motion.hpp)

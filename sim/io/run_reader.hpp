@@ -29,7 +29,7 @@ struct Vec2 {
 };
 
 // A body at one moment: a convex sphero-polygon (sim/shape/shape.hpp), the
-// core outline `vertices` rounded by thickness / 2. A sphero-line (SPEC's
+// core outline `vertices` rounded by thickness / 2. A sphero-line (the paper's
 // walls and intruder) has two vertices, its ends C1 and C2.
 struct Body {
   std::string name;

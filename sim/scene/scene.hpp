@@ -34,7 +34,7 @@ struct BodySpec {
   std::vector<MotionSegment> motion;               // scheduled motion instead of `velocity` (empty: none)
   int motion_repeat = 1;                           // runs of the whole schedule
 
-  // A static sphero-line C1C2 (SPEC's walls), for scenes built in code.
+  // A static sphero-line C1C2 (the paper's walls), for scenes built in code.
   static BodySpec segment(std::string name, double ax, double ay, double bx, double by, double thickness) {
     BodySpec b;
     b.name = std::move(name);

@@ -1,4 +1,4 @@
-// shape = "segment" (the default): SPEC's sphero-line, a segment C1C2 with
+// shape = "segment" (the default): the paper's sphero-line (docs/paper.md), a segment C1C2 with
 // round caps of diameter `thickness`.
 #include "shape/shape_kinds.hpp"
 

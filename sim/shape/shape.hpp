@@ -1,6 +1,6 @@
 // The one body shape the engine knows: a convex sphero-polygon, i.e. every
 // point within `radius` of a convex core polygon (Alonso-Marroquin 2008). One
-// vertex is a disk, two a sphero-line (SPEC's walls and intruder), three or
+// vertex is a disk, two a sphero-line (the paper's walls and intruder, docs/paper.md), three or
 // more a polygon with rounded corners (sharp ones for radius 0). Scene shape
 // kinds (shape/shape_kinds.hpp) only produce the core's vertices.
 //

@@ -1,5 +1,5 @@
 // Distance from a disk centre O to a sphero-line (segment C1C2 with round caps
-// of radius r_s), SPEC eq. 1-3. With C the middle of C1C2, u its unit direction
+// of radius r_s), the paper's eq. 1-3 (docs/paper.md). With C the middle of C1C2, u its unit direction
 // and v the unit normal:
 //   CO.u <= -|C1C2|/2 : contact with cap C1, delta = |O C1| - (d + d_s)/2
 //   CO.u >=  |C1C2|/2 : contact with cap C2, delta = |O C2| - (d + d_s)/2

@@ -1,5 +1,5 @@
 // check_paper_targets: the tolerance tests of `make check`. One GoogleTest
-// test per [[target]] of the targets file, named after its SPEC result and
+// test per [[target]] of the targets file, named after its result (docs/paper.md) and
 // metric; a missing metric fails. Each test records its metric, our value,
 // the paper's and the verdict as properties, so --gtest_output=json:FILE
 // gives the report its table.

@@ -20,7 +20,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 Target read_target(analysis::StageConfig& c) {
   Target t;
-  c.text("result", t.result, "SPEC's result number, e.g. \"R1\"");
+  c.text("result", t.result, "the paper's result number (docs/paper.md), e.g. \"R1\"");
   c.text("metric", t.metric, "dotted path into metrics.json");
   c.text("what", t.what, "what the number is, with its unit");
   c.text("source", t.source, "where the paper gives it");

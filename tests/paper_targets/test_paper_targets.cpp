@@ -31,7 +31,7 @@ TEST(PaperTargets, TheStudysFileNamesEveryNumberedResultAndSpecsMetrics) {
   }
   for (const char* r : {"R1", "R2", "R3", "R4", "R5", "R6", "R7", "R8", "R9", "R10", "R11"})
     EXPECT_TRUE(results.count(r)) << r;
-  // The metric names SPEC's table gives for R1-R11.
+  // The metric names docs/paper.md's table gives for R1-R11.
   for (const char* m :
        {"fill.solid_fraction", "fill.bed_height_mm", "spectrum.bottom_peak_height_mm", "spectrum.amplitude_slope_upper",
         "spectrum.amplitude_fit_r2_upper", "spectrum.rupture_spacing_d", "spectrum.rupture_frequency_hz_at_1p2mm_s",
