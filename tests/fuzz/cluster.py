@@ -1,7 +1,7 @@
 """make fuzz's class `slurm` (tests/fuzz/fuzz.py): quick ensembles (1 or 2
 members) through a real one-node Slurm (pipeline/slurm/local_cluster.sh,
 started here and stopped by its PIDs; root only, said loudly otherwise),
-each with one fault or none:
+with these faults in turn:
 
   none            every member and the aggregate succeed: exit 0, stats.json
   failing_member  one member's overlay is broken: its task fails
@@ -40,19 +40,28 @@ class Cluster:
             self.s.record("slurm", "not tested", "skipped", "no root or no Slurm")
             return
         d = self.s.fresh("slurm")
-        self.dir = d / "cluster"
+        self.base, self.clusters = d, 0
         try:
             self.start()
             for k in range(n):
-                fault = self.rng.choice(FAULTS)
+                fault = FAULTS[k % len(FAULTS)]  # every fault once in five trials
                 outcome, what = self.trial(d / f"{k:03d}", fault, self.rng.choice([1, 2]))
                 self.s.record("slurm", fault, outcome, what)
         finally:
             self.stop()
 
     def start(self):
-        r = subprocess.run([str(ROOT / "pipeline/slurm/local_cluster.sh"), "start", str(self.dir)],
-                           capture_output=True, text=True)
+        """A cluster in a folder of its own: one restarted on the state of a lost node would still list
+        the lost job, its node not idle."""
+        self.clusters += 1
+        self.dir = self.base / f"cluster{self.clusters}"
+        for attempt in range(2):  # (a node still finishing a killed job's steps is not idle at once)
+            r = subprocess.run([str(ROOT / "pipeline/slurm/local_cluster.sh"), "start", str(self.dir)],
+                               capture_output=True, text=True)
+            if r.returncode == 0:
+                break
+            self.stop()
+            time.sleep(30)
         if r.returncode != 0:
             raise SystemExit(f"fuzz: the one-node cluster did not start:\n{r.stdout[-1500:]}{r.stderr[-1500:]}")
         os.environ["SLURM_CONF"] = str(self.dir / "slurm.conf")
