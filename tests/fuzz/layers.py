@@ -106,25 +106,30 @@ class Pipeline:
 
     # ---- the stage registry ----
     def hostile_stage(self):
-        r = self.rng
-        name = r.choice(["extra", "build", "install", "test", "check", "ensemble", "cyclic", "needs", "clean",
-                         "reproduce", "figures", "metrics", "params", "fill", "pulloff", "Extra", "a" * 70, "x-y",
-                         "python", "shell"])
-        program = r.choice(["friction", "python", "path", "shell", "check", "threads", "members", "results",
-                            "p" * 70, "a b", "../x"])
+        """A stage valid but for one field (so that what that field does reaches make when it is taken)."""
         canary = str(self.canary)
-        args = r.choice([[], ["a b"], [f"; touch {canary}"], [f"$(shell touch {canary})"], ["# x"],
-                         [f"`touch {canary}`"], [f"$$(touch {canary})"], ["it's"], ["--out={dir}/x"], ["\\"],
-                         ["%", "a,b", "(x)"], [f"\" ; touch {canary} ; \""], ["a\nb"]])
-        config = r.choice(['"data/friction.toml"', '"/etc/hostname"', '"../x.toml"', '"data/../../x.toml"', "3",
-                           '""', '"data/no_such.toml"', '"data/friction.toml; x"'])
-        inputs = r.choice(['{}', '{ "--bed" = "fill/run.h5" }', '{ "--x; y" = "fill/run.h5" }',
-                          '{ "--events" = "spectrum/spectrum.h5" }', '{ "--a" = "nope/x" }', '"x"'])
-        outputs = r.choice(['["friction.h5", "metrics.json"]', '["../a", "metrics.json"]', '["x y", "metrics.json"]',
-                            '[]', '["a.h5"]', '"metrics.json"'])
-        arg_text = ", ".join(json.dumps(a) for a in args)
-        return ("hostile", f'\n[[stage]]\nname = "{name}"\nprogram = "{program}"\nrun = "pulloff"\n'
-                f'config = {config}\ninputs = {inputs}\nargs = [{arg_text}]\noutputs = {outputs}\n')
+        options = {  # the first of each is valid
+            "name": ['"extra"', *(f'"{n}"' for n in ("build", "install", "test", "check", "ensemble", "cyclic", "needs",
+                                                      "clean", "reproduce", "figures", "metrics", "params", "fill",
+                                                      "pulloff", "Extra", "a" * 70, "x-y", "python", "shell"))],
+            "program": ['"friction"', *(f'"{p}"' for p in ("python", "path", "shell", "check", "threads", "members",
+                                                            "results", "p" * 70, "a b", "../x"))],
+            "args": ["[]", *("[" + ", ".join(json.dumps(a) for a in args) + "]" for args in (
+                ["a b"], [f"; touch {canary}"], [f"$(shell touch {canary})"], ["# x"], [f"`touch {canary}`"],
+                [f"$$(touch {canary})"], ["it's"], ["--out={dir}/x"], ["\\"], ["%", "a,b", "(x)"],
+                [f"\" ; touch {canary} ; \""], ["a\nb"]))],
+            "config": ['"data/friction.toml"', '"/etc/hostname"', '"../x.toml"', '"data/../../x.toml"', "3", '""',
+                       '"data/no_such.toml"', '"data/friction.toml; x"'],
+            "inputs": ["{}", '{ "--x; y" = "fill/run.h5" }', '{ "--events" = "spectrum/spectrum.h5" }',
+                       '{ "--a" = "nope/x" }', '"x"'],
+            "outputs": ['["friction.h5", "metrics.json"]', '["../a", "metrics.json"]', '["x y", "metrics.json"]',
+                        "[]", '["a.h5"]', '"metrics.json"'],
+        }
+        field = self.rng.choice(list(options))
+        value = {k: (self.rng.choice(v[1:]) if k == field else v[0]) for k, v in options.items()}
+        return (f"hostile_{field}", f'\n[[stage]]\nname = {value["name"]}\nprogram = {value["program"]}\n'
+                f'run = "pulloff"\nconfig = {value["config"]}\ninputs = {value["inputs"]}\nargs = {value["args"]}\n'
+                f'outputs = {value["outputs"]}\n')
 
     def registry(self, case):
         base = (self.repo / "pipeline/stages.toml").read_text()
@@ -168,6 +173,8 @@ class Pipeline:
     @staticmethod
     def allowed(var, value):
         value = value.lstrip(" ")  # (make drops the blanks that open a command line's value)
+        if var == "THREADS" and value == "":
+            return True  # unset: each simulation chooses
         if var in COUNT_VARS:
             lo, hi = COUNT_VARS[var]
             return bool(re.fullmatch(r"[1-9][0-9]{0,8}", value)) and lo <= int(value) <= hi

@@ -41,7 +41,9 @@ def classify(r, program, names, must_fail=False):
         return "crash"
     if r.rc == 0:
         return "silent" if must_fail else "ok"
-    first = r.err.strip().splitlines()[0] if r.err.strip() else ""
+    # (progress lines, "[dem2d] ...", may come before the message)
+    lines = [line for line in r.err.strip().splitlines() if not line.startswith("[dem2d] ")]
+    first = lines[0] if lines else ""
     sane = first.startswith(f"{program}: ") and len(r.err) <= 4000
     if r.rc == 2:
         named = any(str(n) in r.err or Path(n).name in r.err for n in names)
