@@ -96,7 +96,7 @@ def load(path: Path = REGISTRY) -> list:
     reserved = RESERVED | makefile_targets()
     stages = []
     for k, e in enumerate(entries):
-        where = f"{path}: stage[{k}]" + (f" ({short(e['name'])})" if isinstance(e.get("name"), str) else "")
+        where = f"{path}: stage[{k}]" + (f" ({e['name'][:60]})" if isinstance(e.get("name"), str) else "")
 
         def bad(key, why):
             return RegistryError(f"{where}: {key} = {short(e.get(key))}: {why}")
