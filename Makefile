@@ -96,7 +96,7 @@ OVERLAY := $(foreach f,$(OVERLAY_FILES),--overlay $(f))
 # (make accuracy gives each sweep point a bed made elsewhere).
 FILL_RUN ?= $(RESULTS)/fill/run.h5
 # OpenMP threads per simulation and stage; unset: each simulation chooses from its size and the cores
-# free when it starts (docs/engine.md, "Parallelism"), each stage takes its own default
+# free when it starts (docs/engine.md, "Thread count"), each stage takes its own default
 THREADS ?=
 $(if $(THREADS),$(call check_count,THREADS,1,1024))
 THREADS_OPTION = $(if $(THREADS),--threads $(THREADS))

@@ -68,6 +68,9 @@ class Stage:
         return sorted({p.split("/")[0] for p in self.inputs.values() if p != BED})
 
 
+IDENTIFIER = r"[a-z][a-z0-9_]{0,63}"  # a stage's name and program: a lower-case identifier, 64 characters at most
+
+
 def short(value) -> str:
     """A value or key as a message shows it: at most 60 characters of its repr."""
     text = repr(value)
@@ -92,7 +95,7 @@ def load(path: Path = REGISTRY) -> list:
         raise RegistryError(f"{path}: unknown key {short(unknown[0])} (allowed: [[stage]] entries)")
     entries = doc.get("stage", [])
     if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
-        raise RegistryError(f"{path}: stage = {str(entries)[:60]}: must be [[stage]] tables")
+        raise RegistryError(f"{path}: stage = {short(entries)}: must be [[stage]] tables")
     reserved = RESERVED | makefile_targets()
     stages = []
     for k, e in enumerate(entries):
@@ -107,13 +110,13 @@ def load(path: Path = REGISTRY) -> list:
         for key in ("name", "program", "run", "outputs"):
             if key not in e:
                 raise RegistryError(f"{where}: missing key '{key}'")
-        if not isinstance(e["name"], str) or not re.fullmatch(r"[a-z][a-z0-9_]{0,63}", e["name"]):
+        if not isinstance(e["name"], str) or not re.fullmatch(IDENTIFIER, e["name"]):
             raise bad("name", "must be a lower-case identifier of at most 64 characters")
         if e["name"] in (s.name for s in stages):
             raise bad("name", "another stage has this name")
         if e["name"] in reserved or e["name"] in SIMULATIONS and e["name"] != e["run"]:
             raise bad("name", "a name the Makefile uses already (a target, or a simulation's folder)")
-        if not isinstance(e["program"], str) or not re.fullmatch(r"[a-z][a-z0-9_]{0,63}", e["program"]):
+        if not isinstance(e["program"], str) or not re.fullmatch(IDENTIFIER, e["program"]):
             raise bad("program", "must be a program name of at most 64 characters (build/release/analysis/<program>)")
         if e["run"] not in SIMULATIONS:
             raise bad("run", f"allowed: {', '.join(SIMULATIONS)}")

@@ -81,7 +81,7 @@ int cmd_run(const std::string& path, const dem2d::SceneSources& extra, dem2d::Ru
     opt.threads_why = c.why;
   } else {
     scene.threads = threads;
-    opt.threads_why = std::to_string(threads) + (threads == 1 ? " thread" : " threads") + " (--threads)";
+    opt.threads_why = dem2d::threads_text(threads) + " (--threads)";
   }
   opt.progress.terminal = isatty(STDERR_FILENO) != 0;
   std::signal(SIGINT, on_signal);

@@ -363,7 +363,7 @@ template <EffectSet E>
 void advance(System& s, std::int64_t steps) {
   if (steps <= 0) return;
   bool failed = false;
-  StepBarrier barrier;  // the step's phases (step_barrier.hpp: yields its core when the machine is busy)
+  StepBarrier barrier;  // the step's phases (step_barrier.hpp: its waiters sleep when the cores are taken)
   barrier.reset(s.config.threads);
 #pragma omp parallel num_threads(s.config.threads)
   {

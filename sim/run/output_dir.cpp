@@ -60,7 +60,10 @@ OutputDir::OutputDir(const std::string& dir, const std::string& initial_run, boo
   fs::create_directories(dir_);
   const fs::path run = dir_ / "run.h5";
   // anywhere inside it, not only its run.h5: the run's work folder and its run.h5 are replaced or deleted
-  if (!initial_run.empty() && (inside(initial_run, dir_) || (fs::exists(run, ec) && fs::equivalent(initial_run, run, ec))))
+  // (or its run.h5 under another name: a hard link)
+  const bool holds_initial =
+      !initial_run.empty() && (inside(initial_run, dir_) || (fs::exists(run, ec) && fs::equivalent(initial_run, run, ec)));
+  if (holds_initial)
     throw OutputDirError("--out " + dir + " holds the run this one starts from (--initial " + initial_run +
                          "): a run replaces and deletes files in its --out; give another --out");
   for (const char* name : {"run.h5", "run.xdmf", "run.log", ".run.work", ".run.lock"})

@@ -18,6 +18,7 @@
 #include "run/output_control.hpp"
 #include "run/progress.hpp"
 #include "run/stop_criteria.hpp"
+#include "run/thread_choice.hpp"
 
 namespace dem2d {
 
@@ -84,9 +85,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   const std::int64_t first_rebuild = sys.state.lists.rebuild_count;
   const std::int64_t total = duration.last_step();
   Progress progress(opt.progress, out_dir / "run.log", scene.dt, sys.size(), first_step);
-  const std::string threads = opt.threads_why.empty()
-                                  ? std::to_string(sys.config.threads) + (sys.config.threads == 1 ? " thread" : " threads")
-                                  : opt.threads_why;
+  const std::string threads = opt.threads_why.empty() ? threads_text(sys.config.threads) : opt.threads_why;
   progress.announce(std::string(report.resumed ? "resumed" : "started") + " '" + scene.name + "' at step " +
                     std::to_string(first_step) + " of " + std::to_string(total) + ", " + threads +
                     (scene.path.empty() ? "" : ", scene " + scene.path));

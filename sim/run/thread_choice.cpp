@@ -34,9 +34,9 @@ CpuTimes read_cpu_times() {
   return t;
 }
 
-std::string plural(int n) { return std::to_string(n) + (n == 1 ? " thread" : " threads"); }
-
 }  // namespace
+
+std::string threads_text(int n) { return std::to_string(n) + (n == 1 ? " thread" : " threads"); }
 
 double free_cores_now(int cores, double seconds) {
   const CpuTimes a = read_cpu_times();
@@ -55,7 +55,7 @@ ThreadChoice choose_threads(std::size_t grains, int cores, double free_cores) {
   ThreadChoice c;
   c.threads = std::max(1, std::min({cores, worth, idle}));
   std::ostringstream why;
-  why << plural(c.threads) << " (the default: ";
+  why << threads_text(c.threads) << " (the default: ";
   if (c.threads == worth && worth < std::min(cores, idle))
     why << grains << " grains, " << kMinGrainsPerThread << " or more per thread pay for their barriers";
   else if (c.threads == idle && idle < cores)

@@ -39,7 +39,7 @@ OWN_VARS = ("SHELL", "PYTHON", "PATH", "BUILD", "RESULTS", "PRESET", "MEMBERS", 
             "STAGE_BIN", "EXECUTOR", "INSTALLED", "PREFIX")
 
 
-def named_error(r, names, program=None):
+def named_error(r, names):
     """classify() for tools whose message need not start with their name (make, Python scripts)."""
     if r.rc is None:
         return "hang"
