@@ -21,7 +21,7 @@ ATTRS = {"scene_text": str, "scene_path": str, "code_version": str, "threads": n
          "initial_run": str, "jams": np.int64, "wall_seconds": np.float64,
          "displacement_window": np.float64}
 EFFECTS = {"gravity", "normal_damping", "friction", "rolling_resistance", "walls", "moving_bodies",
-           "tangential_damping", "rolling_damping", "cohesion"}
+           "tangential_damping", "rolling_damping", "cohesion", "rotating_bodies"}
 # /series/energy/<term>, present when the scene asked for output.energy_balance
 ENERGY = ("kinetic", "elastic_normal", "elastic_tangential", "elastic_rolling", "gravity", "body_work",
           "normal_damping", "tangential_damping", "sliding", "rolling_damping", "rolling_slip", "removed",

@@ -199,6 +199,30 @@ TEST(Checkpoint, CohesiveRunResumesBitwise) {
   EXPECT_GT(gap, 0u);
 }
 
+// A paddle turning about a pivot in the bed (the drum's kernels): its angle
+// and angular velocity come back from the schedule, the bed's contacts with
+// it from the checkpoint; the resumed run is the uninterrupted one bit for bit.
+TEST(Checkpoint, TurningBodyResumesBitwise) {
+  Scene s = stirred_box();
+  s.effects |= effect::walls | effect::rotating_bodies;
+  s.output.energy_balance = false;  // (the drum's kernels, without the ledger's dashpot terms)
+  BodySpec& paddle = s.bodies[s.bodies.size() - 2];
+  paddle.vx = 0.0;
+  paddle.pivot = Point{0.006, 0.006};
+  paddle.motion = {{MotionKind::ramp, 0.05, 0.0, 0.0, 20.0}, {MotionKind::constant, 0.07, 0.02, 0.0, 20.0}};
+  const std::int64_t every = std::llround(s.output.snapshot_interval / s.dt);
+  TempDir whole("whole"), parts("parts");
+  const RunReport full = run_scene(s, {whole.path().string()});
+  ASSERT_TRUE(full.complete);
+  RunOptions opt{parts.path().string()};
+  opt.interrupt_at_step = 7 * every;  // turning at 20 rad/s
+  ASSERT_FALSE(run_scene(s, opt).complete);
+  opt.interrupt_at_step = -1;
+  const RunReport r = run_scene(s, opt);
+  ASSERT_TRUE(r.complete && r.resumed);
+  expect_same_datasets(full.run_file, r.run_file, false);
+}
+
 // Bytes changed inside a dataset of an unfinished run (a disk error, a
 // hand edit) read back as other numbers, which HDF5 cannot notice: the
 // checkpoint and each segment carry a checksum of their content, and the

@@ -404,7 +404,7 @@ TEST(SceneTomlErrors, UnknownKeys) {
        "rolling_friction, rolling_stiffness, rolling_damping_ratio, wall)"},
       18);
   expect_error(edit(kValid, "name = \"intruder\"", "name = \"intruder\"\ncolour = \"red\""),
-               {"unknown key 'colour' in body[1]", "allowed: name, role, shape, thickness, velocity, motion, motion_repeat, remove_at, a, b, centre, size, angle, vertices"}, 66);
+               {"unknown key 'colour' in body[1]", "allowed: name, role, shape, thickness, velocity, motion, motion_repeat, pivot, remove_at, a, b, centre, size, angle, vertices"}, 66);
   expect_error(
       edit(kValid, "{ min = 2e-3, max = 4e-3 }", "{ min = 2e-3, max = 4e-3, mean = 3e-3 }"),
       {"unknown key 'mean' in generator[0].diameter", "allowed: min, max"}, 56);
@@ -537,7 +537,7 @@ TEST(SceneToml, DampingEffectsAndTheirRatios) {
                                   "rolling_stiffness = 1.728e-6\n",
                                   "rolling_stiffness = 1.728e-6\ntangential_damping_ratio = 0.3\nrolling_damping_ratio = 0.2\n");
   const Scene s = parse_scene(damped, kPath);
-  EXPECT_EQ(s.effects, effect::all & ~effect::cohesion);
+  EXPECT_EQ(s.effects, effect::all & ~effect::cohesion & ~effect::rotating_bodies);
   EXPECT_EQ(s.particle_particle.tangential_damping_ratio, 0.3);
   EXPECT_EQ(s.particle_wall.rolling_damping_ratio, 0.2);  // inherited by the wall law
   // the ratios are required with their effect, forbidden without it
@@ -599,6 +599,39 @@ TEST(SceneToml, BodyMotionSchedules) {
   expect_error(edit(edit(cyclic, "velocity = [0, 1.2e-3] }", "velocity = [0, 1.2e-3], duration = 1 }"),
                     "{ kind = \"hold\", duration = 0.5 }", "{ kind = \"constant\", velocity = [0, 1] }"),
                {"missing key body[1].motion[0].duration", "(constant)"});
+}
+
+// A turning schedule: angular_velocity in constant and ramp segments, angle in cycles,
+// about the body's pivot; each needs effects.rotating_bodies, which needs a turn.
+TEST(SceneToml, TurningSchedules) {
+  const std::string turning = edit(edit(kValid, "moving_bodies = true\n", "moving_bodies = true\nrotating_bodies = true\n"),
+                                   "velocity = [0, 1.2e-3]",
+                                   "pivot = [0.05, 0.0]\nmotion = [\n  { kind = \"ramp\", angular_velocity = 2.0, duration = 0.5 },\n"
+                                   "  { kind = \"triangle\", angle = 0.3, period = 1.0 },\n"
+                                   "  { kind = \"constant\", velocity = [0, 1e-3], angular_velocity = -1.0 },\n]");
+  const Scene s = parse_scene(turning, kPath);
+  const BodySpec& blade = s.bodies.back();
+  ASSERT_EQ(blade.motion.size(), 3u);
+  EXPECT_EQ(blade.motion[0].w, 2.0);
+  EXPECT_EQ(blade.motion[0].vx, 0.0);  // a turn alone
+  EXPECT_EQ(blade.motion[1].aw, 0.3);
+  EXPECT_EQ(blade.motion[2].vy, 1e-3);
+  EXPECT_EQ(blade.motion[2].w, -1.0);
+  ASSERT_TRUE(blade.pivot.has_value());
+  EXPECT_EQ(blade.pivot->x, 0.05);
+  expect_error(edit(turning, "rotating_bodies = true\n", ""),
+               {"body[1].motion[0].angular_velocity = 2", "needs effects.rotating_bodies = true"});
+  expect_error(edit(turning, "angular_velocity = 2.0, ", ""),
+               {"missing key body[1].motion[0].velocity", "or angular_velocity"});
+  expect_error(edit(turning, "{ kind = \"ramp\", angular_velocity = 2.0, duration = 0.5 }",
+                    "{ kind = \"hold\", angular_velocity = 2.0, duration = 0.5 }"),
+               {"body[1].motion[0].angular_velocity = 2", "a hold segment does not take it"});
+  expect_error(edit(turning, "angle = 0.3", "angle = \"a lot\""), {"body[1].motion[1].angle"});
+  expect_error(edit(edit(edit(turning, "angular_velocity = 2.0, ", "velocity = [0, 1], "), "angle = 0.3", "amplitude = [0, 1]"),
+                    ", angular_velocity = -1.0", ""),
+               {"effects.rotating_bodies = true", "no [[body]] motion turns"});
+  expect_error(edit(kValid, "velocity = [0, 1.2e-3]", "velocity = [0, 1.2e-3]\npivot = [0, 0]"),
+               {"body[1].pivot", "the body has no motion to turn it"});
 }
 
 TEST(SceneTomlErrors, BodiesNeedWalls) {

@@ -220,7 +220,7 @@ def obeys_rule(rule: str, v: float):
 
 
 # /parameters values that are not one number (docs/run_file.md): their sizes; "vertices" holds any number of (x, y)
-PARAMETER_VECTORS = {"g": 2, "domain": 4, "velocity": 2, "amplitude": 2, "tap_velocity": 2, "vertices": None}
+PARAMETER_VECTORS = {"g": 2, "domain": 4, "velocity": 2, "amplitude": 2, "pivot": 2, "tap_velocity": 2, "vertices": None}
 PARAMETER_FLAGS = ("dt_forced", "energy_balance")  # and every /parameters/effects value: 1 (on) or 0 (off)
 
 

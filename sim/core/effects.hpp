@@ -22,7 +22,8 @@ inline constexpr EffectSet moving_bodies = 1u << 5;       // kinematic bodies wi
 inline constexpr EffectSet tangential_damping = 1u << 6;  // dashpot beside the tangential spring (needs friction)
 inline constexpr EffectSet rolling_damping = 1u << 7;     // dashpot beside the rolling spring (needs rolling_resistance)
 inline constexpr EffectSet cohesion = 1u << 8;            // attraction up to a range beyond contact (contact/cohesion.hpp)
-inline constexpr int count = 9;
+inline constexpr EffectSet rotating_bodies = 1u << 9;     // schedules that turn bodies about a pivot (core/motion.hpp)
+inline constexpr int count = 10;
 inline constexpr EffectSet all = (1u << count) - 1;
 }  // namespace effect
 
@@ -41,13 +42,15 @@ inline constexpr std::array<EffectName, effect::count> kEffectNames{{
     {effect::tangential_damping, "tangential_damping"},
     {effect::rolling_damping, "rolling_damping"},
     {effect::cohesion, "cohesion"},
+    {effect::rotating_bodies, "rotating_bodies"},
 }};
 
 // Effects that only make sense on top of another: (effect, what it needs).
-inline constexpr std::array<std::array<EffectSet, 2>, 3> kEffectNeeds{{
+inline constexpr std::array<std::array<EffectSet, 2>, 4> kEffectNeeds{{
     {effect::tangential_damping, effect::friction},
     {effect::rolling_damping, effect::rolling_resistance},
     {effect::moving_bodies, effect::walls},
+    {effect::rotating_bodies, effect::moving_bodies},
 }};
 
 constexpr bool has(EffectSet set, EffectSet bit) { return (set & bit) != 0; }

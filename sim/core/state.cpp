@@ -15,8 +15,10 @@ void Bodies::resize(std::size_t n) {
   kind.resize(n);
   shape.resize(n);
   line.resize(n);
-  for (auto* v : {&centre_x, &centre_y, &radius, &vx, &vy, &anchor_x, &anchor_y, &origin_x, &origin_y, &fx, &fy, &torque})
+  for (auto* v : {&centre_x, &centre_y, &radius, &vx, &vy, &omega, &angle, &pivot_x, &pivot_y, &pivot0_x, &pivot0_y,
+                  &anchor_x, &anchor_y, &origin_x, &origin_y, &fx, &fy, &torque})
     v->resize(n, 0.0);
+  own_pivot.resize(n, 0);
   schedule.resize(n);
   anchor_step.resize(n, 0);
   active.resize(n, 1);
@@ -36,6 +38,15 @@ void Bodies::shape_changed(std::size_t b) {
   line[b] = shape[b].edge[0];
   centre_x[b] = vertex_mean(shape[b], [](Point v) { return v.x; });
   centre_y[b] = vertex_mean(shape[b], [](Point v) { return v.y; });
+  if (own_pivot[b]) {  // where vertex 0 carries it: R(angle) (pivot0 - origin) from vertex 0
+    const double c = std::cos(angle[b]), s = std::sin(angle[b]);
+    const double rx = pivot0_x[b] - origin_x[b], ry = pivot0_y[b] - origin_y[b];
+    pivot_x[b] = shape[b].x0() + (c * rx - s * ry);
+    pivot_y[b] = shape[b].y0() + (s * rx + c * ry);
+  } else {
+    pivot_x[b] = centre_x[b];
+    pivot_y[b] = centre_y[b];
+  }
 }
 
 void Bodies::set_shape(std::size_t b, const Shape& s) {
@@ -44,7 +55,10 @@ void Bodies::set_shape(std::size_t b, const Shape& s) {
 }
 
 void Bodies::move_to(std::size_t b, double x, double y) {
-  dem2d::move_to(shape[b], x, y);
+  if (angle[b] == 0.0)
+    dem2d::move_to(shape[b], x, y);
+  else
+    turn_to(shape[b], x, y, std::cos(angle[b]), std::sin(angle[b]));
   shape_changed(b);
 }
 

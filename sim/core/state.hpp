@@ -7,6 +7,8 @@
 // forces N/m, torques N*m/m = N.
 #pragma once
 
+#include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -41,15 +43,17 @@ struct Particles {
 // Bodies: convex sphero-polygons (shape/shape.hpp), i.e. a core outline
 // (a point, a segment as in the paper, or a polygon) rounded by `radius`. Vertex 0
 // of the core is the body's reference point C1. Static walls have zero
-// velocity; kinematic bodies translate either on a schedule (anchor_step < 0:
-// C1 = origin + the schedule's displacement at t = step dt, core/motion.hpp)
-// or at a constant velocity that may change during a run:
+// velocity; kinematic bodies move either on a schedule (anchor_step < 0:
+// core/motion.hpp), or at a constant velocity that may change during a run:
 // C1 = anchor + v (step - anchor_step) dt, the anchor being where the body
-// was when its velocity last changed (exact, no accumulated round-off). A
-// velocity set during the run (a jam's tap) ends a schedule. A removed body
-// (active = 0) no longer touches anything. Forces and torques are those the
-// grains exert on the body; torque is about the mean of the core's vertices
-// (a segment's middle).
+// was when its velocity last changed (exact, no accumulated round-off). On a
+// schedule that does not turn, C1 = origin + the schedule's displacement at
+// t = step dt; one that turns moves the pivot by the displacement and turns
+// the outline about it by the schedule's angle (System::place_bodies). A
+// velocity set during the run (a jam's tap) ends a schedule; the body keeps
+// the angle it had. A removed body (active = 0) no longer touches anything.
+// Forces and torques are those the grains exert on the body; torque is about
+// the pivot: the scene's, or the mean of the core's vertices (a segment's middle).
 struct Bodies {
   std::vector<std::string> name;
   std::vector<std::string> role;       // core/body_roles.hpp ("" none)
@@ -59,7 +63,12 @@ struct Bodies {
                                        // loop reads it (gathers from the large Shapes do not vectorise)
   std::vector<double> centre_x, centre_y;  // mean of the core's vertices (m), kept by set_shape and move_to
   std::vector<double> radius;          // rounding radius (m): half the scene's thickness
-  std::vector<double> vx, vy;          // prescribed velocity (m/s)
+  std::vector<double> vx, vy;          // prescribed velocity (m/s); of the pivot for a turning body
+  std::vector<double> omega;           // angular velocity about the pivot (rad/s), over the last step
+  std::vector<double> angle;           // turned since the start (rad, counter-clockwise)
+  std::vector<double> pivot_x, pivot_y;    // the pivot now (m): the centre unless own_pivot
+  std::vector<double> pivot0_x, pivot0_y;  // the scene's pivot at t = 0 (m)
+  std::vector<std::uint8_t> own_pivot;     // 1: the scene gave a pivot
   std::vector<double> anchor_x, anchor_y;  // C1 when the velocity last changed (m)
   std::vector<std::int64_t> anchor_step;   // step when the velocity last changed; < 0: on its schedule
   std::vector<MotionSchedule> schedule;     // the scene's (empty: none)
@@ -73,7 +82,11 @@ struct Bodies {
   std::size_t size() const { return name.size(); }
   void resize(std::size_t n);
   void set_shape(std::size_t b, const Shape& s);
-  void move_to(std::size_t b, double x, double y);  // vertex 0 to (x, y) (m)
+  void move_to(std::size_t b, double x, double y);  // vertex 0 to (x, y) (m), turned by angle[b]
+  // The body's velocity at the point (x, y) (m/s): its pivot's plus omega x (point - pivot).
+  std::array<double, 2> velocity_at(std::size_t b, double x, double y) const {
+    return {vx[b] - omega[b] * (y - pivot_y[b]), vy[b] + omega[b] * (x - pivot_x[b])};
+  }
 
  private:
   void shape_changed(std::size_t b);  // line and centre from shape[b]

@@ -44,11 +44,12 @@ Motion wall_motion(const System& s, std::size_t i, std::size_t b, double overlap
   const Particles& p = s.state.p;
   const Proximity g = closest_point(s.state.bodies.shape[b], p.x[i], p.y[i]);
   double rvx = p.vx[i], rvy = p.vy[i];
-  if (has(s.config.effects, effect::moving_bodies)) {
-    rvx -= s.state.bodies.vx[b];
-    rvy -= s.state.bodies.vy[b];
-  }
   const double a = p.radius[i] - 0.5 * overlap;
+  if (has(s.config.effects, effect::moving_bodies)) {  // the body's surface at the contact point
+    const std::array<double, 2> v = s.state.bodies.velocity_at(b, p.x[i] - a * g.nx, p.y[i] - a * g.ny);
+    rvx -= v[0];
+    rvy -= v[1];
+  }
   return {rvx * g.nx + rvy * g.ny, -rvx * g.ny + rvy * g.nx - a * p.omega[i], p.omega[i], -g.ny, g.nx, a};
 }
 
@@ -151,7 +152,10 @@ Work wall_work(const System& s, std::size_t sl, std::size_t i) {
   const WallList& W = s.state.lists.walls;
   const auto b = static_cast<std::size_t>(W.body[sl]);
   double body = 0.0;
-  if (has(s.config.effects, effect::moving_bodies)) body = 0.5 * s.config.dt * (W.fx[sl] * s.state.bodies.vx[b] + W.fy[sl] * s.state.bodies.vy[b]);
+  if (has(s.config.effects, effect::moving_bodies)) {  // the body's surface at the contact point
+    const std::array<double, 2> v = s.state.bodies.velocity_at(b, W.cx[sl], W.cy[sl]);
+    body = 0.5 * s.config.dt * (W.fx[sl] * v[0] + W.fy[sl] * v[1]);
+  }
   return {half_work(s, i, W.fx[sl], W.fy[sl], W.tq[sl]) - body, body};
 }
 

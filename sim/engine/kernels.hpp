@@ -191,6 +191,7 @@ inline void wall_forces(System& s, const ContactModel<E> model) {  // by value: 
   const double *x = p.x.data(), *y = p.y.data(), *vx = p.vx.data(), *vy = p.vy.data(), *w = p.omega.data();
   const double *rad = p.radius.data(), *sqm = L.sqrt_m.data(), *sqi = L.sqrt_i.data();
   const double *brad = B.radius.data(), *bvx = B.vx.data(), *bvy = B.vy.data();
+  const double *bw = B.omega.data(), *bpx = B.pivot_x.data(), *bpy = B.pivot_y.data();
   double *ft = L.ft.data(), *mr = L.mr.data(), *fxo = L.fx.data(), *fyo = L.fy.data(), *tqo = L.tq.data();
   double *cx = L.cx.data(), *cy = L.cy.data(), *fno = L.fn.data(), *ov = L.overlap.data();
   double *gd = L.dist.data(), *gnx = L.nx.data(), *gny = L.ny.data();
@@ -221,6 +222,10 @@ inline void wall_forces(System& s, const ContactModel<E> model) {  // by value: 
       rvy -= bvy[b];
     }
     const double a = ri + 0.5 * delta;  // centre to contact point (m)
+    if constexpr (has(E, effect::rotating_bodies)) {  // the body's surface there: omega x (contact point - pivot)
+      rvx += bw[b] * (y[i] - a * g.ny - bpy[b]);
+      rvy -= bw[b] * (x[i] - a * g.nx - bpx[b]);
+    }
     const double tx = -g.ny, ty = g.nx;
     double vt = 0.0, spin = 0.0, sqrt_i = 0.0;
     if constexpr (has(E, effect::friction)) vt = rvx * tx + rvy * ty - a * w[i];
@@ -319,9 +324,9 @@ inline void body_sums(System& s) {
     const auto b = static_cast<size_t>(W.body[sl]);
     B.fx[b] -= W.fx[sl];
     B.fy[b] -= W.fy[sl];
-    // lever arm from the body's middle to the contact point, force -F,
+    // lever arm from the body's pivot to the contact point, force -F,
     // plus the reaction of the rolling moment
-    const double lx = W.cx[sl] - B.centre_x[b], ly = W.cy[sl] - B.centre_y[b];
+    const double lx = W.cx[sl] - B.pivot_x[b], ly = W.cy[sl] - B.pivot_y[b];
     B.torque[b] -= lx * W.fy[sl] - ly * W.fx[sl];
     B.torque[b] -= W.mr[sl];
   }

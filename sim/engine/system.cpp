@@ -86,9 +86,18 @@ System::System(const Scene& scene) : config(config_of(scene)) {
     if (q.motion.empty()) continue;
     bodies.schedule[b] = MotionSchedule(q.motion, q.motion_repeat);
     bodies.anchor_step[b] = -1;
+    if (bodies.schedule[b].turns() && !has(effects, effect::rotating_bodies))
+      throw std::invalid_argument("body " + q.name + " turns but the scene lacks the rotating_bodies effect");
+    if (q.pivot || bodies.schedule[b].turns()) {  // the scene's pivot, else the centre at the start
+      bodies.own_pivot[b] = 1;
+      bodies.pivot0_x[b] = q.pivot ? q.pivot->x : bodies.centre_x[b];
+      bodies.pivot0_y[b] = q.pivot ? q.pivot->y : bodies.centre_y[b];
+    }
     const MotionSchedule::State s = bodies.schedule[b].at(0.0);
     bodies.vx[b] = s.vx;
     bodies.vy[b] = s.vy;
+    bodies.omega[b] = s.omega;
+    bodies.move_to(b, bodies.shape[b].x0(), bodies.shape[b].y0());  // its pivot
   }
   state.body_fx_sum.assign(nb, 0.0);
   state.body_fy_sum.assign(nb, 0.0);
@@ -139,10 +148,25 @@ void System::place_bodies() {
       // grains' half-step velocity
       const double t = static_cast<double>(step) * dt;
       const MotionSchedule::State s = bodies.schedule[b].at(t), mid = bodies.schedule[b].at(t - 0.5 * dt);
-      x = bodies.origin_x[b] + s.x;
-      y = bodies.origin_y[b] + s.y;
       bodies.vx[b] = mid.vx;
       bodies.vy[b] = mid.vy;
+      if (bodies.schedule[b].turns()) {
+        // the pivot displaced, vertex 0 turned about it from where it was at the start
+        bodies.angle[b] = s.angle;
+        bodies.omega[b] = mid.omega;
+        const double c = std::cos(s.angle), sn = std::sin(s.angle);
+        const double rx = bodies.origin_x[b] - bodies.pivot0_x[b], ry = bodies.origin_y[b] - bodies.pivot0_y[b];
+        x = bodies.pivot0_x[b] + s.x + (c * rx - sn * ry);
+        y = bodies.pivot0_y[b] + s.y + (sn * rx + c * ry);
+        const Shape& shape = bodies.shape[b];
+        const auto px = shape.px, py = shape.py;  // where the vertices were
+        bodies.move_to(b, x, y);
+        for (int k = 0; k < shape.n; ++k)  // (a rigid motion moves no point of a convex outline further than its vertices)
+          moved = std::max(moved, std::hypot(shape.px[k] - px[k], shape.py[k] - py[k]));
+        continue;
+      }
+      x = bodies.origin_x[b] + s.x;
+      y = bodies.origin_y[b] + s.y;
       moved = std::max(moved, std::hypot(x - bodies.shape[b].x0(), y - bodies.shape[b].y0()));
     } else {
       const double vx = bodies.vx[b], vy = bodies.vy[b];
@@ -166,6 +190,7 @@ void System::set_body_velocity(std::size_t b, double vx, double vy) {
   bodies.anchor_step[b] = state.step;
   bodies.vx[b] = vx;
   bodies.vy[b] = vy;
+  bodies.omega[b] = 0.0;  // it keeps the angle it has
 }
 
 void System::remove_body(std::size_t b) {

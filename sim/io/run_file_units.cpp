@@ -24,7 +24,7 @@ constexpr DatasetMeaning kMeanings[] = {
     {"series/step", "-", "step of the series row"},
     {"series/body_force", "N/m", "force (fx, fy) the grains exert on each body at that step"},
     {"series/body_force_mean", "N/m", "mean force (fx, fy) on each body over the steps since the previous row"},
-    {"series/body_torque", "N", "torque of the grains on each body about its core's vertex mean, counter-clockwise"},
+    {"series/body_torque", "N", "torque of the grains on each body about its pivot (the scene's, else its core's vertex mean), counter-clockwise"},
     {"series/body_torque_mean", "N", "mean torque on each body over the steps since the previous row"},
     {"series/body_vertices", "m", "core vertices (x, y) of each body, padded by repeating the last"},
     {"series/kinetic_energy", "J/m", "translational + rotational kinetic energy of the active grains"},

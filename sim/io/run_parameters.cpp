@@ -1,6 +1,7 @@
 // Reading /parameters (io/run_parameters.hpp).
 #include "io/run_parameters.hpp"
 
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -106,14 +107,19 @@ std::vector<MotionSegment> read_motion(const Reader& r, const std::string& group
     if (!spec) r.fail(g + "@kind", "unknown motion kind '" + kind + "'");
     MotionSegment m;
     m.kind = spec->kind;
-    if (spec->duration) m.duration = r.number(g + "/duration");
+    if (spec->duration)  // none: a last constant segment that goes on for ever
+      m.duration = spec->kind == MotionKind::constant && j + 1 == n && !r.has(g + "/duration")
+                       ? std::numeric_limits<double>::infinity()
+                       : r.number(g + "/duration");
     if (spec->velocity) {
       const std::vector<double> v = r.values(g + "/velocity", 2);
       m.vx = v[0], m.vy = v[1];
+      m.w = r.number_or(g + "/angular_velocity", 0.0);
     }
     if (spec->amplitude) {
       const std::vector<double> a = r.values(g + "/amplitude", 2);
       m.ax = a[0], m.ay = a[1];
+      m.aw = r.number_or(g + "/angle", 0.0);
     }
     if (spec->period) m.period = r.number(g + "/period");
     if (spec->cycles) m.cycles = static_cast<int>(r.number(g + "/cycles"));
@@ -138,6 +144,10 @@ std::vector<BodySpec> read_bodies(const Reader& r) {
     b.vx = vel[0], b.vy = vel[1];
     b.remove_at = r.number_or(g + "/remove_at", -1.0);
     b.motion = read_motion(r, g);
+    if (r.has(g + "/pivot")) {
+      const std::vector<double> p = r.values(g + "/pivot", 2);
+      b.pivot = Point{p[0], p[1]};
+    }
     b.motion_repeat = static_cast<int>(r.number_or(g + "/motion_repeat", 1.0));
     out.push_back(std::move(b));
   }

@@ -1,5 +1,6 @@
 // Writing /parameters (io/run_parameters.hpp). In the engine's library: it
 // holds the engine's contact law (its layout follows the law's list of terms).
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -65,9 +66,12 @@ void motion(const h5::File& f, const std::string& group, const BodySpec& b) {
     const MotionSegment& m = b.motion[j];
     const std::string g = group + "/motion/" + std::to_string(j);
     const MotionKindSpec& spec = motion_kind(m.kind);
-    if (spec.duration) number(f, g + "/duration", m.duration, scene_key::segment_duration);
+    // (a last constant segment that goes on for ever has no duration, as in the scene)
+    if (spec.duration && std::isfinite(m.duration)) number(f, g + "/duration", m.duration, scene_key::segment_duration);
     if (spec.velocity) vector(f, g + "/velocity", {m.vx, m.vy}, scene_key::segment_velocity);
+    if (spec.velocity && m.w != 0.0) number(f, g + "/angular_velocity", m.w, scene_key::angular_velocity);
     if (spec.amplitude) vector(f, g + "/amplitude", {m.ax, m.ay}, scene_key::amplitude);
+    if (spec.amplitude && m.aw != 0.0) number(f, g + "/angle", m.aw, scene_key::angle);
     if (spec.period) number(f, g + "/period", m.period, scene_key::period);
     if (spec.cycles) number(f, g + "/cycles", m.cycles, {"number of cycles", "", Rule::positive});
     h5::write_attr(f, g, "kind", std::string(spec.name));
@@ -85,6 +89,7 @@ void bodies(const h5::File& f, const std::vector<BodySpec>& all) {
     number(f, g + "/thickness", b.thickness, scene_key::thickness);
     vector(f, g + "/velocity", {b.vx, b.vy}, scene_key::body_velocity);
     if (b.remove_at >= 0.0) number(f, g + "/remove_at", b.remove_at, scene_key::remove_at);
+    if (b.pivot) vector(f, g + "/pivot", {b.pivot->x, b.pivot->y}, scene_key::pivot);
     motion(f, g, b);
     h5::write_attr(f, g, "name", b.name);
     h5::write_attr(f, g, "role", b.role);

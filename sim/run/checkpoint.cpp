@@ -30,8 +30,8 @@ auto particle_arrays(P& p) {
 // The body motion state a checkpoint stores (positions follow from it).
 template <class B>
 auto body_arrays(B& b) {
-  return std::array{std::pair{"vx", &b.vx}, std::pair{"vy", &b.vy}, std::pair{"anchor_x", &b.anchor_x},
-                    std::pair{"anchor_y", &b.anchor_y}};
+  return std::array{std::pair{"vx", &b.vx},       std::pair{"vy", &b.vy},       std::pair{"omega", &b.omega},
+                    std::pair{"angle", &b.angle}, std::pair{"anchor_x", &b.anchor_x}, std::pair{"anchor_y", &b.anchor_y}};
 }
 
 // Acting contacts of a list (contact_model.hpp's `acted`): (row, key) and

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,8 @@ struct BodySpec {
   double remove_at = -1.0;                         // time the body is taken away (s); < 0: never
   std::vector<MotionSegment> motion;               // scheduled motion instead of `velocity` (empty: none)
   int motion_repeat = 1;                           // runs of the whole schedule
+  std::optional<Point> pivot;                      // what the motion turns the body about, at t = 0 (m);
+                                                   // default the mean of the core's vertices
 
   // A static sphero-line C1C2 (the paper's walls), for scenes built in code.
   static BodySpec segment(std::string name, double ax, double ay, double bx, double by, double thickness) {

@@ -33,6 +33,10 @@ inline constexpr Num vertex{"core vertex at the start", "m", Rule::finite};
 inline constexpr Num segment_duration{"segment duration", "s", Rule::positive};
 inline constexpr Num segment_velocity{"velocity (a ramp's at its end)", "m/s", Rule::finite};
 inline constexpr Num amplitude{"peak displacement of a cycle", "m", Rule::finite};
+inline constexpr Num angular_velocity{"angular velocity about the pivot (a ramp's at its end), counter-clockwise", "rad/s",
+                                      Rule::finite};
+inline constexpr Num angle{"peak angle of a cycle about the pivot, counter-clockwise", "rad", Rule::finite};
+inline constexpr Num pivot{"point the body turns about, at the start", "m", Rule::finite};
 inline constexpr Num period{"period of a cycle", "s", Rule::positive};
 inline constexpr Num outlet_height{"height of the hopper outlet", "m", Rule::finite};
 inline constexpr Num jam_start_time{"time the outlet opens", "s", Rule::non_negative};

@@ -335,7 +335,8 @@ class SceneParser {
   }
 
   void read_bodies() {
-    std::vector<std::string_view> keys{"name", "role", "shape", "thickness", "velocity", "motion", "motion_repeat", "remove_at"};
+    std::vector<std::string_view> keys{"name", "role", "shape", "thickness", "velocity", "motion", "motion_repeat", "pivot",
+                                       "remove_at"};
     std::vector<std::string_view> kinds;
     for (const ShapeKind& k : shape_kinds()) {
       kinds.push_back(k.name);
@@ -386,6 +387,11 @@ class SceneParser {
       effects_.fail("moving_bodies",
                     "no [[body]] has a non-zero velocity and there is no [jam] to tap bodies (remove the "
                     "effect or give a body a velocity)");
+    const auto turns = [](const BodySpec& q) {
+      return std::any_of(q.motion.begin(), q.motion.end(), [](const MotionSegment& m) { return m.w != 0.0 || m.aw != 0.0; });
+    };
+    if (has(s_.effects, effect::rotating_bodies) && std::none_of(s_.bodies.begin(), s_.bodies.end(), turns))
+      effects_.fail("rotating_bodies", "no [[body]] motion turns (remove the effect or give a segment an angular_velocity or angle)");
     if (!s_.stop.body_free.empty() && !has_body(s_.stop.body_free))
       stop_.fail("body_free", "names no [[body]]");
   }
@@ -423,13 +429,15 @@ class SceneParser {
   void read_motion(const TableReader& b, BodySpec& body) {
     if (!b.has("motion")) {
       b.forbid("motion_repeat", "the body has no motion");
+      b.forbid("pivot", "the body has no motion to turn it");
       return;
     }
     if (b.has("velocity")) b.fail("motion", "give either velocity or motion, not both");
     if (!has(s_.effects, effect::moving_bodies)) b.fail("motion", "a motion needs effects.moving_bodies = true");
     std::vector<std::string_view> kinds;
     for (const MotionKindSpec& k : kMotionKinds) kinds.push_back(k.name);
-    const auto segments = b.entries("motion", {"kind", "duration", "velocity", "amplitude", "period", "cycles"});
+    const auto segments =
+        b.entries("motion", {"kind", "duration", "velocity", "angular_velocity", "amplitude", "angle", "period", "cycles"});
     if (segments.empty()) b.fail("motion", "must list at least one segment");
     for (std::size_t k = 0; k < segments.size(); ++k) {
       const TableReader& m = segments[k];
@@ -452,14 +460,22 @@ class SceneParser {
         else
           seg.duration = m.required("duration", scene_key::segment_duration, why);
       }
-      if (take(spec->velocity, "velocity")) {
-        const Vec2 v = m.required_vec2("velocity", scene_key::segment_velocity, why);
-        seg.vx = v[0], seg.vy = v[1];
-      }
-      if (take(spec->amplitude, "amplitude")) {
-        const Vec2 a = m.required_vec2("amplitude", scene_key::amplitude, why);
-        seg.ax = a[0], seg.ay = a[1];
-      }
+      // a rate or an amplitude: its translation, its turn, or both (the one left out is 0)
+      const auto pair = [&](bool takes, std::string_view move, const Num& move_spec, std::string_view turn,
+                            const Num& turn_spec, double& x, double& y, double& w) {
+        const bool takes_move = take(takes, move), takes_turn = take(takes, turn);  // (both: each unwanted key refused)
+        if (!takes_move || !takes_turn) return;
+        if (!m.has(move) && !m.has(turn))
+          m.missing(move, range_text(move_spec) + why + ", or " + std::string(turn) + " (" + range_text(turn_spec) + ")");
+        const Vec2 v = m.vec2(move, move_spec).value_or(Vec2{0.0, 0.0});
+        x = v[0], y = v[1];
+        w = m.number_or(turn, turn_spec, 0.0);
+        if (w != 0.0 && !has(s_.effects, effect::rotating_bodies))
+          m.fail(turn, "turning a body needs effects.rotating_bodies = true");
+      };
+      pair(spec->velocity, "velocity", scene_key::segment_velocity, "angular_velocity", scene_key::angular_velocity,
+           seg.vx, seg.vy, seg.w);
+      pair(spec->amplitude, "amplitude", scene_key::amplitude, "angle", scene_key::angle, seg.ax, seg.ay, seg.aw);
       if (take(spec->period, "period")) seg.period = m.required("period", scene_key::period, why);
       if (take(spec->cycles, "cycles"))
         seg.cycles = static_cast<int>(m.integer_or("cycles", 1, "number of cycles", 1));
@@ -468,6 +484,7 @@ class SceneParser {
       body.motion.push_back(seg);
     }
     body.motion_repeat = static_cast<int>(b.integer_or("motion_repeat", 1, "runs of the whole motion", 1));
+    if (const auto p = b.vec2("pivot", scene_key::pivot)) body.pivot = Point{(*p)[0], (*p)[1]};
   }
 
   bool has_body(const std::string& name) const {

@@ -10,8 +10,9 @@
 // beyond an edge's ends); inside it (an overlap deeper than the rounding) it
 // is minus the depth below the least-penetrated face, along that face's
 // normal, so that the overlap and the normal stay continuous across the
-// boundary. Bodies translate only: the edges keep their directions and
-// lengths, so a move sets the vertices and nothing else.
+// boundary. A body that translates keeps its edges' directions and lengths,
+// so a move sets the vertices and nothing else; a body that turns
+// (turn_to) gets its vertices and edges anew from its outline at the start.
 #pragma once
 
 #include <algorithm>
@@ -41,6 +42,20 @@ struct Shape {
   Point vertex(int k) const { return {px[k], py[k]}; }
 };
 
+// The edges and outward normals from the vertices.
+inline void set_edges(Shape& s) {
+  if (s.n <= 2) {
+    s.edge[0] = make_segment(s.px[0], s.py[0], s.px[s.n - 1], s.py[s.n - 1]);
+    return;
+  }
+  for (int k = 0; k < s.n; ++k) {
+    const int j = (k + 1) % s.n;
+    s.edge[k] = make_segment(s.px[k], s.py[k], s.px[j], s.py[j]);
+    s.ux[k] = -s.edge[k].nx0;  // make_segment's normal is the left one: inward for counter-clockwise
+    s.uy[k] = -s.edge[k].ny0;
+  }
+}
+
 // A shape from its core vertices in world coordinates: 1 or 2 vertices, or a
 // convex polygon in counter-clockwise order (shape/shape_kinds.hpp checks).
 inline Shape make_shape(const std::vector<Point>& v) {
@@ -52,17 +67,7 @@ inline Shape make_shape(const std::vector<Point>& v) {
     s.ox[k] = v[k].x - v[0].x;
     s.oy[k] = v[k].y - v[0].y;
   }
-  if (s.n <= 2) {
-    const Point b = v.back();
-    s.edge[0] = make_segment(v[0].x, v[0].y, b.x, b.y);
-    return s;
-  }
-  for (int k = 0; k < s.n; ++k) {
-    const Point a = v[k], b = v[(k + 1) % s.n];
-    s.edge[k] = make_segment(a.x, a.y, b.x, b.y);
-    s.ux[k] = -s.edge[k].nx0;  // make_segment's normal is the left one: inward for counter-clockwise
-    s.uy[k] = -s.edge[k].ny0;
-  }
+  set_edges(s);
   return s;
 }
 
@@ -78,6 +83,17 @@ inline void move_to(Shape& s, double x, double y) {
     s.edge[k].ax = s.px[k];
     s.edge[k].ay = s.py[k];
   }
+}
+
+// Turns the shape by the angle whose cosine and sine are (c, sn) from its
+// orientation at the start and puts vertex 0 at (x, y) (m): vertex k is at
+// (x, y) + R (ox_k, oy_k), from the fixed offsets (no round-off accumulates).
+inline void turn_to(Shape& s, double x, double y, double c, double sn) {
+  for (int k = 0; k < s.n; ++k) {
+    s.px[k] = x + (c * s.ox[k] - sn * s.oy[k]);
+    s.py[k] = y + (sn * s.ox[k] + c * s.oy[k]);
+  }
+  set_edges(s);
 }
 
 // Signed distance from O = (px, py) to the core and the unit normal from the core to O.
