@@ -3,8 +3,9 @@
 # them otherwise (docs/install.md: other systems, no root).
 #
 #   make deps       install the Debian packages the project and its tests need (apt-get, sudo unless root)
-#   make build      optimised build: build/release/sim/dem2d
-#   make install    PREFIX=DIR (default /usr/local): bin/dem2d, libexec/dem2d/<stage>, share/dem2d/data
+#   make build      optimised portable build: build/release/sim/dem2d (NATIVE=ON: -march=native, build/native)
+#   make install    PREFIX=DIR (default /usr/local): bin/dem2d, libexec/dem2d/<stage>, share/dem2d/data,
+#                   from the same build as make build
 #   make test       unit + physics tests (optimised build), the quick tests again
 #                   under AddressSanitizer + UBSan, then make test-pipeline and make test-cluster
 #   make bench      ns per particle-step on the standard settled bed
@@ -46,7 +47,11 @@ SHELL := /bin/bash
 include pipeline/make_vars.mk
 JOBS ?= $(shell nproc)
 $(call check_count,JOBS,1,1024)
-BUILD := build/release
+# NATIVE=ON: optimised for this machine's CPU (-march=native) in build/native; by default one
+# portable build (any x86-64) in build/release serves the study, the tests and make install
+NATIVE ?= OFF
+$(call check_name,NATIVE,ON OFF)
+BUILD := build/$(if $(filter ON,$(NATIVE)),native,release)
 # the analysis stages' registry (docs/stages.md)
 STAGE_REGISTRY ?= pipeline/stages.toml
 # the scripts make runs read the same registry (absolute: a test or a job may run elsewhere)
@@ -145,8 +150,6 @@ needs needs-test:
 	  else $(call for_admin,make); \
 	    echo "  (or \`make deps\`, through sudo; other systems: docs/install.md); NO_DEPS=1 skips this check"; exit 2; fi; }
 
-# NATIVE=ON (this tree's default): optimised for this machine's CPU; the installed default is portable
-NATIVE ?= ON
 # (configured again when the stage registry changes: a new stage's folder becomes a target)
 $(BUILD)/CMakeCache.txt: $(STAGE_REGISTRY) | needs
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DDEM2D_NATIVE=$(NATIVE) -DDEM2D_PYTHON=$(PYTHON)
@@ -191,14 +194,11 @@ test-cluster: build
 # make install PREFIX=DIR: dem2d in DIR/bin, the stages' programs in DIR/libexec/dem2d,
 # data/ and code_version.txt in DIR/share/dem2d (found relative to the programs), the
 # engine's libraries, headers and CMake package (find_package(dem2d); docs/install.md).
-# Built portable (any x86-64) in build/install unless INSTALL_NATIVE=ON.
+# The build make build made (portable unless NATIVE=ON): built now only if it is not yet.
 PREFIX ?= /usr/local
-INSTALL_NATIVE ?= OFF
-INSTALL_BUILD := build/install
-install: | needs
-	cmake -S . -B $(INSTALL_BUILD) -DCMAKE_BUILD_TYPE=Release -DDEM2D_NATIVE=$(INSTALL_NATIVE) -DDEM2D_PYTHON=$(PYTHON) >/dev/null
-	cmake --build $(INSTALL_BUILD) -j $(JOBS) --target installed
-	cmake --install $(INSTALL_BUILD) --prefix $(PREFIX)
+install: $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS) --target installed
+	cmake --install $(BUILD) --prefix $(PREFIX)
 
 bench: build
 	$(DEM2D) bench

@@ -32,6 +32,21 @@
 #include "engine/step_barrier.hpp"
 #include "engine/system.hpp"
 
+// A portable build (DEM2D_MULTIVERSION) has its hot loops below compiled
+// three times, for any x86-64, for x86-64-v3 (AVX2) and for x86-64-v4
+// (AVX-512), and runs the one the CPU can (GCC's function multi-versioning,
+// chosen when the program starts): one build runs on any node at nearly a
+// native build's speed. Every version gives the same results bit for bit:
+// no fused multiply-add (-ffp-contract=off) and no reordered sums (measured:
+// the quick fill's run file from this build, from one with the -v3 version
+// only and from one without versions are equal, bit for bit, on an AVX-512
+// CPU; docs/install.md).
+#ifdef DEM2D_MULTIVERSION
+#define DEM2D_HOT __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4")))
+#else
+#define DEM2D_HOT
+#endif
+
 namespace dem2d::kernels {
 
 using std::size_t;
@@ -59,7 +74,7 @@ inline std::pair<std::int64_t, std::int64_t> my_slots(const System& s, const Ali
 // grain left the domain or became non-finite in the System (the box test is
 // false for NaN); the caller reads them after a barrier.
 template <EffectSet E, bool Close, bool Open>
-inline void integrate(System& s) {
+DEM2D_HOT inline void integrate(System& s) {
   Particles& p = s.state.p;
   // plain locals, not a structured binding: GCC does not see a binding's
   // members as loop-invariant bounds and would not vectorise the loop
@@ -118,7 +133,7 @@ inline void integrate(System& s) {
 // by selects), so that the compiler vectorises it; the law is the model's
 // (contact/contact_model.hpp), the geometry the loop's.
 template <EffectSet E>
-inline void pair_forces(System& s, const ContactModel<E> model) {  // by value: cannot alias the outputs
+DEM2D_HOT inline void pair_forces(System& s, const ContactModel<E> model) {  // by value: cannot alias the outputs
   const Particles& p = s.state.p;
   PairList& L = s.state.lists.pairs;
   const std::int32_t *own = L.owner.data(), *par = L.partner.data();
@@ -181,7 +196,7 @@ inline void pair_forces(System& s, const ContactModel<E> model) {  // by value: 
 // narrow phase over the slots first, whose loop over a polygon's edges would
 // not vectorise.
 template <EffectSet E, bool Polygons>
-inline void wall_forces(System& s, const ContactModel<E> model) {  // by value: cannot alias the outputs
+DEM2D_HOT inline void wall_forces(System& s, const ContactModel<E> model) {  // by value: cannot alias the outputs
   const Particles& p = s.state.p;
   WallList& L = s.state.lists.walls;
   const Bodies& B = s.state.bodies;
@@ -277,7 +292,7 @@ inline void claim_shared_grains(System& s) {
 // Each thread sums its own grains, the ones it then integrates, so no
 // barrier is needed in between.
 template <EffectSet E>
-inline void gather(System& s) {
+DEM2D_HOT inline void gather(System& s) {
   Particles& p = s.state.p;
   const PairList& L = s.state.lists.pairs;
   const WallList& W = s.state.lists.walls;
