@@ -116,7 +116,7 @@ DEBIAN_PACKAGES := g++ cmake make pkg-config git \
   libeigen3-dev libboost-graph-dev libfftw3-dev libhdf5-dev \
   libgtest-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev \
   python3-h5py python3-numpy python3-matplotlib python3-markdown
-TEST_PACKAGES := python3-pytest python3-paraview xvfb xauth
+TEST_PACKAGES := python3-pytest python3-paraview xvfb
 # how packages are installed: directly as root, else through sudo when there is one (SUDO= : none)
 SUDO ?= $(shell [ "$$(id -u)" -eq 0 ] || command -v sudo)
 
@@ -304,12 +304,13 @@ $(RESULTS)/report.md: $(RESULTS)/metrics.json $(RESULTS)/check.json $(RESULTS)/f
                       $(REPORT_SCRIPTS)/report.py $(REPORT_SCRIPTS)/deviations.toml
 	$(PYTHON) $(REPORT_SCRIPTS)/report.py $(RESULTS) $(PRESET)
 
-# ParaView's view of the force network (the paper's Fig. 6b) from the pull-off's run.xdmf, headless
-# (pvbatch; xvfb-run where there is no display): pipeline/paraview/force_network.py
+# ParaView's view of the force network (the paper's Fig. 6b) from the pull-off's run.xdmf, headless:
+# pvbatch on an Xvfb of its own (ParaView renders only through X): pipeline/paraview/force_network.py
 PVBATCH ?= pvbatch
-$(RESULTS)/figures/force_network_paraview.png: $(RESULTS)/pulloff/run.h5 pipeline/paraview/force_network.py
+$(RESULTS)/figures/force_network_paraview.png: $(RESULTS)/pulloff/run.h5 pipeline/paraview/force_network.py \
+                                              pipeline/paraview/headless.py
 	@mkdir -p $(@D)
-	$(if $(DISPLAY),,xvfb-run -a -s "-screen 0 1280x1024x24") $(PVBATCH) pipeline/paraview/force_network.py $(RESULTS)/pulloff $@
+	$(PYTHON) pipeline/paraview/headless.py $(PVBATCH) pipeline/paraview/force_network.py $(RESULTS)/pulloff $@
 paraview: $(RESULTS)/figures/force_network_paraview.png
 
 pulloff-slice: $(SLICE_DIR)/metrics.json

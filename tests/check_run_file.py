@@ -166,10 +166,11 @@ def check_energy(f, errors):
                       f"(largest term {scale:.3g} J/m)")
 
 
-# run.xdmf's three temporal collections: topology type, and the arrays each grid must have
-COLLECTIONS = {"particles": ("Polyvertex", {"diameter", "velocity", "omega", "theta", "active"}),
-               "bodies": ("Polyline", {"thickness"}),
-               "contacts": ("Polyline", {"fn", "ft", "mu_star", "overlap", "sliding"})}
+# run.xdmf: one temporal collection of spatial collections (one per snapshot) of up to
+# three named grids: topology type, and the arrays each grid must have
+PARTS = {"particles": ("Polyvertex", {"diameter", "velocity", "omega", "theta", "active"}),
+         "bodies": ("Polyline", {"thickness"}),
+         "contacts": ("Polyline", {"fn", "ft", "mu_star", "overlap", "sliding"})}
 
 
 def check_xdmf(f, h5_path, xdmf_path, errors):
@@ -182,22 +183,29 @@ def check_xdmf(f, h5_path, xdmf_path, errors):
     times = f["snapshots/time"][...]
     start = f["snapshots/contact_start"][...]
     N, B = int(f.attrs["n_particles"]), int(f.attrs["n_bodies"])
-    present = {"particles": True, "bodies": B > 0, "contacts": start[-1] > 0}
-    collections = {c.get("Name"): c for c in root.findall("./Domain/Grid[@CollectionType='Temporal']")}
-    if set(collections) != {name for name, p in present.items() if p}:
-        errors.append(f"{xdmf_path}: collections {sorted(collections)}, expected {[n for n, p in present.items() if p]}")
+    top = root.findall("./Domain/Grid")
+    if len(top) != 1 or top[0].get("CollectionType") != "Temporal":
+        errors.append(f"{xdmf_path}: the domain holds {len(top)} grids, expected one temporal collection")
         return
-    for cname, collection in collections.items():
-        topology, arrays = COLLECTIONS[cname]
-        grids = collection.findall("Grid")
-        if len(grids) != len(times):
-            errors.append(f"{xdmf_path}: {cname}: {len(grids)} grids for {len(times)} snapshots")
-        for k, grid in enumerate(grids):
-            where = f"{cname} grid {k}"
-            if float(grid.find("Time").get("Value")) != times[k]:
-                errors.append(f"{where}: time differs from /snapshots/time")
-            if cname == "contacts" and start[k + 1] == start[k]:
-                continue  # an empty grid
+    snapshots = top[0].findall("Grid")
+    if len(snapshots) != len(times):
+        errors.append(f"{xdmf_path}: {len(snapshots)} snapshots, the run file has {len(times)}")
+        return
+    for k, snapshot in enumerate(snapshots):
+        if snapshot.get("CollectionType") != "Spatial":
+            errors.append(f"snapshot {k}: not a spatial collection")
+            continue
+        if float(snapshot.find("Time").get("Value")) != times[k]:
+            errors.append(f"snapshot {k}: time differs from /snapshots/time")
+        present = {"particles": True, "bodies": B > 0, "contacts": start[k + 1] > start[k]}
+        grids = {g.get("Name"): g for g in snapshot.findall("Grid")}
+        expected = [name for name in PARTS if present[name]]
+        if list(grids) != expected:
+            errors.append(f"snapshot {k}: grids {list(grids)}, expected {expected}")
+            continue
+        for name, grid in grids.items():
+            where = f"snapshot {k} {name}"
+            topology, arrays = PARTS[name]
             if grid.find("Topology").get("TopologyType") != topology:
                 errors.append(f"{where}: topology is not {topology}")
             if grid.find("Geometry").get("GeometryType") != "XY":
@@ -208,7 +216,7 @@ def check_xdmf(f, h5_path, xdmf_path, errors):
             for item in grid.iter("DataItem"):
                 check_item(f, item, k, start, h5_name, where, errors)
             connectivity = grid.find("Topology/DataItem").text.strip()
-            if cname == "particles" and N and connectivity != f"{h5_name}:/particles/id":
+            if name == "particles" and N and connectivity != f"{h5_name}:/particles/id":
                 errors.append(f"{where}: connectivity is not /particles/id")
 
 

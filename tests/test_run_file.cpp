@@ -379,14 +379,23 @@ void expect_xdmf(const fs::path& xdmf, const fs::path& run_file) {
   ASSERT_EQ(collection.children.size(), times.size());
   const std::string h5_name = run_file.filename().string();
   for (std::size_t k = 0; k < times.size(); ++k) {
-    const XmlNode& grid = collection.children[k];
+    // snapshot k: a spatial collection of its time and the grids particles, bodies, contacts
+    const XmlNode& snapshot = collection.children[k];
+    EXPECT_EQ(snapshot.attr.at("CollectionType"), "Spatial");
+    const XmlNode *time = nullptr, *particles = nullptr;
+    for (const XmlNode& c : snapshot.children) {
+      if (c.tag == "Time") time = &c;
+      if (c.tag == "Grid" && c.attr.at("Name") == "particles") particles = &c;
+    }
+    ASSERT_TRUE(time != nullptr && particles != nullptr) << "snapshot " << k;
+    EXPECT_EQ(std::stod(time->attr.at("Value")), times[k]);
+    const XmlNode& grid = *particles;
     std::map<std::string, const XmlNode*> parts;
     std::vector<std::string> attributes;
     for (const XmlNode& c : grid.children) {
       parts[c.tag] = &c;
       if (c.tag == "Attribute") attributes.push_back(c.attr.at("Name"));
     }
-    EXPECT_EQ(std::stod(parts.at("Time")->attr.at("Value")), times[k]);
     const XmlNode& topology = *parts.at("Topology");
     EXPECT_EQ(topology.attr.at("TopologyType"), "Polyvertex");
     EXPECT_EQ(numbers(topology.attr.at("NumberOfElements")), std::vector<hsize_t>{n});

@@ -1,20 +1,46 @@
 """The paper's Fig. 6b in ParaView: the normal-force network of a pull-off at an
 intruder height H (default 34 mm), read from the run's run.xdmf: grains as
 discs, bodies as lines, every contact with F_n > 0 as a tube whose width and
-colour grow with F_n. Headless (no window):
+colour grow with F_n. Headless (no window; ParaView here renders only through X,
+so where there is no display headless.py gives it an Xvfb of its own):
 
-    pvbatch pipeline/paraview/force_network.py RUN_DIR OUT.png [--height-mm 34] [--size 900 1200]
+    python3 pipeline/paraview/headless.py pvbatch pipeline/paraview/force_network.py RUN_DIR OUT.png
+        [--height-mm 34] [--size 900 1200] [--reader T|S]
 
-(`xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch ...` where there is no display: a 24-bit screen, the default 8 bits may have no OpenGL visual; make paraview does both).
-RUN_DIR holds run.h5 and run.xdmf. Prints what it drew (snapshot, H, contacts).
+RUN_DIR holds run.h5 and run.xdmf. --reader: Xdmf3ReaderT (default; it names the
+blocks particles, bodies, contacts) or Xdmf3ReaderS (what OpenDataFile picks; it
+reads them as unnamed pieces of one dataset). Prints what the reader gave and what
+it drew (snapshot, H, contacts); exits 1 if that differs from the run file.
 """
 import argparse
 import os
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path[:0] = [HERE, os.path.join(HERE, "..", "..", "python")]
 import dem2d  # noqa: E402
+from headless import require_display  # noqa: E402
 from paraview import simple as pv  # noqa: E402
+
+# each part's own array: how it is found where the reader keeps no block names (Xdmf3ReaderS)
+OWN_ARRAY = {"particles": ["POINTS", "diameter"], "bodies": ["CELLS", "thickness"], "contacts": ["CELLS", "fn"]}
+
+
+def part(reader, name):
+    """particles, bodies or contacts: the block of that name (Xdmf3ReaderT), else the cells with its own array."""
+    if reader.GetXMLName() == "Xdmf3ReaderT":
+        return pv.ExtractBlock(Input=reader, Selectors=[f"/Root/{name}"])
+    return pv.Threshold(Input=reader, Scalars=OWN_ARRAY[name], LowerThreshold=-1e300, UpperThreshold=1e300)
+
+
+def block_names(reader, time):
+    """The names of the reader's top blocks at `time` ("" for an unnamed one)."""
+    reader.UpdatePipeline(time)
+    data = pv.servermanager.Fetch(reader)
+    if not data.IsA("vtkMultiBlockDataSet"):
+        return []
+    meta = [data.GetMetaData(i) if data.HasMetaData(i) else None for i in range(data.GetNumberOfBlocks())]
+    return [m.Get(data.NAME()) if m is not None and m.Has(data.NAME()) else "" for m in meta]
 
 
 def main():
@@ -23,7 +49,9 @@ def main():
     ap.add_argument("out")
     ap.add_argument("--height-mm", type=float, default=34.0, help="intruder height H above the floor (mm)")
     ap.add_argument("--size", type=int, nargs=2, default=[900, 1200], metavar=("W", "H"), help="pixels")
+    ap.add_argument("--reader", choices=["T", "S"], default="T", help="Xdmf3ReaderT or Xdmf3ReaderS")
     args = ap.parse_args()
+    require_display("force_network")
     h5 = os.path.abspath(os.path.join(args.run_dir, "run.h5"))
     xdmf = os.path.abspath(os.path.join(args.run_dir, "run.xdmf"))  # a bare name misleads the Xdmf3 readers
 
@@ -37,9 +65,24 @@ def main():
         # the frame: the cell's width, the floor to just above the highest grain
         xy, r = snap.position[snap.active], run.particles.diameter[snap.active] / 2
         box = [(xy[:, 0] - r).min(), (xy[:, 0] + r).max(), run.floor_top(), (xy[:, 1] + r).max() + 2 * d_mean]
-        run_has = {"bodies": len(run.bodies) > 0, "contacts": run.file["contacts/i"].shape[0] > 0}
+        # what run.xdmf shows of snapshot k (points, cells): a point per grain, K per body, 2 per contact
+        _, B, K, _ = run.file["snapshots/body_vertices"].shape
+        N, C = len(run.particles.diameter), len(snap.contacts)
+        expected = {"particles": (N, N), "bodies": (B * K, B), "contacts": (2 * C, C)}
 
-    reader = pv.Xdmf3ReaderT(FileName=[xdmf])
+    reader = (pv.Xdmf3ReaderT if args.reader == "T" else pv.Xdmf3ReaderS)(FileName=[xdmf])
+    reader.UpdatePipelineInformation()
+    names = block_names(reader, snap.time)
+    print(f"force_network: {reader.GetXMLName()}: top blocks {names}")
+    parts = {name: part(reader, name) for name in OWN_ARRAY}
+    found = {}
+    for name, source in parts.items():
+        source.UpdatePipeline(snap.time)
+        info = source.GetDataInformation()
+        found[name] = (info.GetNumberOfPoints(), info.GetNumberOfCells())
+        print(f"force_network: {name}: {found[name][0]} points, {found[name][1]} cells (run file: "
+              f"{expected[name][0]} points, {expected[name][1]} cells)")
+
     view = pv.CreateRenderView()
     view.ViewSize = args.size
     view.ViewTime = snap.time
@@ -48,14 +91,7 @@ def main():
     view.OrientationAxesVisibility = 0
     view.CameraParallelProjection = 1
 
-    # run.xdmf's collections in order: particles, bodies (if any), contacts (if any); the reader
-    # numbers the blocks instead of naming them
-    order = ["particles"] + (["bodies"] if run_has["bodies"] else []) + (["contacts"] if run_has["contacts"] else [])
-
-    def block(name):
-        return pv.ExtractBlock(Input=reader, Selectors=[f"/Root/Block{order.index(name)}"])
-
-    grains = pv.Glyph(Input=block("particles"), GlyphType="2D Glyph")
+    grains = pv.Glyph(Input=parts["particles"], GlyphType="2D Glyph")
     grains.GlyphType.GlyphType = "Circle"
     grains.GlyphType.Filled = 1
     grains.ScaleArray = ["POINTS", "diameter"]
@@ -65,7 +101,7 @@ def main():
     g.ColorArrayName = ["POINTS", ""]
     g.DiffuseColor = g.AmbientColor = [0.9, 0.9, 0.9]
 
-    strong = pv.Threshold(Input=block("contacts"), Scalars=["CELLS", "fn"], LowerThreshold=1e-12,
+    strong = pv.Threshold(Input=parts["contacts"], Scalars=["CELLS", "fn"], LowerThreshold=1e-12,
                           UpperThreshold=1e300)
     tubes = pv.Tube(Input=pv.CellDatatoPointData(Input=pv.ExtractSurface(Input=strong)), Scalars=["POINTS", "fn"],
                     Radius=0.02 * d_mean, VaryRadius="By Scalar", RadiusFactor=12.0, NumberofSides=8)
@@ -80,7 +116,7 @@ def main():
     bar.TitleColor = bar.LabelColor = [0, 0, 0]
     t.SetScalarBarVisibility(view, True)
 
-    b = pv.Show(block("bodies"), view)
+    b = pv.Show(parts["bodies"], view)
     b.ColorArrayName = ["POINTS", ""]
     b.DiffuseColor = b.AmbientColor = [0.12, 0.47, 0.71]
     b.LineWidth = 4.0
@@ -101,8 +137,9 @@ def main():
     drawn = strong.GetDataInformation().GetNumberOfCells()
     print(f"force_network: snapshot {k} (H = {heights[k]:.2f} mm, t = {snap.time:.4f} s): "
           f"{drawn} contacts with F_n > 0 drawn (run file: {pressing}) -> {args.out}")
-    if drawn != pressing:
-        sys.exit(f"force_network: ParaView read {drawn} pressing contacts, the run file has {pressing}")
+    if drawn != pressing or found != expected:
+        sys.exit(f"force_network: ParaView read {found} and {drawn} pressing contacts, the run file has "
+                 f"{expected} and {pressing}")
 
 
 if __name__ == "__main__":

@@ -19,10 +19,10 @@ std::int64_t most_contacts(const XdmfLayout& l) {
   return m;
 }
 
-// Written for the Xdmf3 readers, ParaView's default for .xdmf: they read a
-// selection given as "file:/dataset|start:stride:count:dataspace" but not
-// HyperSlab DataItems, which crash them. Connectivity comes from datasets:
-// inline XML connectivity would be read for the first grid only.
+// Written for ParaView's Xdmf3 readers (S and T): they read a selection given
+// as "file:/dataset|start:stride:count:dataspace" but not HyperSlab DataItems,
+// which crash them. Connectivity comes from datasets: inline XML connectivity
+// would be read for the first grid only.
 class XdmfWriter {
  public:
   explicit XdmfWriter(const XdmfLayout& l) : l_(l) {}
@@ -65,16 +65,16 @@ class XdmfWriter {
   }
   static std::string attribute(const std::string& name, const std::string& kind, const std::string& centre,
                                const std::string& data) {
-    return "      <Attribute Name=\"" + name + "\" AttributeType=\"" + kind + "\" Center=\"" + centre +
-           "\">\n        " + data + "\n      </Attribute>\n";
+    return "        <Attribute Name=\"" + name + "\" AttributeType=\"" + kind + "\" Center=\"" + centre +
+           "\">\n          " + data + "\n        </Attribute>\n";
   }
   static std::string topology(const std::string& type, std::uint64_t elements, std::uint64_t nodes,
                               const std::string& connectivity) {
-    return "      <Topology TopologyType=\"" + type + "\" NumberOfElements=\"" + std::to_string(elements) +
-           "\" NodesPerElement=\"" + std::to_string(nodes) + "\">\n        " + connectivity + "\n      </Topology>\n";
+    return "        <Topology TopologyType=\"" + type + "\" NumberOfElements=\"" + std::to_string(elements) +
+           "\" NodesPerElement=\"" + std::to_string(nodes) + "\">\n          " + connectivity + "\n        </Topology>\n";
   }
   static std::string geometry(const std::string& data) {
-    return "      <Geometry GeometryType=\"XY\">\n        " + data + "\n      </Geometry>\n";
+    return "        <Geometry GeometryType=\"XY\">\n          " + data + "\n        </Geometry>\n";
   }
 
  private:
@@ -107,57 +107,50 @@ void write_xdmf(const std::string& path, const XdmfLayout& l) {
   const XdmfWriter w(l);
   const std::uint64_t N = l.particles, B = l.vertex_count.size(), K = l.vertices;
   const std::int64_t C = l.contact_start.empty() ? 0 : l.contact_start.back();
+  const std::int64_t seq = std::max<std::int64_t>(2 * most_contacts(l), 1);
   const std::string n = std::to_string(N);
+  const std::string outline = w.item(std::to_string(B) + " " + std::to_string(K + 1), i4, "/xdmf/body_outline");
   std::ofstream out(path);
-  out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n";
+  out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
+      << "  <Grid Name=\"snapshots\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   char time[32];
-  const auto collection = [&](const std::string& name, auto&& grid) {
-    out << "  <Grid Name=\"" << name << "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    for (std::size_t k = 0; k < l.times.size(); ++k) {
-      std::snprintf(time, sizeof time, "%.17g", l.times[k]);
-      out << "    <Grid Name=\"" << name << '_' << k << "\" GridType=\"Uniform\">\n"
-          << "      <Time Value=\"" << time << "\"/>\n";
-      grid(k);
-      out << "    </Grid>\n";
-    }
-    out << "  </Grid>\n";
-  };
-  collection("particles", [&](std::size_t k) {
+  const auto grid = [&](const char* name) { out << "      <Grid Name=\"" << name << "\" GridType=\"Uniform\">\n"; };
+  for (std::size_t k = 0; k < l.times.size(); ++k) {
+    std::snprintf(time, sizeof time, "%.17g", l.times[k]);
+    // unnamed: the Xdmf3 readers would rename the grids of a named collection particles[k], ...
+    out << "    <Grid GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+        << "      <Time Value=\"" << time << "\"/>\n";
+    grid("particles");
     out << XdmfWriter::topology("Polyvertex", N, 1, w.item(n, i4, "/particles/id"))
         << XdmfWriter::geometry(w.record(k, "/snapshots/position", f8, {N, 2}))
         << XdmfWriter::attribute("diameter", "Scalar", "Node", w.item(n, f8, "/particles/diameter"))
         << XdmfWriter::attribute("velocity", "Vector", "Node", w.record(k, "/snapshots/velocity", f8, {N, 2}))
         << XdmfWriter::attribute("omega", "Scalar", "Node", w.record(k, "/snapshots/omega", f8, {N}))
         << XdmfWriter::attribute("theta", "Scalar", "Node", w.record(k, "/snapshots/theta", f8, {N}))
-        << XdmfWriter::attribute("active", "Scalar", "Node", w.record(k, "/snapshots/active", u1, {N}));
-  });
-  if (B > 0) {
-    const std::string outline = w.item(std::to_string(B) + " " + std::to_string(K + 1), i4, "/xdmf/body_outline");
-    collection("bodies", [&](std::size_t k) {
+        << XdmfWriter::attribute("active", "Scalar", "Node", w.record(k, "/snapshots/active", u1, {N}))
+        << "      </Grid>\n";
+    if (B > 0) {
+      grid("bodies");
       out << XdmfWriter::topology("Polyline", B, K + 1, outline)
           << XdmfWriter::geometry(w.record(k, "/snapshots/body_vertices", f8, {B, K, 2}))
-          << XdmfWriter::attribute("thickness", "Scalar", "Cell", w.item(std::to_string(B), f8, "/bodies/thickness"));
-    });
-  }
-  if (C > 0) {
-    const std::int64_t seq = std::max<std::int64_t>(2 * most_contacts(l), 1);
-    collection("contacts", [&](std::size_t k) {
-      const std::int64_t first = l.contact_start[k], count = l.contact_start[k + 1] - first;
-      if (count == 0) {  // no contact: grain 0's centre, no cells data (an empty grid crashes the readers)
-        out << XdmfWriter::topology("Polyvertex", 1, 1, w.rows("/xdmf/sequence", i4, 0, 1, seq, {}))
-            << XdmfWriter::geometry(w.select("/snapshots/position", f8, {k, 0, 0}, {1, 1, 2},
-                                             {l.times.size(), N, 2}, true));
-        return;
-      }
+          << XdmfWriter::attribute("thickness", "Scalar", "Cell", w.item(std::to_string(B), f8, "/bodies/thickness"))
+          << "      </Grid>\n";
+    }
+    const std::int64_t first = k + 1 < l.contact_start.size() ? l.contact_start[k] : 0,
+                       count = k + 1 < l.contact_start.size() ? l.contact_start[k + 1] - first : 0;
+    if (count > 0) {  // no contact, no grid: the readers crash on an empty one
+      grid("contacts");
       out << XdmfWriter::topology("Polyline", static_cast<std::uint64_t>(count), 2,
                                   w.rows("/xdmf/sequence", i4, 0, 2 * count, seq, {}))
           << XdmfWriter::geometry(w.rows("/contacts/line", f8, first, count, C, {2, 2}));
       for (const char* a : {"fn", "ft", "mu_star", "overlap"})
         out << XdmfWriter::attribute(a, "Scalar", "Cell", w.rows(std::string("/contacts/") + a, f8, first, count, C, {}));
-      out << XdmfWriter::attribute("sliding", "Scalar", "Cell", w.rows("/contacts/sliding", u1, first, count, C, {}));
-    });
+      out << XdmfWriter::attribute("sliding", "Scalar", "Cell", w.rows("/contacts/sliding", u1, first, count, C, {}))
+          << "      </Grid>\n";
+    }
+    out << "    </Grid>\n";
   }
-  out << "</Domain>\n</Xdmf>\n";
+  out << "  </Grid>\n</Domain>\n</Xdmf>\n";
   out.close();
   if (!out) throw std::runtime_error(path + ": cannot write the XDMF file");
 }

@@ -1,9 +1,10 @@
 // ParaView's view of a run file (docs/run_file.md, "ParaView"): run.xdmf, a
-// domain of three temporal collections, one grid per snapshot each:
+// temporal collection with one spatial collection per snapshot, of named grids:
 //   particles  N points (polyvertex), point arrays diameter, velocity, omega, theta, active;
-//   bodies     one polyline per body through its core's vertices (closed for polygons), cell array thickness;
+//   bodies     one polyline per body through its core's vertices (closed for polygons), cell array
+//              thickness (if B > 0);
 //   contacts   one line per acting contact, grain centre to grain centre or to the contact point
-//              on a body, cell arrays fn, ft, mu_star, sliding, overlap.
+//              on a body, cell arrays fn, ft, mu_star, sliding, overlap (if the snapshot has any).
 // Every array is a selection of the run file's datasets: the XDMF file holds no data.
 #pragma once
 
