@@ -27,7 +27,7 @@ assert m["cost"]["pulloff"]["ns_per_particle_step"] > 0
 targets = tomllib.load(open("data/paper_targets.toml", "rb"))["target"]
 tests = [t for s in json.load(open(r / "check.json"))["testsuites"] for t in s["testsuite"]]
 assert len(tests) == len(targets), f"check.json: {len(tests)} tests for {len(targets)} targets"
-assert all(t["verdict"] in ("pass", "fail") and t["metric"] for t in tests)
+assert all(t["verdict"] in ("pass", "fail", "undetermined") and t["metric"] for t in tests)
 index = json.load(open(r / "figures" / "index.json"))
 assert len(index) >= 10, f"{len(index)} figures"
 report = (r / "report.md").read_text()

@@ -1,5 +1,7 @@
 #include "spectrum/size_distribution.hpp"
 
+#include "common/normal.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -186,7 +188,23 @@ SizeDistribution fit_sizes(const std::vector<double>& sizes, const SizeFitSettin
       if ((c.a == f || c.b == f) && c.favoured != f) wins_all = false;
     if (wins_all) out.best = f;
   }
-  if (out.best.empty()) out.best = "undecided";
+  out.decades = std::log10(t.back() / pl.x_min);
+  if (out.best.empty()) {
+    out.best = "undecided";
+    // the leading family and the tail its weaker comparison would need
+    const std::pair<const char*, double> ll[] = {{"power_law", out.power_law.log_likelihood},
+                                                 {"lognormal", out.lognormal.log_likelihood},
+                                                 {"exponential", out.exponential.log_likelihood}};
+    out.leading = std::max_element(std::begin(ll), std::end(ll), [](auto& a, auto& b) { return a.second < b.second; })->first;
+    const double z_crit = normal_upper_quantile(0.5 * s.significance);  // two-sided
+    out.tail_needed = 0.0;
+    for (const Comparison& c : out.comparisons)
+      if (c.a == out.leading || c.b == out.leading) {
+        const double z = std::abs(c.normalised);
+        out.tail_needed = std::max(out.tail_needed, z > 0.0 ? n * (z_crit / z) * (z_crit / z)
+                                                            : std::numeric_limits<double>::infinity());
+      }
+  }
 
   // goodness of fit of the power law: semi-parametric bootstrap (CSN section 4.1)
   if (s.bootstrap > 0) {
@@ -207,6 +225,9 @@ SizeDistribution fit_sizes(const std::vector<double>& sizes, const SizeFitSettin
     }
     out.power_law_p = static_cast<double>(larger) / static_cast<double>(s.bootstrap);
   }
+  out.power_law_plausible = out.power_law_p >= s.plausible_p && out.decades >= s.min_decades;
+  // a power law that is not plausible (too narrow a tail, or rejected) is not the best family
+  if (out.best == "power_law" && !out.power_law_plausible) out.best = "undecided", out.leading = "power_law";
   return out;
 }
 

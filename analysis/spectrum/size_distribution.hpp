@@ -19,6 +19,12 @@ struct SizeFitSettings {
   int bootstrap = 200;         // synthetic sets for the power law's p-value (0: none)
   double significance = 0.1;   // a likelihood ratio decides only below this p (CSN's 0.1)
   std::uint64_t seed = 1;      // of the bootstrap
+  // a power law is plausible only over a range of scales: its tail must span
+  // at least this many decades (x_max / x_min >= 10^min_decades). On a
+  // narrower tail an exponential's or a lognormal's end fits a steep power
+  // law as well (the KS test cannot reject it there)
+  double min_decades = 1.0;
+  double plausible_p = 0.1;    // the goodness of fit's p that makes the power law plausible (CSN)
 };
 
 struct FamilyFit {
@@ -48,6 +54,15 @@ struct SizeDistribution {
   FamilyFit power_law, lognormal, exponential;
   std::vector<Comparison> comparisons;  // power law - lognormal, power law - exponential, lognormal - exponential
   std::string best;  // the family no other beats and that beats every other; else "undecided"
+  double decades = std::numeric_limits<double>::quiet_NaN();  // log10(x_max / x_min) of the tail
+  // power law plausible: goodness of fit p >= plausible_p and a tail of at least min_decades
+  bool power_law_plausible = false;
+  // undecided: the family with the largest likelihood on the tail, and how many
+  // sizes in the tail its two comparisons need to decide at `significance` if
+  // each size keeps adding to the ratios as these do (n (z_crit / z)^2 for the
+  // weaker comparison; infinite when a ratio is zero)
+  std::string leading;
+  double tail_needed = std::numeric_limits<double>::quiet_NaN();
 };
 
 SizeDistribution fit_sizes(const std::vector<double>& sizes, const SizeFitSettings& s);

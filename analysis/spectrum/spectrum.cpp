@@ -1,5 +1,7 @@
 #include "spectrum/spectrum.hpp"
 
+#include "common/normal.hpp"
+
 #include <fftw3.h>
 
 #include <algorithm>
@@ -94,16 +96,6 @@ double digamma(double x) {
   for (; x < 6.0; x += 1.0) r -= 1.0 / x;
   const double f = 1.0 / (x * x);
   return r + std::log(x) - 0.5 / x - f * (1.0 / 12 - f * (1.0 / 120 - f / 252));
-}
-
-// z with P(Z > z) = p for a standard normal Z (bisection; p in (0, 1)).
-double normal_upper_quantile(double p) {
-  double lo = -40.0, hi = 40.0;
-  for (int i = 0; i < 200; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (0.5 * std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
 }
 
 // x with P(chi2_nu > x) = p (Wilson-Hilferty; conservative by a few % at nu = 2 in the far tail).
@@ -377,19 +369,33 @@ std::vector<Pivot> zigzag(const std::vector<double>& x, double delta, std::size_
   return zigzag(x, std::vector<double>(x.size(), delta), begin);
 }
 
-std::vector<Event> detect_events(const std::vector<double>& f, const std::vector<double>& delta, std::size_t window) {
+std::vector<Event> detect_events(const std::vector<double>& f, const std::vector<double>& delta, std::size_t window,
+                                 std::size_t confirm, double confirm_fraction) {
   const std::vector<Pivot> pivots = zigzag(f, delta);
   std::vector<Event> out;
+  // the level of the rows a..b: their median (confirm + 1 rows: no lone spike moves it)
+  auto level = [&f](std::size_t a, std::size_t b) {
+    std::vector<double> v(f.begin() + static_cast<std::ptrdiff_t>(a), f.begin() + static_cast<std::ptrdiff_t>(b) + 1);
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
   for (std::size_t i = 0; i + 1 < pivots.size(); ++i) {
     const std::size_t p = pivots[i].index, t = pivots[i + 1].index;
     if (!pivots[i].peak || !falls_fast(f, p, t, delta, window)) continue;
+    if (confirm > 0) {  // the lowest level reached after the peak, up to the trough
+      double after = std::numeric_limits<double>::infinity();
+      for (std::size_t j = p + 1; j <= t; ++j) after = std::min(after, level(j, std::min(f.size() - 1, j + confirm)));
+      if (level(p >= confirm ? p - confirm : 0, p) - after <= confirm_fraction * delta[p])
+        continue;  // a spike, not a drop: the level before and after differ by less than the threshold
+    }
     out.push_back({i > 0 ? pivots[i - 1].index : argmin(f, 0, p + 1), p, t});
   }
   return out;
 }
 
-std::vector<Event> detect_events(const std::vector<double>& f, double delta, std::size_t window) {
-  return detect_events(f, std::vector<double>(f.size(), delta), window);
+std::vector<Event> detect_events(const std::vector<double>& f, double delta, std::size_t window, std::size_t confirm,
+                                 double confirm_fraction) {
+  return detect_events(f, std::vector<double>(f.size(), delta), window, confirm, confirm_fraction);
 }
 
 std::vector<double> local_noise_level(const std::vector<double>& x, std::size_t half_width) {
@@ -486,7 +492,8 @@ void ruptures(SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& 
   const std::vector<double>& h = p.height;
   std::vector<double> delta(h.size());
   for (std::size_t k = 0; k < h.size(); ++k) delta[k] = c.drop_threshold * r.local_noise[k];
-  r.events = detect_events(r.fluctuation, delta, samples(c.drop_window_d, f.fs));
+  r.events = detect_events(r.fluctuation, delta, samples(c.drop_window_d, f.fs),
+                           static_cast<std::size_t>(c.confirm_samples), c.confirm_fraction);
   const auto inside = [&h](const Event& e, double low, double high) { return h[e.peak] >= low && h[e.peak] < high; };
   std::vector<double> amp_x, amp_y, drops, relative;
   for (const Event& e : r.events) {
@@ -504,7 +511,8 @@ void ruptures(SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& 
   }
   r.spacing_d = spacings(r, f.edges[1], f.edges[3], s.d, std::vector<std::uint8_t>(r.events.size(), 1));
   r.rupture_spacing_d = spacings(r, f.edges[1], f.edges[3], s.d, r.counted);
-  const SizeFitSettings sizes{static_cast<std::size_t>(c.size_min_tail), c.size_bootstrap, c.size_significance, 1};
+  const SizeFitSettings sizes{static_cast<std::size_t>(c.size_min_tail), c.size_bootstrap, c.size_significance, 1,
+                              c.size_min_decades, c.size_plausible_p};
   r.sizes = fit_sizes(drops, sizes);
   r.relative_sizes = fit_sizes(relative, sizes);
   r.amplitude_fit = linear_fit(amp_x, amp_y);
@@ -539,6 +547,23 @@ void top_layer(SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig&
                               c.top_bootstrap, c.top_confidence, c.top_false_alarm, 1};
   r.top = find_top_layer(h, r.fluctuation, r.trend, search);
   r.top_found = r.top.found;
+  if (r.top.searched && !r.top.found && r.top.outcome != "reaches the surface") {
+    // a miss: is it evidence of absence? The power to find a layer of the
+    // claimed depth planted into this run's own fluctuations, quiet above it:
+    // Gaussian noise of power_noise_factor x the local noise level (from
+    // first differences: the white part; the factor stands for a correlated
+    // part that differences do not see)
+    if (c.power_replicas > 0) {
+      std::vector<double> quiet(n), planted;
+      for (std::size_t k = 0; k < n; ++k) quiet[k] = c.power_noise_factor * r.local_noise[k];
+      for (const double fr : c.power_depth_fractions) planted.push_back(f.hb * (1.0 - fr));
+      TopLayerSearch ps = search;
+      ps.bootstrap = c.power_bootstrap;
+      r.top_power = top_layer_power(h, r.fluctuation, r.trend, quiet, ps, planted, c.power_replicas,
+                                    c.power_tolerance_d * s.d);
+    }
+    r.top.outcome = r.top_power.power >= c.min_power ? "none" : "undetermined";
+  }
   if (r.top_found) {
     r.top_height = r.top.best.height;
     std::tie(r.top_begin, r.top_end) = rows_between(h, r.top_height, f.hb - c.fit_margin_d * s.d);
@@ -670,7 +695,33 @@ Json sizes_json(const SizeDistribution& z) {
     j["likelihood_ratios"].push_back({{"a", c.a}, {"b", c.b}, {"ratio", c.ratio}, {"normalised", c.normalised},
                                       {"p", c.p}, {"favoured", c.favoured}});
   j["best"] = z.best;
+  j["tail_decades"] = z.decades;
+  j["power_law_plausible"] = z.power_law_plausible;
+  if (z.best == "undecided") {
+    j["leading"] = z.leading;
+    j["tail_needed"] = z.tail_needed;
+    j["decision"] = std::isfinite(z.tail_needed) && z.tail_needed > static_cast<double>(z.tail)
+                        ? "not decidable with " + std::to_string(z.tail) + " sizes in the tail: about " +
+                              std::to_string(static_cast<long long>(std::ceil(z.tail_needed))) + " needed"
+                        : "not decidable with " + std::to_string(z.tail) + " sizes in the tail";
+  }
   return j;
+}
+
+// A miss's power (null when the layer was found or the power not estimated).
+Json power_json(const TopLayerPower& p, const SpectrumScales& s, const SpectrumConfig& c) {
+  if (p.height.empty()) return nullptr;
+  Json depths = Json::array(), found = Json::array();
+  for (std::size_t i = 0; i < p.height.size(); ++i)
+    depths.push_back(1e3 * (s.bed_height - p.height[i])), found.push_back(p.found_fraction[i]);
+  return {{"power", p.power},
+          {"min_power", c.min_power},
+          {"planted_depth_mm", depths},
+          {"found_fraction", found},
+          {"replicas", p.replicas},
+          {"tolerance_mm", 1e3 * p.tolerance},
+          {"what", "fraction of plantings found: the run's fluctuations with a top layer planted at each depth "
+                   "(its own noise above it), run through the same detector"}};
 }
 
 Json top_layer_json(const TopLayerFit& t, const SpectrumScales& s) {
@@ -682,6 +733,8 @@ Json top_layer_json(const TopLayerFit& t, const SpectrumScales& s) {
   };
   return {{"outcome", t.outcome},
           {"p_value", t.p_value},
+          {"residual_saved", t.statistic},
+          {"null_model", t.null_model},
           {"model", t.model},
           {"height_mm", mm_or_nan(t.best.height)},
           {"interval_mm", {mm_or_nan(t.low), mm_or_nan(t.high)}},
@@ -815,6 +868,8 @@ void add_zones(Json& m, const SpectrumResult& r, const SpectrumScales& s, const 
   m["top_layer_outcome"] = r.top.outcome;
   m["top_layer_depth_mm"] = r.top_found ? 1e3 * top_depth : kNaN;
   m["top_layer"] = top_layer_json(r.top, s);
+  m["top_layer"]["power"] = power_json(r.top_power, s, c);
+  m["top_layer_power"] = r.top_power.power;
   m["top_layer_envelope_height_mm"] = r.envelope_top_found ? 1e3 * r.envelope_top_height : kNaN;
   m["top_layer_envelope_found"] = r.envelope_top_found;
   m["top_layer_floor_N_per_m"] = c.floor_factor * r.noise;
@@ -854,6 +909,7 @@ nlohmann::ordered_json sensitivity_table(const DragProfile& profile, const Spect
       SpectrumConfig cv = c;
       cv.*field = v;
       cv.size_bootstrap = 0;  // the rows do not report the size distribution's goodness of fit
+      cv.power_replicas = 0;  // nor a miss's power
       const SpectrumResult r = analyse(profile, s, cv, source);
       const Json m = spectrum_metrics(r, s, cv, 1.0);
       t[name].push_back({{"value", v},
@@ -880,6 +936,15 @@ nlohmann::ordered_json sensitivity_table(const DragProfile& profile, const Spect
   vary("min_relative_drop", c.min_relative_drops, &SpectrumConfig::min_relative_drop);
   vary("block_d", c.blocks_d, &SpectrumConfig::block_d);
   vary("search_from_fraction", c.search_from_fractions, &SpectrumConfig::search_from_fraction);
+  // a miss's power against the quiet level assumed for a planted layer
+  for (const double v : c.power_noise_factors) {
+    SpectrumConfig cv = c;
+    cv.power_noise_factor = v;
+    cv.size_bootstrap = 0;
+    const SpectrumResult r = analyse(profile, s, cv, source);
+    t["power_noise_factor"].push_back({{"value", v}, {"top_layer_outcome", r.top.outcome},
+                                       {"top_layer_power", r.top_power.power}});
+  }
   return t;
 }
 

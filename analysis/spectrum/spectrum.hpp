@@ -111,13 +111,20 @@ std::vector<Pivot> zigzag(const std::vector<double>& x, const std::vector<double
 
 // Loading/rupture events of the fluctuation f: every zigzag peak -> trough
 // leg (hysteresis delta) in which f falls by more than delta within `window`
-// samples somewhere. Indices into f.
+// samples somewhere, and (confirm > 0) whose level falls for good: the median
+// of the confirm + 1 samples up to the peak exceeds by more than
+// confirm_fraction x delta the lowest median of confirm + 1 consecutive
+// samples between the peak and the trough (a lone spike of heavy-tailed noise
+// falls and comes straight back: no median of three holds it; a median has
+// no noise extremes to lean on, hence a fraction of delta). Indices into f.
 struct Event {
   std::size_t load_start, peak, drop_end;
 };
-std::vector<Event> detect_events(const std::vector<double>& f, double delta, std::size_t window);
+std::vector<Event> detect_events(const std::vector<double>& f, double delta, std::size_t window,
+                                 std::size_t confirm = 0, double confirm_fraction = 0.5);
 // The same with a threshold per sample (the local noise level x drop_threshold).
-std::vector<Event> detect_events(const std::vector<double>& f, const std::vector<double>& delta, std::size_t window);
+std::vector<Event> detect_events(const std::vector<double>& f, const std::vector<double>& delta, std::size_t window,
+                                 std::size_t confirm = 0, double confirm_fraction = 0.5);
 
 // The noise level of x at every sample: noise_level over [k - half_width,
 // k + half_width] (shrunk at the ends), evaluated every quarter half-width
@@ -171,7 +178,8 @@ struct SpectrumResult {
   // bottom zone: rows of the first high peak, the collapse and the next peak (npos if none)
   std::size_t bottom_peak = npos, bottom_collapse = npos, bottom_reload = npos;
   // top layer: the change point of the fluctuations' variance (top_layer.hpp)
-  TopLayerFit top;
+  TopLayerFit top;               // its outcome: found, none (a miss with power), undetermined (a miss without)
+  TopLayerPower top_power;       // a miss's power (top_layer_power); empty when found
   bool top_found = false;        // top.found
   double top_height = kNaN;      // m, top.best.height when found
   // the envelope's definition (before the change point): the last height where

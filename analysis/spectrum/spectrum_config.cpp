@@ -30,6 +30,8 @@ SpectrumConfig load_spectrum_config(const std::string& path) {
     StageConfig events = file.table("events");
     events.number("drop_threshold", c.drop_threshold, 0.0, 1e6, "multiple of the noise level", E::open_low);
     events.number("drop_window_d", c.drop_window_d, 0.0, kD, "d of travel", E::open_low);
+    events.integer("confirm_samples", c.confirm_samples, 0, 1000000, "rows");
+    events.number("confirm_fraction", c.confirm_fraction, 0.0, 1.0, "fraction of the drop threshold", E::open_low);
     events.reject_unknown();
     StageConfig ruptures = file.table("ruptures");
     ruptures.number("min_relative_drop", c.min_relative_drop, 0.0, 1e6, "fraction of the load");
@@ -38,6 +40,8 @@ SpectrumConfig load_spectrum_config(const std::string& path) {
     sizes.integer("min_tail", c.size_min_tail, 3, 1000000, "sizes");
     sizes.integer("bootstrap", c.size_bootstrap, 0, 1000000, "synthetic sets");
     sizes.number("significance", c.size_significance, 0.0, 1.0, "probability", E::open);
+    sizes.number("min_decades", c.size_min_decades, 0.0, 100.0, "decades");
+    sizes.number("plausible_p", c.size_plausible_p, 0.0, 1.0, "probability", E::open_high);
     sizes.reject_unknown();
     StageConfig top = file.table("top_layer");
     top.number("block_d", c.block_d, 0.0, kD, "d of travel", E::open_low);
@@ -49,6 +53,13 @@ SpectrumConfig load_spectrum_config(const std::string& path) {
     top.number("envelope_window_d", c.envelope_window_d, 0.0, kD, "d of travel", E::open_low);
     top.number("floor_factor", c.floor_factor, 0.0, 1e6, "multiple of the noise level", E::open_low);
     top.number("fit_margin_d", c.fit_margin_d, 0.0, kD, "d of travel");
+    top.numbers("power_depth_fractions", c.power_depth_fractions, 0.0, 1.0, "fraction of the bed height", E::open);
+    top.integer("power_replicas", c.power_replicas, 0, 100000, "plantings per depth");
+    top.integer("power_bootstrap", c.power_bootstrap, 1, 1000000, "resamples");
+    top.number("power_tolerance_d", c.power_tolerance_d, 0.0, kD, "d of travel", E::open_low);
+    top.number("min_power", c.min_power, 0.0, 1.0, "probability", E::open);
+    top.number("power_noise_factor", c.power_noise_factor, 0.0, 1e3, "multiple of the local noise level",
+               E::open_low);
     top.reject_unknown();
     StageConfig bands = file.table("bands");
     bands.number("bottom_top", c.bottom_top, 0.0, 1.0, "fraction of the bed height", E::open_low);
@@ -68,6 +79,8 @@ SpectrumConfig load_spectrum_config(const std::string& path) {
     sensitivity.numbers("blocks_d", c.blocks_d, 0.0, kD, "d of travel", E::open_low);
     sensitivity.numbers("search_from_fractions", c.search_from_fractions, 0.0, 1.0, "fraction of the bed height",
                         E::open_high);
+    sensitivity.numbers("power_noise_factors", c.power_noise_factors, 0.0, 1e3, "multiple of the local noise level",
+                        E::open_low);
     sensitivity.reject_unknown();
     file.reject_unknown();
   } catch (const StageError& e) {

@@ -30,12 +30,16 @@ struct SpectrumConfig {
   // [events]
   double drop_threshold = 7.0;  // x sigma
   double drop_window_d = 0.1;   // d
+  int confirm_samples = 2;      // rows whose medians before and after a drop must differ (0: no check)
+  double confirm_fraction = 0.5;  // by this fraction of the drop threshold
   // [ruptures]: the events the paper counts
   double min_relative_drop = 0.1;  // drop >= this x the load (the drag's trend at the peak)
   // [size_distribution]
   int size_min_tail = 10;          // fewest sizes above x_min
   int size_bootstrap = 200;        // synthetic sets for the power law's p-value
   double size_significance = 0.05; // a likelihood ratio decides below this p
+  double size_min_decades = 1.0;   // decades the power law's tail must span to be plausible
+  double size_plausible_p = 0.1;   // goodness-of-fit p that makes it plausible
   // [top_layer]: the change point (top_layer.hpp) and the envelope's old definition
   double block_d = 1.0;               // d: variance blocks
   double search_from_fraction = 0.3;  // of the bed height: where the search starts
@@ -46,6 +50,14 @@ struct SpectrumConfig {
   double envelope_window_d = 1.0;  // d
   double floor_factor = 2.0;       // x sigma
   double fit_margin_d = 1.0;       // d
+  // the power of a "none": a layer planted at these depths (fractions of the
+  // bed height) into the run's own fluctuations, found within the tolerance
+  std::vector<double> power_depth_fractions{0.3};  // -
+  int power_replicas = 20;        // plantings per depth (0: no power, the outcome of a miss is "undetermined")
+  int power_bootstrap = 200;      // permutations of each planting's significance test
+  double power_tolerance_d = 3.0; // d
+  double min_power = 0.8;         // a miss is "none" at this power or more, else "undetermined"
+  double power_noise_factor = 1.25;  // the planted layer's noise over the local noise level
   // [bands]: fractions of the bed height
   double bottom_top = 0.10, middle_top = 0.52, upper_top = 0.70;
   // [bottom]
@@ -58,6 +70,7 @@ struct SpectrumConfig {
   std::vector<double> min_relative_drops{0.03, 0.05, 0.1, 0.2, 0.3};
   std::vector<double> blocks_d{0.5, 1.0, 2.0};
   std::vector<double> search_from_fractions{0.2, 0.3, 0.4};
+  std::vector<double> power_noise_factors{1.0, 1.25, 1.5, 2.0};
 };
 
 // Reads a config file; keys not given keep their defaults. Unknown keys, wrong

@@ -26,7 +26,7 @@ const SpectrumScales kScales{kD, 0.150, kV};
 // which read none of it (the top layer's and the sizes' own tests keep the defaults)
 const SpectrumConfig kNoResampling = [] {
   SpectrumConfig c;
-  c.top_bootstrap = 0, c.size_bootstrap = 0;
+  c.top_bootstrap = 0, c.size_bootstrap = 0, c.power_replicas = 0;
   return c;
 }();
 
@@ -191,6 +191,45 @@ TEST(Spectrum, NoTopLayerWhenTheEventsFollowTheLoadToTheSurface) {
   EXPECT_FALSE(q.top_found) << q.top.outcome;
 }
 
+// A miss carries its power: the events that follow the load to the surface
+// give no layer; a layer planted at the paper's depth into that very series
+// would be found (the events dwarf the noise), so the miss is "none", a
+// confident absence. Drowned in noise ten times larger, the same events give
+// a miss too, but one the detector could not have told from a layer:
+// "undetermined", with a power below 0.8.
+TEST(Spectrum, AMissCarriesItsPower) {
+  const double period = 0.5 * kD;
+  const auto shape = [=](double h) { return trend(h) * (1.0 + 0.3 * std::fmod(h, period) / period); };
+  SpectrumConfig c;
+  c.power_replicas = 10;
+  const SpectrumResult clear = analyse(synthetic(shape, 0.05), kScales, c, "synthetic");
+  ASSERT_FALSE(clear.top_found);
+  EXPECT_EQ(clear.top.outcome, "none");
+  EXPECT_GE(clear.top_power.power, 0.8);
+  ASSERT_EQ(clear.top_power.height.size(), 1u);
+  EXPECT_NEAR(clear.top_power.height[0], 0.7 * kScales.bed_height, 1e-12);  // 0.3 of the bed deep
+  const SpectrumResult drowned = analyse(synthetic(shape, 3.0), kScales, c, "synthetic");
+  ASSERT_FALSE(drowned.top_found);
+  EXPECT_EQ(drowned.top.outcome, "undetermined");
+  EXPECT_LT(drowned.top_power.power, 0.8);
+  // without plantings no power: a miss is undetermined
+  c.power_replicas = 0;
+  EXPECT_EQ(analyse(synthetic(shape, 0.2), kScales, c, "synthetic").top.outcome, "undetermined");
+}
+
+// Heavy-tailed noise: a lone spike falls by more than the threshold within
+// the window and comes straight back; it is no rupture. A real drop keeps
+// its level down and stays one.
+TEST(SpectrumBlocks, ALoneSpikeIsNoRupture) {
+  std::vector<double> f(200, 0.0);
+  for (std::size_t k = 0; k < 200; ++k) f[k] = 0.01 * static_cast<double>(k % 100);  // ramps of 1, dropping at 100
+  f[50] -= 5.0;                                                                    // a spike mid-ramp
+  const auto with = detect_events(f, 0.5, 5, 2), without = detect_events(f, 0.5, 5, 0);
+  ASSERT_EQ(with.size(), 1u);
+  EXPECT_EQ(with[0].peak, 99u);
+  EXPECT_EQ(without.size(), 2u);  // the spike counted as a rupture
+}
+
 // Sizes drawn from a power law (alpha 2.5) and from an exponential: the
 // maximum-likelihood fits recover the exponent and tell the two apart.
 TEST(SpectrumSizes, PowerLawAndExponentialAreToldApart) {
@@ -206,8 +245,34 @@ TEST(SpectrumSizes, PowerLawAndExponentialAreToldApart) {
   EXPECT_NE(a.best, "exponential");
   EXPECT_NE(b.best, "power_law");
   EXPECT_NEAR(1.0 / b.exponential.lambda, 1.0, 0.2);  // the mean excess over x_min
+  EXPECT_TRUE(a.power_law_plausible);
+  EXPECT_GT(a.decades, 1.0);
   // too few sizes: no fit
   EXPECT_FALSE(fit_sizes({1.0, 2.0, 3.0}, s).fitted);
+}
+
+// The study's catalogue size: 90 exponential sizes. The power law's goodness
+// of fit alone can pass them (a steep power law over the tail's last factor
+// of a few), but a power law is plausible only over a decade; and an
+// undecided fit says which family leads and how many sizes would decide.
+TEST(SpectrumSizes, ExponentialSizesAreNoPlausiblePowerLawAndUndecidedSaysWhatWouldDecide) {
+  const SizeFitSettings s{10, 200, 0.05, 1};
+  int plausible = 0, undecided_with_need = 0;
+  for (unsigned seed = 1; seed <= 10; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<double> ex;
+    for (int i = 0; i < 90; ++i) ex.push_back(1.0 - std::log(1.0 - u(rng)));
+    const SizeDistribution d = fit_sizes(ex, s);
+    ASSERT_TRUE(d.fitted);
+    plausible += d.power_law_plausible;
+    if (d.best == "undecided") {
+      EXPECT_FALSE(d.leading.empty());
+      undecided_with_need += std::isfinite(d.tail_needed) && d.tail_needed > static_cast<double>(d.tail);
+    }
+  }
+  EXPECT_LE(plausible, 1);
+  EXPECT_GE(undecided_with_need, 1);
 }
 
 TEST(Spectrum, BottomZoneFindsPeakCollapseAndReload) {
@@ -396,7 +461,7 @@ TEST(SpectrumConfigFile, UnknownKeysAndBadValuesNameFileKeyAndValue) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(error("[events]\ndrop_treshold = 4\n").find("c.toml:2:1: unknown key 'drop_treshold' in [events] (allowed: drop_threshold, drop_window_d); did you "
+  EXPECT_NE(error("[events]\ndrop_treshold = 4\n").find("c.toml:2:1: unknown key 'drop_treshold' in [events] (allowed: drop_threshold, drop_window_d, confirm_samples, confirm_fraction); did you "
                                                           "mean 'drop_threshold'?"),
             std::string::npos);
   EXPECT_NE(error("[psd]\noverlap = 1.5\n").find("c.toml:2:11: psd.overlap = 1.5: must be in [0, 1)"),

@@ -31,6 +31,8 @@ HEADLINE = [
     ("drag_max_N_per_m", "peak drag", "N/m", lambda m, s: m["pulloff"]["drag_max_N_per_m"]),
     ("drag_mean_N_per_m", "mean drag", "N/m", None),  # from drag.csv
     ("top_layer_found", "members with a top layer", "", lambda m, s: 1.0 if m["spectrum"]["top_layer_found"] else 0.0),
+    ("top_layer_power", "power of a miss", "",
+     lambda m, s: float("nan") if m["spectrum"]["top_layer_found"] else m["spectrum"]["top_layer_power"]),
     ("top_layer_depth_mm", "top-layer depth", "mm",
      lambda m, s: m["spectrum"]["bed_height_mm"] - m["spectrum"]["top_layer_height_mm"]),
     ("cone_angle_deg", "β", "°", lambda m, s: m["cg"]["cone_angle_deg"]),
@@ -227,6 +229,15 @@ def every_member(p: dict, key: str) -> bool:
     return all(math.isfinite(v[key]) for v in p["values"])
 
 
+MIN_POWER = 0.8  # a miss is evidence of absence at this power or more (data/spectrum.toml's min_power)
+
+
+def misses_confident(p: dict) -> bool:
+    """Whether every member of point p that found no top layer had the power to find one (>= MIN_POWER):
+    only then is a miss evidence of absence."""
+    return all(v["top_layer_found"] > 0 or v["top_layer_power"] >= MIN_POWER for v in p["values"])
+
+
 def claims(points: list) -> list:
     lines = []
     geo = geometry_points(points)
@@ -238,16 +249,26 @@ def claims(points: list) -> list:
         x = 0.5 * (p["settings"]["cell_width_mm"] - p["settings"]["intruder_length_mm"])
         m, h = p["summary"]["top_layer_depth_mm"]
         v = within(m, h, x, 10.0, every_member(p, "top_layer_depth_mm"))
+        if v == "?":  # no member found a layer: absent only where each miss had the power to find one
+            v = "fails" if misses_confident(p) else "undetermined"
         verdicts.append(v)
         lines.append(f"| {p['point']} | {x:g} | {fmt(p['summary']['top_layer_found'][0], float('nan'))} | {fmt(m, h)} | {v} |")
-    if geo and not any(p["summary"]["top_layer_found"][0] > 0 for p in geo):
-        lines += ["", "**Not supported**: no member at any point has a top layer (the drag's fluctuations reach the "
-                  "surface: no significant change point), so there is no depth to follow (L_c − L)/2."]
+    weak = [p["point"] for p in geo if not misses_confident(p)]
+    if geo and not any(p["summary"]["top_layer_found"][0] > 0 for p in geo) and not weak:
+        lines += ["", "**Not supported**: no member at any point has a top layer (no significant change point, "
+                  f"each miss with a power of at least {MIN_POWER:g} to find one at the paper's depth), so there is "
+                  "no depth to follow (L_c − L)/2."]
+    elif geo and not any(p["summary"]["top_layer_found"][0] > 0 for p in geo):
+        lines += ["", f"**Undetermined**: no member at any point has a top layer, but at {len(weak)} of {len(geo)} "
+                  f"points ({', '.join(weak)}) a miss had less than {MIN_POWER:g} power to find one at the paper's "
+                  "depth in that member's own drag: absence is not shown there."]
     else:
         none = [p["point"] for p in geo if not p["summary"]["top_layer_found"][0] > 0]
         lines += ["", verdict_line(verdicts, "the top layer's depth follows (L_c − L)/2") +
-                  (f" No member has a top layer at {len(none)} of {len(geo)} points ({', '.join(none)}): the drag's "
-                   "fluctuations reach the surface there." if none else "")]
+                  (f" No member has a top layer at {len(none)} of {len(geo)} points ({', '.join(none)})"
+                   + (f"; at {', '.join(p for p in none if p in weak)} a miss had less than {MIN_POWER:g} power"
+                      if any(p in weak for p in none) else ": each miss with the power to find one") + "."
+                   if none else "")]
     xy = [(0.5 * (p["settings"]["cell_width_mm"] - p["settings"]["intruder_length_mm"]), p["summary"]["top_layer_depth_mm"][0])
           for p in geo if math.isfinite(p["summary"]["top_layer_depth_mm"][0])]
     if len({x for x, _ in xy}) >= 3:

@@ -27,7 +27,7 @@ def targets_table(check: dict) -> tuple[list[str], list[dict]]:
         fail("check.json lists no targets: rerun `make reproduce`")
     lines = ["| result | metric | what | paper | tolerance | ours | verdict |", "|---|---|---|---|---|---|---|"]
     for t in rows:
-        verdict = "pass" if t.get("verdict") == "pass" else "**FAIL**"
+        verdict = {"pass": "pass", "undetermined": "undetermined"}.get(t.get("verdict"), "**FAIL**")
         lines.append(f"| {t.get('result', t['classname'])} | `{t.get('metric', t['name'])}` | {t.get('what', '')} "
                      f"| {t.get('paper', '')} | {t.get('tolerance', '')} | {t.get('ours', 'missing')} | {verdict} |")
     return lines, rows
@@ -69,14 +69,15 @@ def deviations(preset: str, failed: list[dict], metrics: dict) -> list[str]:
         if preset in dev["presets"]:
             why = fill_in(dev["reason"], metrics, f"{path}, deviation '{dev['what']}'")
             lines.append(f"| {dev['what']} | {dev['paper']} | {dev['ours']} | {why} |")
-    lines += ["", "### Results outside the paper's tolerance", ""]
+    lines += ["", "### Results outside the paper's tolerance, or undetermined", ""]
     reasons = {m["metric"]: m["reason"] for m in d.get("miss", [])}
     if not failed:
         lines.append("None: every target passes.")
     for t in failed:
         metric = t.get("metric", t["name"])
         why = fill_in(reasons[metric], metrics, f"{path}, miss '{metric}'") if metric in reasons else NO_REASON
-        lines.append(f"- **{t.get('result', '')} `{metric}`** = {t.get('ours', 'missing')} (paper {t.get('paper', '')} {t.get('tolerance', '')}; "
+        verdict = " (undetermined: nothing found, by a test too weak to call it absent)" if t.get("verdict") == "undetermined" else ""
+        lines.append(f"- **{t.get('result', '')} `{metric}`** = {t.get('ours', 'missing')}{verdict} (paper {t.get('paper', '')} {t.get('tolerance', '')}; "
                      f"source: {t.get('source', '')}; why this tolerance: {t.get('why', '')}). Why we miss: {why}.")
     return lines
 
@@ -214,13 +215,16 @@ def html_page(markdown_text: str, results: Path, preset: str) -> str:
             f"<body>\n{body}\n</body></html>\n")
 
 
-def headline(preset: str, targets: int, failed: int) -> str:
-    """The verdict the report opens with; none for the small test scene, which is not the paper's system."""
+def headline(preset: str, targets: int, failed: int, undetermined: int = 0) -> str:
+    """The verdict the report opens with; none for the small test scene, which is not the paper's system.
+    `failed` counts every target that does not pass, `undetermined` those of them whose detector found
+    nothing with too little power to call it absent."""
     if preset == "quick":
         return ("**Not comparable with the paper**: preset `quick` is the 200-grain test scene that exercises the "
                 f"pipeline; the table below runs the comparisons ({targets - failed} of {targets} within tolerance) "
                 "only to test them, and judges nothing.")
-    return f"**{targets - failed} of {targets} paper targets pass** ({failed} fail)."
+    more = f", {undetermined} undetermined" if undetermined else ""
+    return f"**{targets - failed} of {targets} paper targets pass** ({failed - undetermined} fail{more})."
 
 
 def main() -> None:
@@ -241,7 +245,7 @@ def main() -> None:
         "(the study, its parameters and its results: `docs/paper.md`). Written by `make reproduce "
         f"PRESET={preset}` from the files beside it; code version {metrics.get('code_version', 'unknown')}.",
         "",
-        headline(preset, len(rows), len(failed)) + f" Pull-off: {run['travel_mm']:.1f} mm of travel, "
+        headline(preset, len(rows), len(failed), sum(t.get("verdict") == "undetermined" for t in failed)) + f" Pull-off: {run['travel_mm']:.1f} mm of travel, "
         f"drag peak {run['drag_max_N_per_m']:.0f} N/m ({run['drag_max_N']:.2f} N × W) at H = "
         f"{run['height_at_drag_max_mm']:.1f} mm.",
         "",

@@ -47,6 +47,8 @@ Target read_target(analysis::StageConfig& c) {
     c.text("above_metric", t.other_metric, "the metric ours must exceed");
     t.kind = Target::Kind::AboveMetric;
   }
+  c.text("power", t.power_metric, "dotted path of the detector's power where it found nothing");
+  c.number("min_power", t.min_power, 0.0, 1.0, "power that makes a none evidence of absence");
   c.reject_unknown();
   if (t.result.empty() || t.metric.empty() || t.source.empty() || t.why.empty() || t.what.empty())
     throw StageError(c.path() + ": target " + t.result + " " + t.metric +
@@ -129,7 +131,7 @@ void judge(Verdict& v, const std::vector<double>& values, double lo_ok, double h
   const std::vector<double> x = finite(values);
   v.members = static_cast<int>(x.size());
   v.members_total = static_cast<int>(values.size());
-  if (x.empty()) return;
+  if (x.empty()) return;  // the caller judges an ensemble of nones by their power
   double mean = 0.0;
   for (const double a : x) mean += a;
   mean /= static_cast<double>(x.size());
@@ -209,7 +211,23 @@ Verdict evaluate(const Target& t, const nlohmann::json& metrics, const nlohmann:
       }
       break;
   }
-  if (!ensemble) v.outcome = v.pass ? "pass" : "fail";
+  // nothing found: evidence of absence only where the detector could have found it
+  std::string power_note;
+  if (!t.power_metric.empty() && (ensemble ? v.members == 0 : !v.ours)) {
+    std::vector<double> power = ensemble ? member_values(*ensemble, t.power_metric) : std::vector<double>{};
+    if (!ensemble) power.push_back(lookup(metrics, t.power_metric).value_or(std::nan("")));
+    bool confident = !power.empty();
+    double lowest = 1.0;
+    for (const double p : power) {
+      confident = confident && p >= t.min_power;  // NaN (no power measured) is not confident
+      lowest = std::isfinite(p) ? std::min(lowest, p) : std::nan("");
+    }
+    power_note = std::string(ensemble ? "every member found none" : "none found") + ", power " +
+                 (std::isfinite(lowest) ? (ensemble ? "at least " : "") + format_number(lowest) : "not measured") +
+                 (confident ? " >= " : " < ") + format_number(t.min_power) + " (" + t.power_metric + ")";
+    v.outcome = confident ? (ensemble ? "fails" : "fail") : "undetermined";
+  }
+  if (!ensemble && v.outcome.empty()) v.outcome = v.pass ? "pass" : "fail";
   else if (v.outcome.empty()) v.outcome = "fails";  // no member gave it
   if (ensemble && v.interval)
     v.tolerance += std::string(t.kind == Target::Kind::AboveMetric ? "; the differences' " : "; the members' ") +
@@ -218,7 +236,8 @@ Verdict evaluate(const Target& t, const nlohmann::json& metrics, const nlohmann:
                    (v.members < v.members_total ? " of " + std::to_string(v.members_total) + " (the others gave none)" : "");
   const std::string head = t.result + " " + t.metric + " (" + t.what + "): ";
   if (!v.ours)
-    v.message = head + "missing, null or not a number in the metrics";
+    v.message = head + "missing, null or not a number in the metrics" +
+                (power_note.empty() ? "" : ": " + power_note + ": " + v.outcome);
   else
     v.message = head + format_number(*v.ours) + ", paper " + v.expected + ": " +
                 (ensemble ? v.outcome : v.pass ? std::string("pass") : std::string("FAIL")) +

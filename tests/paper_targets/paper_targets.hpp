@@ -20,6 +20,12 @@ struct Target {
   double value = 0.0;       // paper value (Within) or bound (Below, Above)
   double tolerance = 0.0;   // Within: absolute, in the metric's unit
   std::string other_metric; // AboveMetric
+  // a detector that can answer "none": the metric holding its power to find
+  // what the target claims (0-1) where it found nothing. A none with at least
+  // min_power is evidence of absence (the target fails); with less, or
+  // without a power, it is undetermined
+  std::string power_metric;
+  double min_power = 0.8;
 };
 
 // Reads and validates the targets file: every key typed, exactly one
@@ -35,7 +41,9 @@ std::optional<double> lookup(const nlohmann::json& metrics, const std::string& d
 
 struct Verdict {
   bool pass = false;
-  // one run: "pass" or "fail"; an ensemble: "holds" (the members' 95 % interval
+  // one run: "pass", "fail" or "undetermined" (the detector found nothing and
+  // its power to find the claim is below the target's min_power); an
+  // ensemble: "holds" (the members' 95 % interval
   // lies wholly on the paper's side), "fails" (wholly on the other side) or
   // "undetermined" (it straddles the edge: more members would decide)
   std::string outcome;

@@ -210,5 +210,34 @@ TEST(PaperTargets, MissingFilesSayWhatToRun) {
   }
 }
 
+// A detector that found nothing: a miss is evidence of absence (the target
+// fails) only where its power to find the claim reaches min_power; with
+// less, or none measured, the verdict is undetermined, never a pass.
+TEST(PaperTargets, ANoneFailsOnlyWithThePowerToFindTheClaim) {
+  Target t = within("a.x", 1.0, 0.1);
+  t.power_metric = "a.power";
+  const auto strong = nlohmann::json::parse(R"({"a": {"x": null, "power": 0.95}})");
+  const auto weak = nlohmann::json::parse(R"({"a": {"x": null, "power": 0.5}})");
+  const auto unmeasured = nlohmann::json::parse(R"({"a": {"x": null}})");
+  EXPECT_EQ(evaluate(t, strong).outcome, "fail");
+  EXPECT_EQ(evaluate(t, weak).outcome, "undetermined");
+  EXPECT_EQ(evaluate(t, unmeasured).outcome, "undetermined");
+  EXPECT_FALSE(evaluate(t, weak).pass);
+  EXPECT_NE(evaluate(t, weak).message.find("power 0.5 < 0.8"), std::string::npos) << evaluate(t, weak).message;
+  // a value found is judged as before, whatever the power
+  const auto found = nlohmann::json::parse(R"({"a": {"x": 1.05, "power": null}})");
+  EXPECT_EQ(evaluate(t, found).outcome, "pass");
+  // an ensemble in which no member found it: fails only if every member's miss had the power
+  nlohmann::json s = members({});
+  s["metrics"]["a.x"]["values"] = {nullptr, nullptr, nullptr};
+  s["metrics"]["a.power"]["values"] = {0.9, 0.95, 0.85};
+  EXPECT_EQ(judged(t, s).outcome, "fails");
+  s["metrics"]["a.power"]["values"] = {0.9, 0.6, 0.85};
+  EXPECT_EQ(judged(t, s).outcome, "undetermined");
+  // without a power rule a missing metric fails, as before
+  t.power_metric.clear();
+  EXPECT_EQ(evaluate(t, weak).outcome, "fail");
+}
+
 }  // namespace
 }  // namespace dem2d::check

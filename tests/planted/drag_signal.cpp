@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <stdexcept>
 
 namespace dem2d::planted {
 
@@ -33,6 +34,9 @@ double draw_size(const DragScenario& s, double typical, std::mt19937_64& rng) {
     case Sizes::exponential: return -typical * std::log(1.0 - u(rng));
     case Sizes::lognormal: return typical * std::exp(s.size_shape * std::normal_distribution<double>(0.0, 1.0)(rng));
     case Sizes::power_law: return typical * std::pow(1.0 - u(rng), -1.0 / (s.size_shape - 1.0));
+    case Sizes::power_law_body:
+      if (u(rng) < 0.5) return typical * (0.2 + 0.8 * u(rng));
+      return typical * std::pow(1.0 - u(rng), -1.0 / (s.size_shape - 1.0));
   }
   return typical;
 }
@@ -64,6 +68,16 @@ void add_sawtooth(const DragScenario& s, double spacing_d, double jitter, bool m
     for (std::size_t i = 0; i < peaks.size(); ++i) out->event_height.push_back(peaks[i]), out->event_size.push_back(sizes[i]);
 }
 
+// A unit white-noise sample: Gaussian (nu = 0), or Student-t with nu = 1, 2
+// or 3 degrees of freedom scaled so that its median absolute value (the t's
+// upper quartile) is the Gaussian's, 0.6745.
+double white_noise(double nu, std::mt19937_64& rng) {
+  if (nu <= 0.0) return std::normal_distribution<double>(0.0, 1.0)(rng);
+  if (nu != 1.0 && nu != 2.0 && nu != 3.0) throw std::invalid_argument("tails_nu must be 0, 1, 2 or 3");
+  const double quartile = nu == 1.0 ? 1.0 : nu == 2.0 ? std::sqrt(2.0 / 3.0) : 0.7648923284;
+  return std::student_t_distribution<double>(nu)(rng) * 0.6744897502 / quartile;
+}
+
 }  // namespace
 
 double load_at(const DragScenario& s, double h) {
@@ -87,11 +101,13 @@ PlantedDrag make_drag(const DragScenario& s) {
   // AR(1) background with correlation length correlation_d (in rows: samples of d)
   const double rows_per_d = s.d / (s.speed * s.row_s);
   const double phi = std::exp(-1.0 / std::max(1e-9, s.correlation_d * rows_per_d));
-  double ar = gauss(rng) * s.correlated;
+  double ar = gauss(rng) * s.correlated, ar_relative = gauss(rng);
   for (std::size_t k = 0; k < n; ++k) {
     ar = phi * ar + std::sqrt(1.0 - phi * phi) * s.correlated * gauss(rng);
+    ar_relative = phi * ar_relative + std::sqrt(1.0 - phi * phi) * gauss(rng);
     const double load = load_at(s, p.height[k]);
-    p.drag.push_back(load + f[k] + (s.white + s.white_relative * load) * gauss(rng) + ar);
+    p.drag.push_back(load + f[k] + (s.white + s.white_relative * load) * white_noise(s.tails_nu, rng) + ar +
+                     s.correlated_relative * load * ar_relative);
   }
   return out;
 }

@@ -23,7 +23,9 @@ enum class Amplitude {
 };
 
 // The events' sizes around the typical size.
-enum class Sizes { fixed, exponential, lognormal, power_law };
+// power_law_body: half the events a body below the typical size (uniform in
+// [0.2, 1] of it), half a power law above it (x_min = the typical size).
+enum class Sizes { fixed, exponential, lognormal, power_law, power_law_body };
 
 struct DragScenario {
   // sampling: rows every row_s seconds, the intruder at speed m/s from start to end (m)
@@ -45,6 +47,13 @@ struct DragScenario {
   // noise follows the load, ~2.7 % of it, the bed's ringing growing with its
   // load), and a stationary AR(1) background (N/m rms, correlation length in d)
   double white = 0.25, white_relative = 0.025, correlated = 0.0, correlation_d = 0.3;
+  // an AR(1) part that follows the load (rms x load, the same correlation
+  // length): the study's drag noise is both correlated and load-proportional
+  double correlated_relative = 0.0;
+  // the white part's tails: Gaussian (0) or Student-t with this many degrees of
+  // freedom, scaled to the Gaussian's median absolute value (the same typical
+  // amplitude, heavier tails)
+  double tails_nu = 0.0;
   std::uint64_t seed = 1;
 };
 

@@ -23,6 +23,11 @@ void summarise(Row& row, int replicas, const std::function<Outcome(unsigned)>& r
   for (const Outcome& o : outcomes)
     if (o.found && std::isfinite(o.value)) values.push_back(o.value);
   row.found = static_cast<int>(values.size());
+  for (const Outcome& o : outcomes)
+    if (o.found && std::isfinite(o.value) && std::isfinite(o.low) && std::isfinite(o.high)) {
+      ++row.intervals;
+      row.covered += o.low <= row.planted && row.planted <= o.high;
+    }
   if (!values.empty()) {
     const double n = static_cast<double>(values.size());
     row.mean = std::accumulate(values.begin(), values.end(), 0.0) / n;
@@ -40,6 +45,8 @@ void summarise(Row& row, int replicas, const std::function<Outcome(unsigned)>& r
     row.bias = row.mean - row.planted;
     // where found, it must be right; found often enough (a case may require nothing)
     row.pass = found_fraction >= row.min_found && (row.found == 0 || std::abs(row.bias) <= row.tolerance);
+    if (row.min_coverage > 0.0 && row.intervals > 0)
+      row.pass = row.pass && static_cast<double>(row.covered) >= row.min_coverage * static_cast<double>(row.intervals);
   }
 }
 
@@ -50,7 +57,9 @@ nlohmann::ordered_json to_json(const Row& r) {
           {"noise_unit", r.noise_unit}, {"replicas", r.replicas},   {"found", r.found},
           {"mean", num(r.mean)},      {"sd", num(r.sd)},           {"bias", num(r.bias)},
           {"tolerance", r.tolerance}, {"max_false", r.max_false},  {"min_found", r.min_found},
-          {"judged", r.judged},       {"pass", r.pass},            {"note", r.note}};
+          {"intervals", r.intervals}, {"covered", r.covered},     {"min_coverage", r.min_coverage},
+          {"judged", r.judged},       {"pass", r.pass},            {"note", r.note},
+          {"limit", r.limit}};
 }
 
 Settings load_settings(const std::string& path, bool quick) {

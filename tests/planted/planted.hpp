@@ -21,6 +21,8 @@ namespace dem2d::planted {
 struct Outcome {
   bool found = false;
   double value = std::numeric_limits<double>::quiet_NaN();
+  // the detector's interval for the value, where it gives one (NaN: none)
+  double low = std::numeric_limits<double>::quiet_NaN(), high = std::numeric_limits<double>::quiet_NaN();
 };
 
 // One case, summarised over its replicas.
@@ -42,7 +44,12 @@ struct Row {
   double bias = std::numeric_limits<double>::quiet_NaN();  // mean - planted
   double max_false = 0.1;   // "none" cases: largest fraction of replicas allowed to find something
   double min_found = 0.9;   // value cases: smallest fraction of replicas that must find it
-  bool judged = true;       // false: shown for comparison (an old definition), not a check
+  // intervals: of the replicas that found it and gave one, how many contain
+  // the planted value (intervals = 0: the detector gives none)
+  int intervals = 0, covered = 0;
+  double min_coverage = 0.0;  // judged when > 0: covered / intervals must reach it
+  bool judged = true;       // false: shown for comparison (an old definition), or a known limit, not a check
+  std::string limit;        // a known limit of the detector (judged = false): what it cannot do here, and why
   bool pass = false;
   std::string note;
   bool expects_none() const { return std::isnan(planted); }

@@ -23,8 +23,8 @@ int usage(const char* argv0) {
 
 void print(const dem2d::planted::Row& r) {
   auto v = [](double x) { return std::isfinite(x) ? std::to_string(x).substr(0, 8) : std::string("none"); };
-  std::printf("%-4s %-22s | %-70s | noise %-5g %-4s | planted %-8s | mean %-8s sd %-8s | found %d/%d\n",
-              !r.judged ? "info" : r.pass ? "pass" : "FAIL", r.detector.c_str(), r.name.c_str(), r.noise,
+  std::printf("%-5s %-22s | %-70s | noise %-5g %-4s | planted %-8s | mean %-8s sd %-8s | found %d/%d\n",
+              !r.limit.empty() ? "limit" : !r.judged ? "info" : r.pass ? "pass" : "FAIL", r.detector.c_str(), r.name.c_str(), r.noise,
               r.noise_unit.c_str(), v(r.planted).c_str(), v(r.mean).c_str(), v(r.sd).c_str(), r.found, r.replicas);
 }
 
