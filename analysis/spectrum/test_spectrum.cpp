@@ -30,6 +30,14 @@ const SpectrumConfig kNoResampling = [] {
   return c;
 }();
 
+// The defaults without a miss's power (20 plantings, each a permutation test): for the tests that
+// judge no miss (AMissCarriesItsPower judges it)
+const SpectrumConfig kNoPower = [] {
+  SpectrumConfig c;
+  c.power_replicas = 0;
+  return c;
+}();
+
 // A pull-off at speed v from 1 mm to `top`, one row every `interval` seconds, plus Gaussian noise. A row
 // holds the mean of drag(t, H) over `subsamples` instants of the interval ending at it, as the run's
 // /series/body_force_mean (an interval mean: a line above the Nyquist frequency is attenuated and folded).
@@ -132,7 +140,7 @@ TEST(SpectrumBlocks, ZigzagAlternatesWithHysteresis) {
 
 TEST(Spectrum, SawtoothOnADecayingTrendGivesItsPeriodAndEvents) {
   const double period = 0.5 * kD;
-  const SpectrumResult r = analyse(synthetic(sawtooth(period, 10.0), 0.2), kScales, {}, "synthetic");
+  const SpectrumResult r = analyse(synthetic(sawtooth(period, 10.0), 0.2), kScales, kNoPower, "synthetic");
   const DominantPeak& k = r.second_part.peak;
   EXPECT_TRUE(k.significant);
   EXPECT_NEAR(k.period, 0.5, 0.01) << "within 2 %";
@@ -182,12 +190,12 @@ TEST(Spectrum, TopLayerStartsWhereTheFluctuationsStop) {
 TEST(Spectrum, NoTopLayerWhenTheEventsFollowTheLoadToTheSurface) {
   const double period = 0.5 * kD;
   const auto shape = [=](double h) { return trend(h) * (1.0 + 0.3 * std::fmod(h, period) / period); };
-  const SpectrumResult r = analyse(synthetic(shape, 0.2), kScales, {}, "synthetic");
+  const SpectrumResult r = analyse(synthetic(shape, 0.2), kScales, kNoPower, "synthetic");
   EXPECT_FALSE(r.top_found) << r.top.outcome << " at " << r.top.best.height << " p " << r.top.p_value;
   EXPECT_TRUE(std::isnan(r.top_height));
   EXPECT_NE(r.top.outcome, "found");
   // the load and noise alone: nothing either
-  const SpectrumResult q = analyse(synthetic(trend, 0.2), kScales, {}, "synthetic");
+  const SpectrumResult q = analyse(synthetic(trend, 0.2), kScales, kNoPower, "synthetic");
   EXPECT_FALSE(q.top_found) << q.top.outcome;
 }
 
@@ -285,7 +293,7 @@ TEST(Spectrum, BottomZoneFindsPeakCollapseAndReload) {
     if (mm < 10) return 5 + 25 * (mm - 6) / 4;
     return 5 + 25 * std::max(0.0, 1 - (mm - 10) / 6) + 2 * std::fmod(mm, 1.5) / 1.5;
   };
-  const SpectrumResult r = analyse(synthetic(shape, 0.05), kScales, {}, "synthetic");
+  const SpectrumResult r = analyse(synthetic(shape, 0.05), kScales, kNoPower, "synthetic");
   ASSERT_NE(r.bottom_collapse, SpectrumResult::npos);
   ASSERT_NE(r.bottom_reload, SpectrumResult::npos);
   EXPECT_NEAR(r.profile.height[r.bottom_peak], 0.003, 0.0002);
@@ -417,7 +425,7 @@ TEST(Spectrum, AShorterLastRowIsDropped) {
   DragProfile p = synthetic(sawtooth(0.0015, 10.0), 0.2);
   p.height.back() = p.height[p.height.size() - 2] + 0.4 * kStep;
   p.time.back() = p.time[p.time.size() - 2] + 0.4 * kStep / kV;
-  const SpectrumResult r = analyse(p, kScales, {}, "synthetic");
+  const SpectrumResult r = analyse(p, kScales, kNoPower, "synthetic");
   EXPECT_EQ(r.rows_dropped, 1u);
   EXPECT_EQ(r.profile.height.size(), p.height.size() - 1);
 }
