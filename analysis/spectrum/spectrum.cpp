@@ -676,41 +676,43 @@ Json stats_json(const std::vector<double>& v) {
 
 
 Json sizes_json(const SizeDistribution& z) {
-  auto family = [](const FamilyFit& f) -> Json {
+  // the same keys whatever the fit (null where it does not apply): an
+  // ensemble's members are compared key by key
+  auto family = [](const FamilyFit& f, const std::string& name) -> Json {
     Json j = {{"log_likelihood", f.log_likelihood}, {"ks", f.ks}};
-    if (f.family == "power_law") j["alpha"] = f.alpha;
-    if (f.family == "lognormal") j["mu"] = f.mu, j["sigma"] = f.sigma;
-    if (f.family == "exponential") j["lambda"] = f.lambda;
+    if (name == "power_law") j["alpha"] = f.alpha;
+    if (name == "lognormal") j["mu"] = f.mu, j["sigma"] = f.sigma;
+    if (name == "exponential") j["lambda"] = f.lambda;
     return j;
   };
   Json j = {{"sizes", z.n}, {"fitted", z.fitted}};
-  if (!z.fitted) return j;
   j["x_min"] = z.x_min;
   j["tail"] = z.tail;
-  j["power_law"] = family(z.power_law);
+  j["power_law"] = family(z.power_law, "power_law");
   j["power_law"]["p_value"] = z.power_law_p;
-  j["lognormal"] = family(z.lognormal);
-  j["exponential"] = family(z.exponential);
+  j["lognormal"] = family(z.lognormal, "lognormal");
+  j["exponential"] = family(z.exponential, "exponential");
+  j["likelihood_ratios"] = Json::array();
   for (const Comparison& c : z.comparisons)
     j["likelihood_ratios"].push_back({{"a", c.a}, {"b", c.b}, {"ratio", c.ratio}, {"normalised", c.normalised},
                                       {"p", c.p}, {"favoured", c.favoured}});
-  j["best"] = z.best;
+  j["best"] = z.fitted ? z.best : "not fitted";
   j["tail_decades"] = z.decades;
   j["power_law_plausible"] = z.power_law_plausible;
-  if (z.best == "undecided") {
-    j["leading"] = z.leading;
-    j["tail_needed"] = z.tail_needed;
-    j["decision"] = std::isfinite(z.tail_needed) && z.tail_needed > static_cast<double>(z.tail)
-                        ? "not decidable with " + std::to_string(z.tail) + " sizes in the tail: about " +
-                              std::to_string(static_cast<long long>(std::ceil(z.tail_needed))) + " needed"
-                        : "not decidable with " + std::to_string(z.tail) + " sizes in the tail";
-  }
+  const bool undecided = z.fitted && z.best == "undecided";
+  j["leading"] = undecided ? z.leading : "";
+  j["tail_needed"] = undecided ? z.tail_needed : kNaN;
+  j["decision"] = !undecided ? z.best
+                  : std::isfinite(z.tail_needed) && z.tail_needed > static_cast<double>(z.tail)
+                      ? "not decidable with " + std::to_string(z.tail) + " sizes in the tail: about " +
+                            std::to_string(static_cast<long long>(std::ceil(z.tail_needed))) + " needed"
+                      : "not decidable with " + std::to_string(z.tail) + " sizes in the tail";
   return j;
 }
 
-// A miss's power (null when the layer was found or the power not estimated).
+// A miss's power; the same keys when the layer was found or the power not
+// estimated (null values): an ensemble's members are compared key by key.
 Json power_json(const TopLayerPower& p, const SpectrumScales& s, const SpectrumConfig& c) {
-  if (p.height.empty()) return nullptr;
   Json depths = Json::array(), found = Json::array();
   for (std::size_t i = 0; i < p.height.size(); ++i)
     depths.push_back(1e3 * (s.bed_height - p.height[i])), found.push_back(p.found_fraction[i]);
@@ -721,7 +723,7 @@ Json power_json(const TopLayerPower& p, const SpectrumScales& s, const SpectrumC
           {"replicas", p.replicas},
           {"tolerance_mm", 1e3 * p.tolerance},
           {"what", "fraction of plantings found: the run's fluctuations with a top layer planted at each depth "
-                   "(its own noise above it), run through the same detector"}};
+                   "(its own noise above it), run through the same detector; null when a layer was found"}};
 }
 
 Json top_layer_json(const TopLayerFit& t, const SpectrumScales& s) {
