@@ -20,6 +20,21 @@ struct Runner {
   }
 };
 
+// Events of one typical size (a fifth of the load at the start) every 0.2 d,
+// their sizes drawn from `sizes` with shape parameter `shape`.
+DragScenario size_scenario(Sizes sizes, double shape, double noise, unsigned seed) {
+  DragScenario s;
+  s.amplitude = Amplitude::constant, s.sizes = sizes, s.size_shape = shape, s.spacing_d = 0.2;
+  s.fraction = 0.2, s.white_relative = noise, s.seed = seed;
+  return s;
+}
+
+// The top layer's depth below the planted bed's surface (mm), with its interval.
+Outcome depth_outcome(const analysis::SpectrumResult& a) {
+  const double bed = DragScenario{}.bed_height;
+  return Outcome{a.top_found, 1e3 * (bed - a.top_height), 1e3 * (bed - a.top.high), 1e3 * (bed - a.top.low)};
+}
+
 double median_of(std::vector<double> v) {
   if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
   std::sort(v.begin(), v.end());
@@ -103,12 +118,7 @@ void size_cases(const Settings& set, const Runner& run, std::vector<Row>& rows) 
     double shape;
   };
   for (const double noise : set.drag_noise) {
-    auto scenario = [&](Sizes sizes, unsigned seed) {
-      DragScenario s;
-      s.amplitude = Amplitude::constant, s.sizes = sizes, s.size_shape = 2.5, s.spacing_d = 0.2;
-      s.fraction = 0.2, s.white_relative = noise, s.seed = seed;
-      return s;
-    };
+    auto scenario = [&](Sizes sizes, unsigned seed) { return size_scenario(sizes, 2.5, noise, seed); };
     Row body{"rupture sizes", "sizes: power law, alpha = 2.5, above a body of half the events below x_min",
              "power-law exponent alpha", "-", 2.5, noise, "x load"};
     body.tolerance = 0.4;
@@ -140,12 +150,7 @@ void size_cases(const Settings& set, const Runner& run, std::vector<Row>& rows) 
     for (const Family f : {Family{Sizes::power_law, "power law, alpha = 2.5", "power_law", 2.5},
                            Family{Sizes::exponential, "exponential", "exponential", 0.0},
                            Family{Sizes::lognormal, "lognormal, sigma = 0.6", "lognormal", 0.6}}) {
-      auto scenario = [&](unsigned seed) {
-        DragScenario s;
-        s.amplitude = Amplitude::constant, s.sizes = f.sizes, s.size_shape = f.shape, s.spacing_d = 0.2;
-        s.fraction = 0.2, s.white_relative = noise, s.seed = seed;
-        return s;
-      };
+      auto scenario = [&](unsigned seed) { return size_scenario(f.sizes, f.shape, noise, seed); };
       if (f.sizes == Sizes::power_law) {
         Row r{"rupture sizes", std::string("sizes ") + f.name, "power-law exponent alpha", "-", 2.5, noise, "x load"};
         r.tolerance = 0.4;
@@ -169,9 +174,6 @@ void size_cases(const Settings& set, const Runner& run, std::vector<Row>& rows) 
 
 void top_layer_cases(const Settings& set, const Runner& run, std::vector<Row>& rows) {
   const double bed = DragScenario{}.bed_height;
-  auto depth = [&](const analysis::SpectrumResult& a) {
-    return Outcome{a.top_found, 1e3 * (bed - a.top_height), 1e3 * (bed - a.top.high), 1e3 * (bed - a.top.low)};
-  };
   auto envelope_depth = [&](const analysis::SpectrumResult& a) {
     return Outcome{a.envelope_top_found, 1e3 * (bed - a.envelope_top_height)};
   };
@@ -209,7 +211,7 @@ void top_layer_cases(const Settings& set, const Runner& run, std::vector<Row>& r
             s.amplitude = k.amplitude, s.top = bed - 1e-3 * depth_mm, s.white_relative = noise, s.correlated = k.correlated;
             s.fraction = 0.3, s.spacing_d = 0.4, s.jitter = 0.3, s.seed = seed;
             const auto a = run.analyse(s);
-            return envelope ? envelope_depth(a) : depth(a);
+            return envelope ? envelope_depth(a) : depth_outcome(a);
           });
           rows.push_back(r);
         }
@@ -228,7 +230,7 @@ void top_layer_cases(const Settings& set, const Runner& run, std::vector<Row>& r
           s.amplitude = k.amplitude, s.white_relative = noise, s.correlated = k.correlated;
           s.fraction = 0.3, s.spacing_d = 0.4, s.jitter = 0.3, s.seed = seed;
           const auto a = run.analyse(s);
-          return envelope ? envelope_depth(a) : depth(a);
+          return envelope ? envelope_depth(a) : depth_outcome(a);
         });
         rows.push_back(r);
       }
@@ -253,9 +255,6 @@ void realistic_top_layer_cases(const Settings& set, const Runner& run, std::vect
   const double bed = DragScenario{}.bed_height;
   Runner no_power = run;
   no_power.config.power_replicas = 0;
-  auto depth = [&](const analysis::SpectrumResult& a) {
-    return Outcome{a.top_found, 1e3 * (bed - a.top_height), 1e3 * (bed - a.top.high), 1e3 * (bed - a.top.low)};
-  };
   const std::string family = "exponential sizes, correlated noise following the load";
   for (const double noise : set.drag_noise) {
     for (const double depth_mm : set.top_depths_mm)
@@ -275,7 +274,7 @@ void realistic_top_layer_cases(const Settings& set, const Runner& run, std::vect
         summarise(r, set.replicas, [&](unsigned seed) {
           DragScenario s = realistic(noise, seed);
           s.amplitude = Amplitude::abrupt, s.top = bed - 1e-3 * depth_mm, s.spacing_d = spacing;
-          return depth(no_power.analyse(s));
+          return depth_outcome(no_power.analyse(s));
         });
         rows.push_back(r);
       }
@@ -289,7 +288,7 @@ void realistic_top_layer_cases(const Settings& set, const Runner& run, std::vect
       summarise(r, set.replicas, [&](unsigned seed) {
         DragScenario s = realistic(noise, seed);
         s.amplitude = Amplitude::fade, s.top = 0.110, s.fade_length = 0.060;
-        return depth(no_power.analyse(s));
+        return depth_outcome(no_power.analyse(s));
       });
       rows.push_back(r);
     }
@@ -297,7 +296,7 @@ void realistic_top_layer_cases(const Settings& set, const Runner& run, std::vect
              std::numeric_limits<double>::quiet_NaN(), noise, "x load"};
     summarise(none, set.replicas, [&](unsigned seed) {
       DragScenario s = realistic(noise, seed);
-      return depth(no_power.analyse(s));
+      return depth_outcome(no_power.analyse(s));
     });
     rows.push_back(none);
     // the power a miss reports, against the found rate of the layer it plants
