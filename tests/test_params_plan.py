@@ -154,6 +154,22 @@ class ParamsVerdicts(unittest.TestCase):
             self.assertNotIn("holds", seen[first_other:], mean)
             self.assertNotIn("fails", seen[seen.index("undetermined"):] if "undetermined" in seen else [], mean)
 
+    def test_a_miss_is_absence_only_with_the_power_to_find_it(self):
+        confident = load_report().misses_confident
+        nan = float("nan")
+        # H_c: a member that found a loss, and misses with power 0.9 / 0.5 / none measured
+        found = {"wall_mobility_length_mm": 91.0, "wall_mobility_power": nan}
+        strong = {"wall_mobility_length_mm": nan, "wall_mobility_power": 0.9}
+        weak = {"wall_mobility_length_mm": nan, "wall_mobility_power": 0.5}
+        unmeasured = {"wall_mobility_length_mm": nan, "wall_mobility_power": nan}
+        keys = ("wall_mobility_length_mm", "wall_mobility_power")
+        self.assertTrue(confident({"values": [found, strong]}, *keys))
+        self.assertFalse(confident({"values": [found, weak]}, *keys))
+        self.assertFalse(confident({"values": [strong, unmeasured]}, *keys))
+        # the top layer's keys by default
+        self.assertTrue(confident({"values": [{"top_layer_found": 0.0, "top_layer_power": 0.85}]}))
+        self.assertFalse(confident({"values": [{"top_layer_found": 0.0, "top_layer_power": 0.6}]}))
+
 
 if __name__ == "__main__":
     unittest.main(verbosity=1)

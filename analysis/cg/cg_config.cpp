@@ -94,6 +94,8 @@ CgConfig load_cg_config(const std::string& path) {
     cone.number("fit_start_w", c.fit_start_w, 0.0, kBig, "in w");
     cone.number("fit_min_span_d", c.fit_min_span_d, 0.0, kBig, "in d", E::open_low);
     cone.number("seed_depth_d", c.seed_depth_d, 0.0, kBig, "in d", E::open_low);
+    cone.integer("min_snapshots", c.min_snapshots, 2, 1000000, "snapshots with an edge angle");
+    cone.number("max_interval_deg", c.max_interval_deg, 0.0, 90.0, "deg, the 95 % interval's half-width", E::open_low);
     cone.reject_unknown();
     StageConfig wall = file->table("wall");
     wall.number("band_d", c.wall_band_d, 0.0, kBig, "in d", E::open_low);
@@ -102,6 +104,10 @@ CgConfig load_cg_config(const std::string& path) {
     wall.number("pool_d", c.wall_pool_d, 0.0, kBig, "in d of intruder travel");
     wall.number("loss_false_alarm", c.wall_loss_false_alarm, 0.0, 1.0, "probability", E::open);
     wall.integer("permutations", c.wall_permutations, 0, 1000000, "permutations of the mobile flags");
+    wall.number("power_cone_angle_deg", c.wall_power_cone_angle_deg, 0.0, 90.0, "deg from the horizontal", E::open);
+    wall.integer("power_replicas", c.wall_power_replicas, 0, 1000000, "planted flag series (0: no power)");
+    wall.number("power_tolerance_d", c.wall_power_tolerance_d, 0.0, kBig, "in d", E::open_low);
+    wall.number("min_power", c.wall_min_power, 0.0, 1.0, "probability", E::open);
     wall.reject_unknown();
     StageConfig noise = file->table("noise");
     noise.number("rest_margin_w", c.rest_margin_w, 0.0, kBig, "in w");

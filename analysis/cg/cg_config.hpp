@@ -35,6 +35,8 @@ struct CgConfig {
   double fit_start_w = 0.0;      // first fitted row: the intruder's top face + fit_start_w * w
   double fit_min_span_d = 2.0;   // an edge spanning less than this (in d) gives no angle
   double seed_depth_d = 1.0;     // the mobilised zone grows from the nodes this deep above the intruder's top
+  int min_snapshots = 5;         // beta is reported from at least this many snapshots with an angle ...
+  double max_interval_deg = 5.0; // ... whose mean's 95 % t-interval is at most +- this (deg); else undetermined
   // [wall]
   double wall_band_d = 1.0;          // nodes closer than this to a wall's face form its band
   double wall_min_mobile_d = 1.0;    // a wall is mobile if its band's v*, averaged over this length, reaches the level
@@ -42,6 +44,11 @@ struct CgConfig {
   double wall_pool_d = 2.0;          // ... averaged over the snapshots within this much intruder travel (d, full width)
   double wall_loss_false_alarm = 0.01;  // the loss height is reported when its permutation p-value is below this
   int wall_permutations = 200;       // of the mobile flags, for that p-value
+  // the test's power to find a loss at the paper's H_c (below); it decides a miss
+  double wall_power_cone_angle_deg = 60.0;  // the planted loss: (L_c - L)/2 tan(this) below the surface
+  int wall_power_replicas = 20;      // planted flag series
+  double wall_power_tolerance_d = 3.0;  // a planted loss counts as found within this many d of its depth
+  double wall_min_power = 0.8;       // a miss is "none" at this power or more, else "undetermined"
   // [noise]: the PIV noise measured where the bed is at rest, and the levels it sets
   double rest_margin_w = 4.0;        // at rest: rows this many w below the intruder's centre and above the floor
   double cone_false_alarm = 0.001;   // the cone level is at least the (1 - this) quantile of single nodes' v* at rest

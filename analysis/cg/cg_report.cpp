@@ -7,7 +7,9 @@
 #include <numbers>
 #include <random>
 
+#include "common/normal.hpp"
 #include "common/snapshot_loop.hpp"  // column_of
+#include "cg/wall_loss.hpp"
 #include "core/number_text.hpp"
 
 namespace dem2d::analysis {
@@ -111,40 +113,6 @@ BetaStats beta_stats(const std::vector<SnapshotMeasure>& ms, const std::vector<s
   return st;
 }
 
-// Wall mobility lost: the intruder height separating loading snapshots whose
-// walls move (mean mobile length of the two walls >= min_length) from those whose walls do not.
-struct WallLoss {
-  StepFit fit;
-  double depth = kNaN, surface = kNaN;  // surface - height at the loss (m)
-  std::size_t mobile = 0;
-  std::vector<double> heights;  // of the snapshots used
-  std::vector<bool> flags;      // mobile or not
-};
-
-// How much the step fit beats calling every snapshot the majority class, and
-// the permutation p-value of that gain: the fraction of shuffles of the flags
-// over the heights (fixed seed) whose step fit gains as much (+1 smoothing).
-double step_gain(const std::vector<double>& h, const std::vector<bool>& f) {
-  const auto mobile = static_cast<int>(std::count(f.begin(), f.end(), true));
-  return std::min(mobile, static_cast<int>(f.size()) - mobile) - step_down(h, f).misclassified;
-}
-double loss_p_value(const WallLoss& w, int permutations) {
-  const double gain = step_gain(w.heights, w.flags);
-  if (permutations <= 0 || w.flags.empty()) return kNaN;
-  std::mt19937_64 rng(1);
-  std::vector<bool> f = w.flags;
-  int as_large = 0;
-  for (int p = 0; p < permutations; ++p) {
-    for (std::size_t i = f.size(); i-- > 1;) {
-      const std::size_t j = static_cast<std::size_t>(rng() % (i + 1));
-      const bool t = f[i];
-      f[i] = f[j], f[j] = t;
-    }
-    as_large += step_gain(w.heights, f) >= gain;
-  }
-  return (as_large + 1.0) / (permutations + 1.0);
-}
-
 // `length(m)`: the mean mobile length of snapshot m's two walls (m).
 WallLoss wall_loss(const std::vector<SnapshotMeasure>& ms, const std::vector<std::size_t>& sel, std::size_t src,
                    const std::function<double(const SnapshotMeasure&)>& length, double min_length) {
@@ -160,6 +128,7 @@ WallLoss wall_loss(const std::vector<SnapshotMeasure>& ms, const std::vector<std
     used.push_back(k);
   }
   WallLoss w;
+  for (const std::size_t k : used) w.surfaces.push_back(ms[k].surface);
   w.fit = step_down(h, mob);
   w.heights = h, w.flags = mob;
   w.mobile = static_cast<std::size_t>(std::count(mob.begin(), mob.end(), true));
@@ -339,11 +308,38 @@ struct Summary {
   std::size_t cone0 = 0, gate = 0;
   double gap = 0.0;
   BetaStats beta, every_edge;
+  // beta as reported: the mean over the snapshots when there are enough and
+  // its 95 % t-interval is narrow enough (cone.min_snapshots,
+  // cone.max_interval_deg), else NaN and the outcome says why
+  double beta_value = kNaN, beta_half = kNaN;
+  std::string beta_outcome;
   WallLoss fixed_wall, wall;
   WallNoise noise;
   double loss_p = kNaN;
   bool loss_significant = false;
+  LossPower loss_power;  // of the loss test at the paper's depth with the run's flag errors
 };
+
+// beta as reported (x.beta_value), or why not (x.beta_outcome): the mean over
+// at least cone.min_snapshots snapshots with a 95 % t-interval within
+// +-cone.max_interval_deg.
+void decide_beta(Summary& x, const CgConfig& c) {
+  const std::size_t n = x.beta.count;
+  if (n >= 2) x.beta_half = student_t975(static_cast<int>(n) - 1) * x.beta.sd / std::sqrt(static_cast<double>(n));
+  if (n == 0) {
+    x.beta_outcome = "undetermined: no loading snapshot has a cone edge (nothing mobilised above the noise, or too "
+                     "noisy); the power to see a cone at this run's noise is not measured";
+  } else if (n < static_cast<std::size_t>(c.min_snapshots)) {
+    x.beta_outcome = "undetermined: an angle in " + std::to_string(n) + " loading snapshot(s), fewer than "
+                     "cone.min_snapshots = " + std::to_string(c.min_snapshots);
+  } else if (!(x.beta_half <= c.max_interval_deg)) {
+    x.beta_outcome = "undetermined: the mean's 95 % interval is +-" + format_number(x.beta_half) +
+                     " deg, wider than cone.max_interval_deg = " + format_number(c.max_interval_deg);
+  } else {
+    x.beta_outcome = "found";
+    x.beta_value = x.beta.mean;
+  }
+}
 
 Summary summarise(const StageRecord& r) {
   const Setup& su = r.setup;
@@ -351,6 +347,7 @@ Summary summarise(const StageRecord& r) {
   Summary x(r);
   x.beta = beta_stats(r.ms, x.sel, r.primary, x.cone0, x.gap, kVerticalEdgeDeg, x.gate);
   x.every_edge = beta_stats(r.ms, x.sel, r.primary, x.cone0, x.gap, kEveryEdgeDeg, x.gate);
+  decide_beta(x, c);
   x.fixed_wall = wall_loss(r.ms, x.sel, r.primary, su.wall_fixed(), c.wall_min_mobile_d * su.d);
   // each snapshot alone, unless the noise lifts the walls' level above cone.level somewhere:
   // then pooled over wall.pool_d of travel (steady mobility is kept, intermittent mobility
@@ -364,6 +361,9 @@ Summary summarise(const StageRecord& r) {
   x.loss_p = loss_p_value(x.wall, c.wall_permutations);
   x.loss_significant = std::isfinite(x.wall.fit.height) && x.loss_p < c.wall_loss_false_alarm;
   if (!x.loss_significant) x.wall.depth = kNaN;
+  // measured found or not (a miss is read by it; beside a find it says how sure a rerun would be to find it)
+  x.loss_power = loss_power(x.wall, x.gap * std::tan(c.wall_power_cone_angle_deg / kDeg), c.wall_power_tolerance_d * su.d,
+                            c.wall_loss_false_alarm, c.wall_permutations, c.wall_power_replicas);
   return x;
 }
 
@@ -377,7 +377,8 @@ double delta_phi(const std::vector<SnapshotMeasure>& ms, std::int64_t k, std::si
 
 void add_headline(json& m, const Summary& x) {
   const StageRecord& r = x.r;
-  m["cone_angle_deg"] = nullable(x.beta.mean);
+  m["cone_angle_deg"] = nullable(x.beta_value);
+  m["cone_angle_outcome"] = x.beta_outcome;
   m["wall_mobility_length_mm"] = nullable(x.wall.depth * kMm);
   m["dilatancy_delta_phi"] = nullable(delta_phi(r.ms, r.after, r.setup.height0, true));
   m["velocity_source"] = kSourceName[r.primary];
@@ -398,11 +399,13 @@ void add_headline(json& m, const Summary& x) {
 
 void add_cone(json& m, const Summary& x) {
   const BetaStats& beta = x.beta;
+  m["cone_angle_measured_deg"] = nullable(beta.mean);
+  m["cone_angle_interval_deg"] = {nullable(beta.mean - x.beta_half), nullable(beta.mean + x.beta_half)};
   m["cone_angle_sd_deg"] = nullable(beta.sd);
   m["cone_angle_snapshots"] = beta.count;
   m["cone_angle_left_deg"] = nullable(beta.left);
   m["cone_angle_right_deg"] = nullable(beta.right);
-  m["cone_opening_angle_deg"] = nullable(180.0 - 2.0 * beta.mean);
+  m["cone_opening_angle_deg"] = nullable(180.0 - 2.0 * x.beta_value);
   m["cone_angle_all_snapshots_deg"] =
       nullable(beta_stats(x.r.ms, x.all, x.r.primary, x.cone0, x.gap, kVerticalEdgeDeg, x.gate).mean);
   m["cone_edge_note"] = "every cone number (angle, sides, bands, wall meeting, chord, offset, H_c from beta) uses "
@@ -424,7 +427,7 @@ void add_cone(json& m, const Summary& x) {
   m["cone_wall_meet_snapshots"] = beta.meet_count;
   m["cone_angle_from_wall_meet_deg"] = nullable(beta.chord);
   m["cone_edge_offset_at_intruder_mm"] = nullable(beta.offset * kMm);
-  m["wall_mobility_length_from_beta_mm"] = nullable(x.gap * std::tan(beta.mean / kDeg) * kMm);
+  m["wall_mobility_length_from_beta_mm"] = nullable(x.gap * std::tan(x.beta_value / kDeg) * kMm);
 }
 
 void add_wall(json& m, const Summary& x) {
@@ -435,11 +438,21 @@ void add_wall(json& m, const Summary& x) {
   m["wall_mobility_mobile_snapshots"] = wall.mobile;
   m["wall_mobility_misclassified"] = wall.fit.misclassified;
   m["wall_mobility_loss_p_value"] = nullable(x.loss_p);
+  const LossPower& pw = x.loss_power;
+  const std::string verdict = std::isfinite(pw.power) && pw.power >= x.r.config.wall_min_power ? "none" : "undetermined";
   m["wall_mobility_outcome"] =
       x.loss_significant ? "found"
-      : std::isfinite(wall.fit.height) ? "no significant loss: the split of mobile from immobile snapshots is not "
-                                         "better than the same flags shuffled over the heights"
-                                       : "no loss: the walls are mobile in every loading snapshot or in none";
+      : std::isfinite(wall.fit.height) ? verdict + ": no significant loss (the split of mobile from immobile "
+                                         "snapshots is not better than the same flags shuffled over the heights); "
+                                         "power " + format_number(pw.power) + " to find one at the paper's depth"
+                                       : verdict + ": no loss, the walls are mobile in every loading snapshot or in "
+                                         "none; power " + format_number(pw.power) + " to find one at the paper's depth";
+  m["wall_mobility_power"] = nullable(pw.power);
+  m["wall_mobility_power_detail"] = {{"planted_depth_mm", nullable(pw.depth * kMm)},
+                                     {"missed_rate", nullable(pw.missed)},
+                                     {"false_mobile_rate", nullable(pw.false_mobile)},
+                                     {"replicas", pw.replicas},
+                                     {"min_power", x.r.config.wall_min_power}};
   m["wall_mobility_level_range"] = {nullable(x.noise.level_min), nullable(x.noise.level_max)};
   m["wall_mobility_pool_d"] = x.noise.pool_d;
   m["wall_mobility_level_note"] = "per window: max(cone.level, q x the local-linear fit's noise gain there), q the "

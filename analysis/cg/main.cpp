@@ -53,7 +53,9 @@ int main(int argc, char** argv) {
         }
         return std::to_string(m["snapshots"].get<std::size_t>()) + " snapshots, " +
                m["velocity_source"].get<std::string>() + " velocities, " + m["loading_selection"].get<std::string>() +
-               ": cone angle " + show(m["cone_angle_deg"], " deg") + " (" +
+               ": cone angle " +
+               (m["cone_angle_deg"].is_number() ? show(m["cone_angle_deg"], " deg")
+                                                : m["cone_angle_outcome"].get<std::string>()) + " (" +
                std::to_string(m["cone_narrowing_edges"].get<std::size_t>()) + " of " +
                std::to_string(m["cone_fitted_edges"].get<std::size_t>()) + " edges narrow, left out; with them " +
                show(m["cone_angle_including_narrowing_deg"], " deg") + "), wall-mobility length " +

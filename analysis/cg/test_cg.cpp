@@ -15,6 +15,7 @@
 #include "cg/cg_measure.hpp"
 #include "cg/cg_report.hpp"
 #include "cg/cg_stage.hpp"
+#include "cg/wall_loss.hpp"
 #include "io/h5.hpp"
 #include "temp_dir.hpp"
 
@@ -346,6 +347,30 @@ TEST(CgCone, NarrowingEdgesAreLeftOutOfBeta) {
   EXPECT_NEAR(m["by_height_band"][0]["cone_angle_deg"].get<double>(), 60.0, 0.5);
 }
 
+// beta is a value only when the snapshots decide it: too few snapshots, or a
+// mean whose 95 % interval is wider than +-5 deg, give null and say why; the
+// mean is still given as measured.
+TEST(CgCone, BetaFromTooFewOrTooScatteredSnapshotsIsUndetermined) {
+  const auto few = cg_metrics(cone_record(std::vector<std::pair<double, double>>(3, {60.0, 60.0})));
+  EXPECT_TRUE(few["cone_angle_deg"].is_null());
+  EXPECT_NE(few["cone_angle_outcome"].get<std::string>().find("3 loading snapshot(s), fewer than cone.min_snapshots = 5"),
+            std::string::npos) << few["cone_angle_outcome"];
+  EXPECT_NEAR(few["cone_angle_measured_deg"].get<double>(), 60.0, 0.5);
+  EXPECT_TRUE(few["cone_opening_angle_deg"].is_null());
+  std::vector<std::pair<double, double>> scattered;
+  for (int k = 0; k < 6; ++k) scattered.push_back(k % 2 ? std::pair{45.0, 45.0} : std::pair{85.0, 85.0});
+  const auto wide = cg_metrics(cone_record(scattered));
+  EXPECT_TRUE(wide["cone_angle_deg"].is_null());
+  EXPECT_NE(wide["cone_angle_outcome"].get<std::string>().find("wider than cone.max_interval_deg = 5"), std::string::npos)
+      << wide["cone_angle_outcome"];
+  const double lo = wide["cone_angle_interval_deg"][0].get<double>(), hi = wide["cone_angle_interval_deg"][1].get<double>();
+  EXPECT_GT(hi - lo, 2.0 * 5.0);
+  EXPECT_NEAR(0.5 * (lo + hi), wide["cone_angle_measured_deg"].get<double>(), 1e-9);
+  const auto steady = cg_metrics(cone_record(std::vector<std::pair<double, double>>(5, {60.0, 60.0})));
+  EXPECT_EQ(steady["cone_angle_outcome"], "found");
+  EXPECT_NEAR(steady["cone_angle_deg"].get<double>(), 60.0, 0.5);
+}
+
 TEST(CgCone, ZonesAndRedExtent) {
   const Grid g = make_grid(0.0, 0.01, 0.0, 0.01, 0.001);  // 10 x 10 nodes of 1 mm^2
   std::vector<double> vstar(g.size(), 0.1);
@@ -557,6 +582,50 @@ TEST(CgStage, BadInputsNameTheFile) {
   } catch (const std::exception& e) {
     EXPECT_EQ(std::string(e.what()), "/nonexistent/run.h5: no such file");
   }
+}
+
+// The loss test's power where it found none: planted at the paper's depth
+// with the run's own flag errors were that the truth. Clean flags around that
+// depth give it full power; flags no better than coin flips give it almost
+// none (a miss there is undetermined); a depth outside the snapshots' heights
+// cannot be found.
+TEST(CgWall, LossPowerFollowsTheFlagsErrors) {
+  WallLoss w;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int k = 0; k < 200; ++k) {
+    w.heights.push_back(0.0005 * k);  // 0 ... 0.1 m
+    w.surfaces.push_back(0.14);
+  }
+  // a few errors each side of a loss at 0.062 m (0.078 below the surface): 5 % immobile below, 5 % mobile above
+  for (const double h : w.heights) w.flags.push_back((h < 0.062) != (u(rng) < 0.05));
+  w.fit = step_down(w.heights, w.flags);
+  EXPECT_LT(loss_p_value(w, 200), 0.01);
+  const double depth = 0.078, tol = 0.009;  // the paper's H_c; 3 d
+  const LossPower clean = loss_power(w, depth, tol, 0.01, 200, 20);
+  int below = 0, immobile_below = 0, mobile_above = 0;
+  for (std::size_t i = 0; i < w.flags.size(); ++i)
+    w.heights[i] < 0.14 - depth ? (++below, immobile_below += !w.flags[i]) : (mobile_above += w.flags[i]);
+  EXPECT_DOUBLE_EQ(clean.missed, immobile_below / double(below));
+  EXPECT_DOUBLE_EQ(clean.false_mobile, mobile_above / double(200 - below));
+  EXPECT_LT(clean.missed + clean.false_mobile, 0.2);
+  EXPECT_GE(clean.power, 0.95);
+  // coin flips: the best split's errors are near one half on each side
+  for (std::size_t i = 0; i < w.flags.size(); ++i) w.flags[i] = u(rng) < 0.5;
+  w.fit = step_down(w.heights, w.flags);
+  const LossPower noisy = loss_power(w, depth, tol, 0.01, 200, 20);
+  EXPECT_GT(std::max(noisy.missed, noisy.false_mobile), 0.35);
+  EXPECT_LE(noisy.power, 0.3);
+  // a loss deeper than every snapshot's height below the surface: never found
+  EXPECT_EQ(loss_power(w, 0.139, tol, 0.01, 200, 20).power, 0.0);
+  // walls mobile in every snapshot: every flag above the planted loss is an
+  // error, the planted flags are all mobile, nothing to find
+  w.flags.assign(w.flags.size(), true);
+  const LossPower everywhere = loss_power(w, depth, tol, 0.01, 200, 20);
+  EXPECT_EQ(everywhere.false_mobile, 1.0);
+  EXPECT_EQ(everywhere.power, 0.0);
+  // no flags, no power
+  EXPECT_TRUE(std::isnan(loss_power(WallLoss{}, depth, tol, 0.01, 200, 20).power));
 }
 
 }  // namespace

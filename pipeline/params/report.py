@@ -37,6 +37,8 @@ HEADLINE = [
      lambda m, s: m["spectrum"]["bed_height_mm"] - m["spectrum"]["top_layer_height_mm"]),
     ("cone_angle_deg", "β", "°", lambda m, s: m["cg"]["cone_angle_deg"]),
     ("wall_mobility_length_mm", "H_c", "mm", lambda m, s: m["cg"]["wall_mobility_length_mm"]),
+    ("wall_mobility_power", "power of an H_c miss", "",
+     lambda m, s: float("nan") if m["cg"]["wall_mobility_length_mm"] is not None else m["cg"]["wall_mobility_power"]),
     ("H_c_predicted_mm", "½(L_c−L) tan β", "mm",
      lambda m, s: 0.5 * (s["cell_width_mm"] - s["intruder_length_mm"]) * math.tan(math.radians(m["cg"]["cone_angle_deg"]))),
     ("rupture_spacing_d", "rupture spacing", "d", lambda m, s: m["spectrum"]["rupture_spacing_d"]),
@@ -229,13 +231,13 @@ def every_member(p: dict, key: str) -> bool:
     return all(math.isfinite(v[key]) for v in p["values"])
 
 
-MIN_POWER = 0.8  # a miss is evidence of absence at this power or more (data/spectrum.toml's min_power)
+MIN_POWER = 0.8  # a miss is evidence of absence at this power or more (data/spectrum.toml's and data/cg.toml's min_power)
 
 
-def misses_confident(p: dict) -> bool:
-    """Whether every member of point p that found no top layer had the power to find one (>= MIN_POWER):
-    only then is a miss evidence of absence."""
-    return all(v["top_layer_found"] > 0 or v["top_layer_power"] >= MIN_POWER for v in p["values"])
+def misses_confident(p: dict, found: str = "top_layer_found", power: str = "top_layer_power") -> bool:
+    """Whether every member of point p that found nothing (metric `found` not positive, or NaN) had the
+    power to find it (metric `power` >= MIN_POWER): only then is a miss evidence of absence."""
+    return all(v[found] > 0 or v[power] >= MIN_POWER for v in p["values"])
 
 
 def claims(points: list) -> list:
@@ -286,6 +288,8 @@ def claims(points: list) -> list:
         m, h = p["summary"]["wall_mobility_length_mm"]
         half = math.hypot(h, ph)  # NaN (undetermined) if either spread is unknown
         v = within(m - pm, half, 0.0, 10.0, every_member(p, "wall_mobility_length_mm")) if math.isfinite(pm) else "?"
+        if v == "?" and math.isfinite(pm):  # no member found a loss: absent only where each miss had the power
+            v = "fails" if misses_confident(p, "wall_mobility_length_mm", "wall_mobility_power") else "undetermined"
         verdicts.append(v)
         lines.append(f"| {p['point']} | {fmt(b, bh)} | {fmt(pm, ph)} | {fmt(m, h)} | {v} |")
     lines += ["", verdict_line(verdicts, "H_c = ½(L_c − L) tan β")]

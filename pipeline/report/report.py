@@ -76,7 +76,7 @@ def deviations(preset: str, failed: list[dict], metrics: dict) -> list[str]:
     for t in failed:
         metric = t.get("metric", t["name"])
         why = fill_in(reasons[metric], metrics, f"{path}, miss '{metric}'") if metric in reasons else NO_REASON
-        verdict = " (undetermined: nothing found, by a test too weak to call it absent)" if t.get("verdict") == "undetermined" else ""
+        verdict = " (undetermined: nothing found by a test too weak to call it absent, or no value the detector could stand by)" if t.get("verdict") == "undetermined" else ""
         lines.append(f"- **{t.get('result', '')} `{metric}`** = {t.get('ours', 'missing')}{verdict} (paper {t.get('paper', '')} {t.get('tolerance', '')}; "
                      f"source: {t.get('source', '')}; why this tolerance: {t.get('why', '')}). Why we miss: {why}.")
     return lines

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "frame/pulloff_frame.hpp"  // StageError
+#include "common/normal.hpp"
 #include "common/stage_config.hpp"
 #include "common/stage_output.hpp"   // format_number
 
@@ -49,6 +50,7 @@ Target read_target(analysis::StageConfig& c) {
   }
   c.text("power", t.power_metric, "dotted path of the detector's power where it found nothing");
   c.number("min_power", t.min_power, 0.0, 1.0, "power that makes a none evidence of absence");
+  c.text("undecided", t.undecided_metric, "dotted path of the text saying why the detector gave no value");
   c.reject_unknown();
   if (t.result.empty() || t.metric.empty() || t.source.empty() || t.why.empty() || t.what.empty())
     throw StageError(c.path() + ": target " + t.result + " " + t.metric +
@@ -78,18 +80,33 @@ nlohmann::json load_metrics(const std::string& path) {
   }
 }
 
-std::optional<double> lookup(const nlohmann::json& metrics, const std::string& dotted) {
+namespace {
+
+// The node at a dotted path ("a.b.c"), nullptr if there is none.
+const nlohmann::json* at_path(const nlohmann::json& metrics, const std::string& dotted) {
   const nlohmann::json* node = &metrics;
   std::size_t start = 0;
   while (true) {
     const std::size_t dot = dotted.find('.', start);
     const std::string key = dotted.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
-    if (!node->is_object() || !node->contains(key)) return std::nullopt;
+    if (!node->is_object() || !node->contains(key)) return nullptr;
     node = &(*node)[key];
-    if (dot == std::string::npos) break;
+    if (dot == std::string::npos) return node;
     start = dot + 1;
   }
-  if (!node->is_number()) return std::nullopt;
+}
+
+// The text at a dotted path ("" if there is none).
+std::string lookup_text(const nlohmann::json& metrics, const std::string& dotted) {
+  const nlohmann::json* node = at_path(metrics, dotted);
+  return node && node->is_string() ? node->get<std::string>() : "";
+}
+
+}  // namespace
+
+std::optional<double> lookup(const nlohmann::json& metrics, const std::string& dotted) {
+  const nlohmann::json* node = at_path(metrics, dotted);
+  if (!node || !node->is_number()) return std::nullopt;
   const double v = node->get<double>();
   return std::isfinite(v) ? std::optional<double>(v) : std::nullopt;
 }
@@ -106,17 +123,6 @@ std::vector<double> member_values(const nlohmann::json& stats, const std::string
 }
 
 namespace {
-
-// Student's t quantile of probability 0.975 with `dof` degrees of freedom:
-// tabulated to 30, then the Cornish-Fisher expansion (error < 1e-4).
-double t975(int dof) {
-  static const double table[] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
-                                 2.201,  2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
-                                 2.080,  2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042};
-  if (dof <= 30) return table[dof - 1];
-  const double z = 1.959964, v = dof;
-  return z + (z * z * z + z) / (4 * v) + (5 * std::pow(z, 5) + 16 * z * z * z + 3 * z) / (96 * v * v);
-}
 
 std::vector<double> finite(const std::vector<double>& v) {
   std::vector<double> out;
@@ -168,7 +174,7 @@ std::optional<std::pair<double, double>> t_interval(const std::vector<double>& v
   for (const double a : x) mean += a;
   mean /= n;
   for (const double a : x) ss += (a - mean) * (a - mean);
-  const double half = t975(static_cast<int>(x.size()) - 1) * std::sqrt(ss / (n - 1.0) / n);
+  const double half = analysis::student_t975(static_cast<int>(x.size()) - 1) * std::sqrt(ss / (n - 1.0) / n);
   return std::pair<double, double>{mean - half, mean + half};
 }
 
@@ -226,6 +232,13 @@ Verdict evaluate(const Target& t, const nlohmann::json& metrics, const nlohmann:
                  (std::isfinite(lowest) ? (ensemble ? "at least " : "") + format_number(lowest) : "not measured") +
                  (confident ? " >= " : " < ") + format_number(t.min_power) + " (" + t.power_metric + ")";
     v.outcome = confident ? (ensemble ? "fails" : "fail") : "undetermined";
+  }
+  // no value because the detector could not decide: undetermined, with its reason
+  if (!t.undecided_metric.empty() && (ensemble ? v.members == 0 : !v.ours)) {
+    const std::string why = ensemble ? std::string() : lookup_text(metrics, t.undecided_metric);
+    power_note = std::string(ensemble ? "no member could decide" : "the detector could not decide") +
+                 (why.empty() ? "" : " (" + why + ")") + " [" + t.undecided_metric + "]";
+    v.outcome = "undetermined";
   }
   if (!ensemble && v.outcome.empty()) v.outcome = v.pass ? "pass" : "fail";
   else if (v.outcome.empty()) v.outcome = "fails";  // no member gave it

@@ -26,6 +26,10 @@ struct Target {
   // without a power, it is undetermined
   std::string power_metric;
   double min_power = 0.8;
+  // a detector that gives no value when it cannot decide (too few or too
+  // scattered measurements): the metric (a text) saying why. A missing value
+  // is then undetermined, not a failure
+  std::string undecided_metric;
 };
 
 // Reads and validates the targets file: every key typed, exactly one

@@ -239,5 +239,25 @@ TEST(PaperTargets, ANoneFailsOnlyWithThePowerToFindTheClaim) {
   EXPECT_EQ(evaluate(t, weak).outcome, "fail");
 }
 
+// A detector that gives no value when it cannot decide (the cone's angle from
+// too few snapshots): a missing value is undetermined, its reason quoted;
+// a value is judged as before; without the rule a missing value fails.
+TEST(PaperTargets, AnUndecidedDetectorIsUndeterminedNotFailed) {
+  Target t = within("a.x", 1.0, 0.1);
+  t.undecided_metric = "a.why";
+  const auto undecided = nlohmann::json::parse(R"({"a": {"x": null, "why": "undetermined: an angle in 1 snapshot"}})");
+  const Verdict v = evaluate(t, undecided);
+  EXPECT_EQ(v.outcome, "undetermined");
+  EXPECT_FALSE(v.pass);
+  EXPECT_NE(v.message.find("an angle in 1 snapshot"), std::string::npos) << v.message;
+  EXPECT_EQ(evaluate(t, nlohmann::json::parse(R"({"a": {"x": 1.2, "why": "found"}})")).outcome, "fail");
+  nlohmann::json s = members({});
+  s["metrics"]["a.x"]["values"] = {nullptr, nullptr};
+  EXPECT_EQ(judged(t, s).outcome, "undetermined");
+  t.undecided_metric.clear();
+  EXPECT_EQ(evaluate(t, undecided).outcome, "fail");
+  EXPECT_EQ(judged(t, s).outcome, "fails");
+}
+
 }  // namespace
 }  // namespace dem2d::check

@@ -135,6 +135,38 @@ std::vector<std::pair<std::int32_t, std::int32_t>> arches(const Bed& bed, const 
   return out;
 }
 
+// Gaussian noise correlated in space: white noise on the grains smoothed by
+// exp(-r^2 / 2 l^2) (r < 3 l), each grain's sum renormalised to unit variance
+// (two grains r apart correlate as ~exp(-r^2 / 4 l^2)); l = 0: none.
+class SmoothedNoise {
+ public:
+  SmoothedNoise(const std::vector<Vec2>& p, double l) : weights_(l > 0.0 ? p.size() : 0), n_(p.size()) {
+    for (std::size_t i = 0; i < weights_.size(); ++i) {
+      double norm = 0.0;
+      for (std::size_t j = 0; j < p.size(); ++j) {
+        const double r2 = (p[i].x - p[j].x) * (p[i].x - p[j].x) + (p[i].y - p[j].y) * (p[i].y - p[j].y);
+        if (r2 >= 9.0 * l * l) continue;
+        const double wij = std::exp(-0.5 * r2 / (l * l));
+        weights_[i].push_back({j, wij}), norm += wij * wij;
+      }
+      for (auto& [j, wij] : weights_[i]) wij /= std::sqrt(norm);
+    }
+  }
+  std::vector<Vec2> draw(std::mt19937_64& rng) const {
+    if (weights_.empty()) return {};
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    std::vector<Vec2> white(n_), out(n_);
+    for (Vec2& x : white) x.x = gauss(rng), x.y = gauss(rng);
+    for (std::size_t i = 0; i < n_; ++i)
+      for (const auto& [j, wij] : weights_[i]) out[i].x += wij * white[j].x, out[i].y += wij * white[j].y;
+    return out;
+  }
+
+ private:
+  std::vector<std::vector<std::pair<std::size_t, double>>> weights_;
+  std::size_t n_;
+};
+
 }  // namespace
 
 double intruder_height(const BedGeometry& g, double t) { return g.start + g.speed * t; }
@@ -199,6 +231,7 @@ analysis::MemorySource cone_run(const Bed& bed, const ConeScenario& c) {
   std::normal_distribution<double> gauss(0.0, 1.0);
   const double tan_b = std::tan(c.beta_deg * std::numbers::pi / 180.0);
   const double d = mean_of(bed.diameter), w = 1.5 * d;
+  const SmoothedNoise smooth(bed.position, c.correlation_d * d);
   for (std::size_t k = 0; intruder_height(g, static_cast<double>(k) * c.travel / g.speed) <= c.end; ++k) {
     const double t = static_cast<double>(k) * c.travel / g.speed;
     const Bar b = bar_at(g, intruder_height(g, t));
@@ -212,12 +245,15 @@ analysis::MemorySource cone_run(const Bed& bed, const ConeScenario& c) {
     if (c.jitter > 0.0)
       for (Vec2& q : p) q.x += c.jitter * d * gauss(rng), q.y += c.jitter * d * gauss(rng);
     std::vector<Vec2> v(p.size()), disp(p.size());
+    const std::vector<Vec2> n = smooth.draw(rng);  // empty: independent per grain
+    const bool moving = c.moving && !(c.at_rest > 0.0 && std::uniform_real_distribution<double>(0.0, 1.0)(rng) < c.at_rest);
     for (std::size_t i = 0; i < p.size(); ++i) {
       const double above = p[i].y - b.top, beyond = std::abs(p[i].x - b.xc) - b.half, reach = above / tan_b;
       double vstar = 0.0;
-      if (c.moving && above > 0.0)
+      if (moving && above > 0.0)
         vstar = c.graded ? std::clamp(1.0 - 0.75 * beyond / reach, 0.0, 1.0) : beyond <= reach ? 1.0 : 0.0;
-      v[i] = {c.noise * g.speed * gauss(rng), vstar * g.speed + c.noise * g.speed * gauss(rng)};
+      const double nx = n.empty() ? gauss(rng) : n[i].x, ny = n.empty() ? gauss(rng) : n[i].y;
+      v[i] = {c.noise * g.speed * nx, vstar * g.speed + c.noise * g.speed * ny};
       disp[i] = {v[i].x * c.window, v[i].y * c.window};
     }
     Snapshot s = bed_snapshot(bed, p, t, k);

@@ -52,8 +52,11 @@ double intruder_height(const BedGeometry& g, double t);
 // distance from the tips' verticals, through 0.25 at the cone's edge and on to
 // 0 (graded: the v* = 0.25 contour is the cone's edge, and a smooth field keeps
 // its contours under coarse-graining); else v* = 1 up to the edge and 0 beyond
-// (a step, which coarse-graining widens). Per-grain Gaussian noise of `noise`
-// x speed per component. Snapshots every `travel` m
+// (a step, which coarse-graining widens). Gaussian noise of `noise` x speed
+// per component on each grain, independent between grains or, with
+// `correlation_d` > 0, smoothed over that many mean diameters (as PIV's
+// interrogation windows correlate neighbouring vectors); independent between
+// snapshots. Snapshots every `travel` m
 // of the intruder up to `end`, PIV window `window` s. With `dilation` > 0 the
 // snapshots after the first have the layer above the intruder (from 4 w below
 // the dilatancy region to 4 w above it; region: cg.toml's) stretched
@@ -62,6 +65,8 @@ double intruder_height(const BedGeometry& g, double t);
 struct ConeScenario {
   double beta_deg = 60.0, noise = 0.0, travel = 0.0005, end = 0.140, window = 0.05;
   double dilation = 0.0, jitter = 0.0;
+  double correlation_d = 0.0;  // noise correlation length, x mean diameter (0: independent per grain)
+  double at_rest = 0.0;        // fraction of the snapshots (drawn at random) in which nothing moves
   bool moving = true;  // false: no cone, every grain at rest (but for the noise)
   bool graded = true;  // v* falling linearly across the cone's edge (else a step there)
   std::uint64_t seed = 1;

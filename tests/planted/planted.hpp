@@ -70,7 +70,12 @@ struct Settings {
   std::vector<double> top_depths_mm{20.0, 45.0, 70.0};
   std::vector<double> spacings_d{0.25, 0.5, 1.0};
   std::vector<double> piv_noise{0.0, 0.1, 0.3, 0.5};  // per-grain PIV velocity noise, x V per component
+  std::vector<double> piv_noise_beyond{1.0};  // the same, beyond what a run resolves (beta may be undetermined)
+  std::vector<double> correlated_piv_noise{0.15, 0.5};  // the same, correlated in space over ...
+  std::vector<double> piv_correlation_d{2.0, 5.0};      // ... these lengths, x mean diameter
   std::vector<double> cone_angles_deg{50.0, 60.0, 70.0};
+  std::vector<double> intermittent_at_rest{0.5, 0.7};  // H_c's power: fraction of snapshots in which nothing moves
+  double intermittent_travel_mm = 5.0;                // ... in snapshots this far apart
   std::vector<double> wall_lengths_mm{54.0, 78.0, 124.0};
   std::vector<double> dilatancy{0.0, -0.01, -0.026, -0.05};
   std::vector<double> position_noise_d{0.0, 0.05, 0.1};  // grain-position noise, x mean diameter
