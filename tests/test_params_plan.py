@@ -154,6 +154,16 @@ class ParamsVerdicts(unittest.TestCase):
             self.assertNotIn("holds", seen[first_other:], mean)
             self.assertNotIn("fails", seen[seen.index("undetermined"):] if "undetermined" in seen else [], mean)
 
+    def test_t_quantile_as_make_check(self):
+        t975 = load_report().t975
+        # Student's t 0.975: tabulated values, and the expansion beyond 30 degrees of freedom
+        self.assertAlmostEqual(t975(1), 12.706)
+        self.assertAlmostEqual(t975(15), 2.131)
+        self.assertAlmostEqual(t975(30), 2.042)
+        self.assertAlmostEqual(t975(40), 2.021, places=3)
+        self.assertAlmostEqual(t975(120), 1.980, places=3)
+        self.assertTrue(all(t975(k) > t975(k + 1) > 1.959964 for k in range(1, 200)))
+
     def test_a_miss_is_absence_only_with_the_power_to_find_it(self):
         confident = load_report().misses_confident
         nan = float("nan")
