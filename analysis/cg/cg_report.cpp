@@ -116,28 +116,19 @@ BetaStats beta_stats(const std::vector<SnapshotMeasure>& ms, const std::vector<s
 // `length(m)`: the mean mobile length of snapshot m's two walls (m).
 WallLoss wall_loss(const std::vector<SnapshotMeasure>& ms, const std::vector<std::size_t>& sel, std::size_t src,
                    const std::function<double(const SnapshotMeasure&)>& length, double min_length) {
-  std::vector<double> h;
-  std::vector<bool> mob;
-  std::vector<std::size_t> used;
+  WallLoss w;
   for (const std::size_t k : sel) {
     const SnapshotMeasure& m = ms[k];
     if (!m.src[src].valid || m.intruder.top - m.intruder.yc + m.height >= m.surface) continue;  // out of the bed
     const double len = length(m);
-    h.push_back(m.height);
-    mob.push_back(len >= min_length && len > 0.0);
-    used.push_back(k);
+    w.heights.push_back(m.height);
+    w.surfaces.push_back(m.surface);
+    w.flags.push_back(len >= min_length && len > 0.0);
   }
-  WallLoss w;
-  for (const std::size_t k : used) w.surfaces.push_back(ms[k].surface);
-  w.fit = step_down(h, mob);
-  w.heights = h, w.flags = mob;
-  w.mobile = static_cast<std::size_t>(std::count(mob.begin(), mob.end(), true));
+  w.fit = step_down(w.heights, w.flags);
+  w.mobile = static_cast<std::size_t>(std::count(w.flags.begin(), w.flags.end(), true));
   if (!std::isnan(w.fit.height)) {
-    // the free surface of the loading snapshot nearest in height
-    std::size_t best = 0;
-    for (std::size_t q = 1; q < h.size(); ++q)
-      if (std::abs(h[q] - w.fit.height) < std::abs(h[best] - w.fit.height)) best = q;
-    w.surface = ms[used[best]].surface;
+    w.surface = surface_near(w, w.fit.height);  // the loading snapshot's nearest in height
     w.depth = w.surface - w.fit.height;
   }
   return w;

@@ -20,6 +20,14 @@ double fraction(std::size_t part, std::size_t whole) {
 
 }  // namespace
 
+double surface_near(const WallLoss& w, double height) {
+  if (w.heights.empty()) return kNaN;
+  std::size_t best = 0;
+  for (std::size_t q = 1; q < w.heights.size(); ++q)
+    if (std::abs(w.heights[q] - height) < std::abs(w.heights[best] - height)) best = q;
+  return w.surfaces[best];
+}
+
 double loss_p_value(const WallLoss& w, int permutations) {
   const double gain = step_gain(w.heights, w.flags);
   if (permutations <= 0 || w.flags.empty()) return kNaN;
@@ -63,14 +71,10 @@ LossPower loss_power(const WallLoss& w, double depth, double tolerance, double f
     }
     p.fit = step_down(p.heights, p.flags);
     if (!std::isfinite(p.fit.height) || !(loss_p_value(p, permutations) < false_alarm)) continue;
-    std::size_t best = 0;  // the surface of the snapshot nearest the split, as wall_loss
-    for (std::size_t q = 1; q < p.heights.size(); ++q)
-      if (std::abs(p.heights[q] - p.fit.height) < std::abs(p.heights[best] - p.fit.height)) best = q;
-    found += std::abs(p.surfaces[best] - p.fit.height - depth) <= tolerance;
+    found += std::abs(surface_near(p, p.fit.height) - p.fit.height - depth) <= tolerance;
   }
   out.power = static_cast<double>(found) / static_cast<double>(replicas);
   return out;
 }
-
 
 }  // namespace dem2d::analysis

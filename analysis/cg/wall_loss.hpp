@@ -24,6 +24,10 @@ struct WallLoss {
   std::vector<bool> flags;       // mobile or not
 };
 
+// The free surface (m) of the used snapshot whose intruder height is nearest
+// `height` (the first of equals); NaN without snapshots.
+double surface_near(const WallLoss& w, double height);
+
 // The permutation p-value of the step fit's gain over calling every snapshot
 // the majority class: the fraction of shuffles of the flags over the heights
 // (fixed seed) whose step fit gains as much (+1 smoothing); NaN without flags

@@ -150,15 +150,17 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
     still.fill(nh, [](const auto& m) { return number(m, "wall_mobility_length_mm"); });
     rows.push_back(nh);
   }
-  // H_c's power against its found rate: a 60 deg cone present in only some of
+  // H_c's power against its found rate: a cone at the angle the stage plants
+  // its loss for (cg.toml's wall.power_cone_angle_deg) present in only some of
   // few snapshots (the walls' flags then miss at that rate), the power the
-  // stage reports where it finds no loss against how often it finds the loss
+  // stage reports against how often it finds the loss
   for (const double rest : set.intermittent_at_rest) {
     ConeScenario cone;
+    cone.beta_deg = cg.in.config.wall_power_cone_angle_deg;
     cone.at_rest = rest, cone.travel = set.intermittent_travel_mm * 1e-3;
     const Replicas reps = replicas(cone);
-    const double hc = 1e3 * half_gap * std::tan(std::numbers::pi / 3.0);
-    const std::string name = "a 60 deg cone at rest in " + fmt("%g", 100.0 * rest) + " % of the snapshots, one every " +
+    const double hc = 1e3 * half_gap * std::tan(cone.beta_deg * std::numbers::pi / 180.0);
+    const std::string name = "a " + fmt("%g", cone.beta_deg) + " deg cone at rest in " + fmt("%g", 100.0 * rest) + " % of the snapshots, one every " +
                              fmt("%g", set.intermittent_travel_mm) + " mm";
     Row found{"H_c power", name + ": how often H_c is found", "found fraction", "-", 1.0, 0.0, "x V per grain"};
     found.judged = false;
