@@ -48,6 +48,17 @@ class Headline(unittest.TestCase):
         self.assertEqual(report.headline("default", 21, 9), "**12 of 21 paper targets pass** (9 fail).")
 
 
+class Detectors(unittest.TestCase):
+    def test_the_percolation_loss_says_what_its_test_found(self):
+        net = {"percolation_loss_outcome": "none: the strong network still percolates in the highest height bin; "
+               "power 1 to find one at the paper's depth", "percolation_loss_p_value": 0.6,
+               "percolation_loss_height_mm": None, "percolation_loss_rule_height_mm": None}
+        text = "\n".join(report.detectors_section({"network": net}))
+        self.assertIn("**Percolation loss (R4).** none: the strong network still percolates", text)
+        self.assertIn("(p = 0.6): — mm; the height rule alone: — mm.", text)
+        self.assertNotIn("Percolation loss", "\n".join(report.detectors_section({"network": {}})))
+
+
 class Writes(unittest.TestCase):
     def test_a_full_disk_leaves_nothing_half_written_and_says_so(self):
         for kind, name in (("text", "report.html"), ("figure", "fig.png")):

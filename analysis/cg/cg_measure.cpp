@@ -237,29 +237,4 @@ double region_mean(const Grid& g, const std::vector<double>& field, double xmin,
   return n > 0 ? sum / n : kNaN;
 }
 
-StepFit step_down(const std::vector<double>& heights, const std::vector<bool>& mobile) {
-  std::vector<std::size_t> order(heights.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return heights[a] < heights[b]; });
-  const std::size_t n = order.size();
-  StepFit fit;
-  fit.count = static_cast<int>(n);
-  // errors(s): the s lowest are called mobile, the rest immobile
-  int errors = static_cast<int>(std::count(mobile.begin(), mobile.end(), true));  // s = 0: all called immobile
-  int best = errors;
-  std::vector<std::size_t> best_s = {0};
-  for (std::size_t s = 1; s <= n; ++s) {
-    errors += mobile[order[s - 1]] ? -1 : +1;
-    if (s < n && heights[order[s]] == heights[order[s - 1]]) continue;  // no split between equal heights
-    if (errors < best) best = errors, best_s.assign(1, s);
-    else if (errors == best) best_s.push_back(s);
-  }
-  fit.misclassified = best;
-  std::vector<double> splits;
-  for (const std::size_t s : best_s)
-    if (s > 0 && s < n) splits.push_back(0.5 * (heights[order[s - 1]] + heights[order[s]]));
-  if (!splits.empty()) fit.height = 0.5 * (splits.front() + splits.back());
-  return fit;
-}
-
 }  // namespace dem2d::analysis

@@ -107,15 +107,4 @@ double mobile_length(const Grid& g, const std::vector<double>& profile, double y
 double region_mean(const Grid& g, const std::vector<double>& field, double xmin, double xmax, double ymin,
                    double ymax);
 
-// The height that best separates "mobile" observations (expected below it)
-// from "not mobile" ones (above): the split of the sorted heights with the
-// fewest misclassified observations (a mobile one above or an immobile one
-// below); ties: the middle of the optimal splits. height NaN if all
-// observations are in one class.
-struct StepFit {
-  double height = kNaN;
-  int misclassified = 0, count = 0;
-};
-StepFit step_down(const std::vector<double>& heights, const std::vector<bool>& mobile);
-
 }  // namespace dem2d::analysis

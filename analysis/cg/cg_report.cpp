@@ -308,7 +308,7 @@ struct Summary {
   WallNoise noise;
   double loss_p = kNaN;
   bool loss_significant = false;
-  LossPower loss_power;  // of the loss test at the paper's depth with the run's flag errors
+  StepPower loss_power;  // of the loss test at the paper's depth in flags as mixed as the run's
 };
 
 // beta as reported (x.beta_value), or why not (x.beta_outcome): the mean over
@@ -349,7 +349,7 @@ Summary summarise(const StageRecord& r) {
     x.noise = wall_noise(r, c.wall_pool_d);
     x.wall = calibrated_wall_loss(r, x.sel, x.noise, c.wall_false_alarm);
   }
-  x.loss_p = loss_p_value(x.wall, c.wall_permutations);
+  x.loss_p = step_p_value(x.wall, c.wall_permutations);
   x.loss_significant = std::isfinite(x.wall.fit.height) && x.loss_p < c.wall_loss_false_alarm;
   if (!x.loss_significant) x.wall.depth = kNaN;
   // measured found or not (a miss is read by it; beside a find it says how sure a rerun would be to find it)
@@ -429,7 +429,7 @@ void add_wall(json& m, const Summary& x) {
   m["wall_mobility_mobile_snapshots"] = wall.mobile;
   m["wall_mobility_misclassified"] = wall.fit.misclassified;
   m["wall_mobility_loss_p_value"] = nullable(x.loss_p);
-  const LossPower& pw = x.loss_power;
+  const StepPower& pw = x.loss_power;
   const std::string verdict = std::isfinite(pw.power) && pw.power >= x.r.config.wall_min_power ? "none" : "undetermined";
   m["wall_mobility_outcome"] =
       x.loss_significant ? "found"
@@ -440,8 +440,8 @@ void add_wall(json& m, const Summary& x) {
                                          "none; power " + format_number(pw.power) + " to find one at the paper's depth";
   m["wall_mobility_power"] = nullable(pw.power);
   m["wall_mobility_power_detail"] = {{"planted_depth_mm", nullable(pw.depth * kMm)},
-                                     {"missed_rate", nullable(pw.missed)},
-                                     {"false_mobile_rate", nullable(pw.false_mobile)},
+                                     {"flip_rate_below", nullable(pw.flip_below)},
+                                     {"flip_rate_above", nullable(pw.flip_above)},
                                      {"replicas", pw.replicas},
                                      {"min_power", x.r.config.wall_min_power}};
   m["wall_mobility_level_range"] = {nullable(x.noise.level_min), nullable(x.noise.level_max)};
@@ -627,7 +627,7 @@ json false_alarm_rows(const Summary& x) {
   for (const double a : c.wall_false_alarms) {
     WallNoise nq = x.noise;
     const WallLoss w = calibrated_wall_loss(x.r, x.sel, nq, a);
-    const double p = loss_p_value(w, c.wall_permutations);
+    const double p = step_p_value(w, c.wall_permutations);
     const bool sig = std::isfinite(w.fit.height) && p < c.wall_loss_false_alarm;
     rows.push_back({{"wall_false_alarm", a},
                     {"level_range", {nullable(nq.level_min), nullable(nq.level_max)}},

@@ -584,49 +584,5 @@ TEST(CgStage, BadInputsNameTheFile) {
   }
 }
 
-// The loss test's power where it found none: planted at the paper's depth
-// with the run's own flag errors were that the truth. Clean flags around that
-// depth give it full power; flags no better than coin flips give it almost
-// none (a miss there is undetermined); a depth outside the snapshots' heights
-// cannot be found.
-TEST(CgWall, LossPowerFollowsTheFlagsErrors) {
-  WallLoss w;
-  std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (int k = 0; k < 200; ++k) {
-    w.heights.push_back(0.0005 * k);  // 0 ... 0.1 m
-    w.surfaces.push_back(0.14);
-  }
-  // a few errors each side of a loss at 0.062 m (0.078 below the surface): 5 % immobile below, 5 % mobile above
-  for (const double h : w.heights) w.flags.push_back((h < 0.062) != (u(rng) < 0.05));
-  w.fit = step_down(w.heights, w.flags);
-  EXPECT_LT(loss_p_value(w, 200), 0.01);
-  const double depth = 0.078, tol = 0.009;  // the paper's H_c; 3 d
-  const LossPower clean = loss_power(w, depth, tol, 0.01, 200, 20);
-  int below = 0, immobile_below = 0, mobile_above = 0;
-  for (std::size_t i = 0; i < w.flags.size(); ++i)
-    w.heights[i] < 0.14 - depth ? (++below, immobile_below += !w.flags[i]) : (mobile_above += w.flags[i]);
-  EXPECT_DOUBLE_EQ(clean.missed, immobile_below / double(below));
-  EXPECT_DOUBLE_EQ(clean.false_mobile, mobile_above / double(200 - below));
-  EXPECT_LT(clean.missed + clean.false_mobile, 0.2);
-  EXPECT_GE(clean.power, 0.95);
-  // coin flips: the best split's errors are near one half on each side
-  for (std::size_t i = 0; i < w.flags.size(); ++i) w.flags[i] = u(rng) < 0.5;
-  w.fit = step_down(w.heights, w.flags);
-  const LossPower noisy = loss_power(w, depth, tol, 0.01, 200, 20);
-  EXPECT_GT(std::max(noisy.missed, noisy.false_mobile), 0.35);
-  EXPECT_LE(noisy.power, 0.3);
-  // a loss deeper than every snapshot's height below the surface: never found
-  EXPECT_EQ(loss_power(w, 0.139, tol, 0.01, 200, 20).power, 0.0);
-  // walls mobile in every snapshot: every flag above the planted loss is an
-  // error, the planted flags are all mobile, nothing to find
-  w.flags.assign(w.flags.size(), true);
-  const LossPower everywhere = loss_power(w, depth, tol, 0.01, 200, 20);
-  EXPECT_EQ(everywhere.false_mobile, 1.0);
-  EXPECT_EQ(everywhere.power, 0.0);
-  // no flags, no power
-  EXPECT_TRUE(std::isnan(loss_power(WallLoss{}, depth, tol, 0.01, 200, 20).power));
-}
-
 }  // namespace
 }  // namespace dem2d::analysis

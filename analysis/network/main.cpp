@@ -37,8 +37,10 @@ int main(int argc, char** argv) {
           return "no intruder: strong network spans wall to wall in " + show(m["spanning_fraction"]) +
                  " of the snapshots; at the end the side walls carry " + show(m["final"]["wall_load_fraction"]) +
                  " of the load";
-        return "percolation lost above " + show(m["percolation_loss_height_mm"]) +
-               " mm, percolating below the top layer " + show(m["percolating_fraction_below_top_layer"]) +
+        const std::string loss = m["percolation_loss_height_mm"].is_null()
+                                     ? "percolation loss " + m["percolation_loss_outcome"].get<std::string>()
+                                     : "percolation lost above " + show(m["percolation_loss_height_mm"]) + " mm";
+        return loss + ", percolating below the top layer " + show(m["percolating_fraction_below_top_layer"]) +
                ", top-layer anisotropy " + show(m["top_layer_anisotropy"]) + ", keystone-explained fraction " +
                show(m["keystone_explained_fraction"]);
       });

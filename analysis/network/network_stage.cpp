@@ -9,6 +9,7 @@
 #include <set>
 
 #include "io/run_reader.hpp"
+#include "network/percolation_loss.hpp"
 #include "common/snapshot_loop.hpp"
 #include "common/stage_config.hpp"
 
@@ -160,6 +161,13 @@ NetworkConfig load_network_config(const std::string& path) {
   f.choice("walls", c.walls, {"both", "either"}, "percolating: the intruder reaches both side walls, or either");
   f.number("bin_width_d", c.bin_width_d, 1e-3, 100.0, "height bins, mean diameters");
   f.number("loss_level", c.loss_level, 0.0, 1.0, "percolating fraction that defines the loss height");
+  f.number("loss_false_alarm", c.loss_false_alarm, 0.0, 1.0, "a loss: the step test's p-value below this");
+  f.integer("loss_permutations", c.loss_permutations, 1, 1000000, "permutations of the step test");
+  f.number("power_depth_end_to_wall", c.power_depth_end_to_wall, 0.0, 100.0,
+           "a none's power: loss planted this x (L_c - L)/2 below the surface");
+  f.number("power_tolerance_d", c.power_tolerance_d, 0.0, 100.0, "planted loss found within this, mean diameters");
+  f.integer("power_replicas", c.power_replicas, 1, 100000, "planted series for the power");
+  f.number("min_power", c.min_power, 0.0, 1.0, "a none with less power is undetermined");
   f.number("anisotropy_region_height", c.anisotropy_region_height, 1e-3, 100.0,
            "region above the intruder, in end-to-wall distances");
   f.integer("anisotropy_min_contacts", c.anisotropy_min_contacts, 1, 1000000, "strong contacts needed in the region");
@@ -185,6 +193,12 @@ json to_json(const NetworkConfig& c) {
           {"walls", c.walls},
           {"bin_width_d", c.bin_width_d},
           {"loss_level", c.loss_level},
+          {"loss_false_alarm", c.loss_false_alarm},
+          {"loss_permutations", c.loss_permutations},
+          {"power_depth_end_to_wall", c.power_depth_end_to_wall},
+          {"power_tolerance_d", c.power_tolerance_d},
+          {"power_replicas", c.power_replicas},
+          {"min_power", c.min_power},
           {"anisotropy_region_height", c.anisotropy_region_height},
           {"anisotropy_min_contacts", c.anisotropy_min_contacts},
           {"keystone_end_zone_d", c.keystone_end_zone_d},
@@ -445,6 +459,28 @@ EventSummary event_metrics(json& m, const Track& t, const std::vector<double>& d
   return ev;
 }
 
+LossTestSettings loss_settings(const NetworkConfig& cfg, const HeightBins& bins, double d_mean, double end_to_wall) {
+  LossTestSettings s;
+  s.bins = bins, s.level = cfg.loss_level;
+  s.false_alarm = cfg.loss_false_alarm, s.permutations = static_cast<int>(cfg.loss_permutations);
+  s.depth = cfg.power_depth_end_to_wall * end_to_wall, s.tolerance = cfg.power_tolerance_d * d_mean;
+  s.replicas = static_cast<int>(cfg.power_replicas), s.min_power = cfg.min_power;
+  return s;
+}
+
+void loss_metrics(json& m, const LossTest& lt, const NetworkConfig& cfg) {
+  m["percolation_loss_height_mm"] = mm_or_null(lt.height);
+  m["percolation_loss_rule_height_mm"] = mm_or_null(lt.rule_height);
+  m["percolation_loss_p_value"] = number_or_null(lt.p_value);
+  m["percolation_loss_outcome"] = lt.outcome;
+  m["percolation_loss_power"] = number_or_null(lt.power.power);
+  m["percolation_loss_power_detail"] = {{"planted_depth_mm", mm_or_null(lt.power.depth)},
+                                        {"flip_rate_below", number_or_null(lt.power.flip_below)},
+                                        {"flip_rate_above", number_or_null(lt.power.flip_above)},
+                                        {"replicas", lt.power.replicas},
+                                        {"min_power", cfg.min_power}};
+}
+
 // How the metrics move with the settings' thresholds.
 json sensitivity(const Tracked& tr, const std::vector<RuptureEvent>& events, const NetworkInputs& in,
                  const NetworkConfig& cfg, double d_mean, double top, double below_hi) {
@@ -627,7 +663,8 @@ NetworkResult run_network(const SnapshotSource& run, const std::vector<RuptureEv
   const HeightBins bins{cfg.bin_width_d * d_mean};
   const std::vector<std::uint8_t> flags = variants.front().flags(both);
   const PercolationProfile profile = percolation_profile(bins, t.height, flags);
-  const std::optional<double> loss = loss_height(profile, cfg.loss_level);
+  const LossTest lt = percolation_loss(t.height, flags, bed0, loss_settings(cfg, bins, d_mean, end_to_wall));
+  const std::optional<double>& loss = lt.height;
   const TopLayer layer = top_layer(spectrum_top_mm, loss, in, bed0);
   const double top = layer.height, below_hi = layer.below_hi;
   const std::string& top_source = layer.source;
@@ -643,8 +680,7 @@ NetworkResult run_network(const SnapshotSource& run, const std::vector<RuptureEv
   m["measured_mean_diameter_mm"] = measured_d * kMm;
   m["initial_bed_height_mm"] = bed0 * kMm;
   m["end_to_wall_distance_mm"] = end_to_wall * kMm;
-  m["percolation_loss_height_mm"] = mm_or_null(loss);
-  if (!loss) m["percolation_loss_note"] = "the strong network still percolates in the highest height bin";
+  loss_metrics(m, lt, cfg);
   m["top_layer_height_mm"] = mm_or_null(top);
   m["top_layer_source"] = top_source;
 

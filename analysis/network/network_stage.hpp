@@ -22,6 +22,12 @@ struct NetworkConfig {
   std::string walls = "both";               // percolating: intruder reaches "both" side walls, or "either"
   double bin_width_d = 1.0;                 // height bins (mean diameters)
   double loss_level = 0.5;                  // loss height: percolating fraction stays below this above it
+  double loss_false_alarm = 0.01;           // a loss: the step test's p-value below this
+  std::int64_t loss_permutations = 200;     // of the step test
+  double power_depth_end_to_wall = 1.0;     // a none's power: loss planted this x (L_c - L)/2 below the surface
+  double power_tolerance_d = 3.0;           // ... found within this x d
+  std::int64_t power_replicas = 20;         // ... in this many planted series
+  double min_power = 0.8;                   // a none with less power is undetermined
   double anisotropy_region_height = 1.0;    // region above the intruder, x end-to-wall distance
   std::int64_t anisotropy_min_contacts = 10;  // fewer strong contacts in the region: anisotropy undefined
   double keystone_end_zone_d = 0.5;         // intruder end: grain centre within this x d of a segment end, or beyond

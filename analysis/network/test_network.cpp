@@ -6,9 +6,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 #include "io/h5.hpp"
 #include "network/network_stage.hpp"
+#include "network/percolation_loss.hpp"
 #include "common/stage_config.hpp"
 #include "temp_dir.hpp"
 
@@ -248,6 +250,47 @@ TEST(NetworkProfile, LossHeightIsWherePercolationStaysBelowTheLevel) {
   // never percolating: lost from the lowest bin
   EXPECT_NEAR(*loss_height(percolation_profile(bins, h, std::vector<std::uint8_t>(h.size(), 0)), 0.5), 0.0, 1e-15);
   EXPECT_DOUBLE_EQ(flagged_fraction(h, f, 0.0, 0.009), 5.0 / 6.0);
+}
+
+// The loss is reported only where the step in the flags is significant, and
+// a none says whether it could have seen the paper's loss (150 mm bed, the
+// loss planted 45 mm below its surface, found within 9 mm).
+TEST(NetworkProfile, LossIsATestAndANoneCarriesItsPower) {
+  LossTestSettings s;
+  s.bins = HeightBins{0.003}, s.depth = 0.045, s.tolerance = 0.009;
+  const double surface = 0.150;
+  std::vector<double> h;
+  for (int k = 0; k < 130; ++k) h.push_back(0.020 + 0.001 * k);  // 20 ... 149 mm, one snapshot a mm
+  const auto flags = [&](double loss, double flip, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<std::uint8_t> f;
+    for (const double x : h) f.push_back((x < loss) != (u(rng) < flip));
+    return f;
+  };
+  // lost at 105 mm with 5 % of the flags flipped: found, at the rule's height
+  const LossTest found = percolation_loss(h, flags(0.105, 0.05, 1), surface, s);
+  EXPECT_EQ(found.outcome, "found");
+  ASSERT_TRUE(found.height);
+  EXPECT_NEAR(*found.height, 0.105, 0.006);
+  EXPECT_EQ(found.height, found.rule_height);
+  EXPECT_LT(found.p_value, 0.01);
+  // percolating at every height: none, and the power says a loss at 105 mm would have been seen
+  const LossTest never = percolation_loss(h, flags(1.0, 0.0, 1), surface, s);
+  EXPECT_FALSE(never.height);
+  EXPECT_EQ(never.outcome.rfind("none: the strong network still percolates in the highest height bin", 0), 0u)
+      << never.outcome;
+  EXPECT_EQ(never.power.power, 1.0);
+  // coin flips: no loss, and the power is too low to call it absent
+  const LossTest coin = percolation_loss(h, flags(1.0, 0.5, 2), surface, s);
+  EXPECT_FALSE(coin.height);
+  EXPECT_GT(coin.p_value, 0.01);
+  EXPECT_LT(coin.power.power, 0.8);
+  EXPECT_EQ(coin.outcome.rfind("undetermined: ", 0), 0u) << coin.outcome;
+  // percolating everywhere but in 4 snapshots only: nothing could be significant
+  const LossTest few = percolation_loss({0.10, 0.11, 0.12, 0.13}, {1, 1, 1, 1}, surface, s);
+  EXPECT_EQ(few.power.power, 0.0);
+  EXPECT_EQ(few.outcome.rfind("undetermined", 0), 0u);
 }
 
 // an event from its peak to the end of its drop (s)

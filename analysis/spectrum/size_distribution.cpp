@@ -192,10 +192,11 @@ SizeDistribution fit_sizes(const std::vector<double>& sizes, const SizeFitSettin
   if (out.best.empty()) {
     out.best = "undecided";
     // the leading family and the tail its weaker comparison would need
-    const std::pair<const char*, double> ll[] = {{"power_law", out.power_law.log_likelihood},
-                                                 {"lognormal", out.lognormal.log_likelihood},
-                                                 {"exponential", out.exponential.log_likelihood}};
-    out.leading = std::max_element(std::begin(ll), std::end(ll), [](auto& a, auto& b) { return a.second < b.second; })->first;
+    const std::pair<const char*, double> total[] = {{"power_law", out.power_law.log_likelihood},
+                                                    {"lognormal", out.lognormal.log_likelihood},
+                                                    {"exponential", out.exponential.log_likelihood}};
+    out.leading =
+        std::max_element(std::begin(total), std::end(total), [](auto& a, auto& b) { return a.second < b.second; })->first;
     const double z_crit = normal_upper_quantile(0.5 * s.significance);  // two-sided
     out.tail_needed = 0.0;
     for (const Comparison& c : out.comparisons)

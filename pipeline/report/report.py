@@ -144,8 +144,9 @@ def sensitivity(metrics: dict) -> list[str]:
 
 def detectors_section(metrics: dict) -> list[str]:
     """The detectors' own evidence: the rupture rule and the spacing by size, the size distribution's fits,
-    the top layer's change point and its interval, the wall mobility's test, the noise measured at rest."""
-    sp, cg = metrics.get("spectrum", {}), metrics.get("cg", {})
+    the top layer's change point and its interval, the wall mobility's and the percolation loss's tests,
+    the noise measured at rest."""
+    sp, cg, net = metrics.get("spectrum", {}), metrics.get("cg", {}), metrics.get("network", {})
     lines = []
     if sp:
         lines += [f"**Ruptures (R3).** {sp.get('rupture_rule', '')}: {fmt(sp.get('rupture_count'))} of "
@@ -185,6 +186,10 @@ def detectors_section(metrics: dict) -> list[str]:
                   f"{fmt(cg.get('wall_mobility_length_fixed_level_mm'))} mm. Cone level {fmt(cg.get('cone_level'))}. "
                   f"PIV noise at rest: {fmt(noise.get('grain_rms_over_v'))} V per grain and component; v* of single "
                   f"nodes: median {fmt(noise.get('node_vstar_median'))}, 99.9 % {fmt(noise.get('node_vstar_q999'))}."]
+    if net.get("percolation_loss_outcome"):
+        lines += ["", f"**Percolation loss (R4).** {net['percolation_loss_outcome']} (p = "
+                  f"{fmt(net.get('percolation_loss_p_value'))}): {fmt(net.get('percolation_loss_height_mm'))} mm; "
+                  f"the height rule alone: {fmt(net.get('percolation_loss_rule_height_mm'))} mm."]
     return lines
 
 

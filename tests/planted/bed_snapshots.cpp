@@ -221,6 +221,14 @@ Snapshot bed_snapshot(const Bed& bed, const std::vector<Vec2>& position, double 
   return s;
 }
 
+double wall_meeting(double beta_deg, double bend, double gap) {
+  const double t = std::tan(beta_deg * std::numbers::pi / 180.0);
+  if (bend == 0.0) return gap * t;
+  const double disc = 1.0 + 4.0 * bend * t;  // a / t (1 + bend a / gap) = gap, solved for a
+  if (disc < 0.0) return std::numeric_limits<double>::quiet_NaN();
+  return gap * (std::sqrt(disc) - 1.0) / (2.0 * bend);
+}
+
 analysis::MemorySource cone_run(const Bed& bed, const ConeScenario& c) {
   const BedGeometry& g = bed.g;
   analysis::MemorySource src;
@@ -229,7 +237,9 @@ analysis::MemorySource cone_run(const Bed& bed, const ConeScenario& c) {
   src.velocities = {{}, {}, {}, {0.0, g.speed}};
   std::mt19937_64 rng(c.seed);
   std::normal_distribution<double> gauss(0.0, 1.0);
-  const double tan_b = std::tan(c.beta_deg * std::numbers::pi / 180.0);
+  const double tan_left = std::tan(c.beta_deg * std::numbers::pi / 180.0);
+  const double tan_right = std::isnan(c.beta_right_deg) ? tan_left : std::tan(c.beta_right_deg * std::numbers::pi / 180.0);
+  const double gap = 0.5 * (g.width - g.length);
   const double d = mean_of(bed.diameter), w = 1.5 * d;
   const SmoothedNoise smooth(bed.position, c.correlation_d * d);
   for (std::size_t k = 0; intruder_height(g, static_cast<double>(k) * c.travel / g.speed) <= c.end; ++k) {
@@ -248,7 +258,9 @@ analysis::MemorySource cone_run(const Bed& bed, const ConeScenario& c) {
     const std::vector<Vec2> n = smooth.draw(rng);  // empty: independent per grain
     const bool moving = c.moving && !(c.at_rest > 0.0 && std::uniform_real_distribution<double>(0.0, 1.0)(rng) < c.at_rest);
     for (std::size_t i = 0; i < p.size(); ++i) {
-      const double above = p[i].y - b.top, beyond = std::abs(p[i].x - b.xc) - b.half, reach = above / tan_b;
+      const double above = p[i].y - b.top, beyond = std::abs(p[i].x - b.xc) - b.half;
+      const double reach =
+          std::max(1e-12, above / (p[i].x < b.xc ? tan_left : tan_right) * (1.0 + c.bend * above / gap));
       double vstar = 0.0;
       if (moving && above > 0.0)
         vstar = c.graded ? std::clamp(1.0 - 0.75 * beyond / reach, 0.0, 1.0) : beyond <= reach ? 1.0 : 0.0;
@@ -272,13 +284,17 @@ analysis::MemorySource network_run(const Bed& bed, const NetworkScenario& n) {
   const auto adj = adjacency(bed);
   ContactMaker make{bed, std::mt19937_64(n.seed)};
   make.spurious = n.spurious;
+  std::mt19937_64 lapses(n.seed + 11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
   for (std::size_t k = 0; intruder_height(g, static_cast<double>(k) * n.travel / g.speed) <= n.end; ++k) {
     const double t = static_cast<double>(k) * n.travel / g.speed;
     const Bar b = bar_at(g, intruder_height(g, t));
     std::vector<std::pair<std::int32_t, std::int32_t>> strong;
-    // below the loss, arches to both walls; above it, the same arches ending
-    // 15 mm short of the walls (a network as strong, percolating nowhere)
-    strong = arches(bed, adj, bed.position, b, nullptr, b.yc < n.loss ? 0.0 : 0.015);
+    // below the loss, arches to both walls (but in a fraction `lapse` of the
+    // snapshots); above it, the same arches ending 15 mm short of the walls (a
+    // network as strong, percolating nowhere)
+    const bool lapsed = u(lapses) < n.lapse;
+    strong = arches(bed, adj, bed.position, b, nullptr, b.yc < n.loss && !lapsed ? 0.0 : 0.015);
     Snapshot s = bed_snapshot(bed, bed.position, t, k);
     s.contacts = make.make(bed.position, b, strong);
     src.snaps.push_back(std::move(s));

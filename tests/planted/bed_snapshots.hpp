@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "common/events.hpp"
@@ -61,9 +62,15 @@ double intruder_height(const BedGeometry& g, double t);
 // snapshots after the first have the layer above the intruder (from 4 w below
 // the dilatancy region to 4 w above it; region: cg.toml's) stretched
 // vertically by 1 + dilation, w = 1.5 x mean diameter; `jitter` moves every
-// grain by a Gaussian of that many mean diameters at every snapshot.
+// grain by a Gaussian of that many mean diameters at every snapshot. The
+// right edge may have its own angle (`beta_right_deg`), and both edges may
+// bend: at height a above the intruder an edge reaches a / tan(beta) x (1 +
+// bend x a / G) beyond its tip, G the gap from a tip to its wall (bend > 0:
+// the edge flattens upwards, < 0: it steepens; 0: straight).
 struct ConeScenario {
   double beta_deg = 60.0, noise = 0.0, travel = 0.0005, end = 0.140, window = 0.05;
+  double beta_right_deg = std::numeric_limits<double>::quiet_NaN();  // NaN: beta_deg
+  double bend = 0.0;
   double dilation = 0.0, jitter = 0.0;
   double correlation_d = 0.0;  // noise correlation length, x mean diameter (0: independent per grain)
   double at_rest = 0.0;        // fraction of the snapshots (drawn at random) in which nothing moves
@@ -72,6 +79,9 @@ struct ConeScenario {
   std::uint64_t seed = 1;
 };
 analysis::MemorySource cone_run(const Bed& bed, const ConeScenario& c);
+// The height above the intruder's top (m) at which an edge of angle beta_deg
+// and that bend meets its wall, G (m) from its tip; NaN if it never does.
+double wall_meeting(double beta_deg, double bend, double gap);
 
 // Force networks: weak contacts between lattice neighbours and with the
 // walls, floor and intruder; arches of strong contacts from the grain at each
@@ -80,6 +90,7 @@ analysis::MemorySource cone_run(const Bed& bed, const ConeScenario& c);
 // contacts made strong at random. Snapshots every `travel` m up to `end`.
 struct NetworkScenario {
   double loss = 0.100, spurious = 0.0, travel = 0.001, end = 0.140;
+  double lapse = 0.0;  // fraction of the snapshots below the loss (at random) whose arches end short too
   std::uint64_t seed = 1;
 };
 analysis::MemorySource network_run(const Bed& bed, const NetworkScenario& n);

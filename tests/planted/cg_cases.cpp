@@ -1,7 +1,9 @@
 // Planted truth for the cg stage: the cone angle beta (R5) and the
 // wall-mobility length H_c = (L_c - L)/2 tan beta (R6) of a planted cone,
-// across per-grain PIV noise; nothing moving (both "none"); the dilatancy
-// (R11) of a planted dilated layer, across grain-position noise.
+// across per-grain PIV noise (independent or correlated in space); cones with
+// edges of two angles or bent edges; nothing moving (both "none"); H_c's power
+// against its found rate; the dilatancy (R11) of a planted dilated layer,
+// across grain-position noise.
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -150,6 +152,56 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
     still.fill(nh, [](const auto& m) { return number(m, "wall_mobility_length_mm"); });
     rows.push_back(nh);
   }
+  // cones of other shapes: edges of two angles; edges that bend
+  for (const double noise : set.shape_piv_noise) {
+    const double left = set.asymmetric_cone_deg[0], right = set.asymmetric_cone_deg[1];
+    ConeScenario two;
+    two.beta_deg = left, two.beta_right_deg = right, two.noise = noise;
+    const Replicas reps = replicas(two);
+    const std::string name = "edges of " + fmt("%g", left) + " deg (left) and " + fmt("%g", right) + " deg (right)";
+    for (const bool is_left : {true, false}) {
+      Row b{"cone angle (R5)", name + ": the " + (is_left ? "left" : "right") + " edge", "beta of the side", "deg",
+            is_left ? left : right, noise, "x V per grain"};
+      b.tolerance = 5.0;
+      b.note = "each side's angle is the mean over the snapshots of that side's fitted edge";
+      reps.fill(b, [is_left](const auto& m) { return number(m, is_left ? "cone_angle_left_deg" : "cone_angle_right_deg"); });
+      rows.push_back(b);
+    }
+    Row h{"wall mobility H_c (R6)", name + ": the walls' loss", "wall-mobility length", "mm",
+          1e3 * wall_meeting(std::min(left, right), 0.0, half_gap), noise, "x V per grain"};
+    h.tolerance = 10.0;
+    h.note = "planted: where the flatter edge meets its wall (the steeper one meets its wall at " +
+             fmt("%.1f", 1e3 * wall_meeting(std::max(left, right), 0.0, half_gap)) + " mm): a snapshot's walls are "
+             "mobile while their mean mobile length is 1 d or more, so the loss follows the wall that stays mobile "
+             "longer as the intruder rises";
+    reps.fill(h, [](const auto& m) { return number(m, "wall_mobility_length_mm"); });
+    rows.push_back(h);
+    for (const double bend : set.edge_bends) {
+      ConeScenario bent;
+      bent.beta_deg = 60.0, bent.bend = bend, bent.noise = noise;
+      const double meet = wall_meeting(bent.beta_deg, bend, half_gap);
+      if (!std::isfinite(meet)) continue;
+      const Replicas r = replicas(bent);
+      const double chord = std::atan2(meet, half_gap) * 180.0 / std::numbers::pi;
+      const std::string bname = "an edge leaving the tip at 60 deg, bent by " + fmt("%g", bend) + " (" +
+                                (bend > 0.0 ? "flattening" : "steepening") + " upwards)";
+      Row hc{"wall mobility H_c (R6)", bname + ": where it meets the wall", "wall-mobility length", "mm", 1e3 * meet,
+             noise, "x V per grain"};
+      hc.tolerance = 10.0;
+      hc.note = "H_c is read from the walls, not from beta: it follows the edge whatever its shape";
+      r.fill(hc, [](const auto& m) { return number(m, "wall_mobility_length_mm"); });
+      rows.push_back(hc);
+      Row bc{"cone angle (R5)", bname + ": beta against the chord to the wall meeting", "beta", "deg", chord, noise,
+             "x V per grain"};
+      bc.judged = false;
+      bc.note = "a straight line fitted to a bent edge: its angle lies between the edge's at the tip (60 deg) and "
+                "at the wall; ½(L_c - L) tan beta then misses H_c by the bias times about " +
+                fmt("%.1f", 1e3 * half_gap * std::numbers::pi / 180.0 / std::pow(std::cos(chord * std::numbers::pi / 180.0), 2)) +
+                " mm per degree";
+      r.fill(bc, [](const auto& m) { return number(m, "cone_angle_deg"); });
+      rows.push_back(bc);
+    }
+  }
   // H_c's power against its found rate: a cone at the angle the stage plants
   // its loss for (cg.toml's wall.power_cone_angle_deg) present in only some of
   // few snapshots (the walls' flags then miss at that rate), the power the
@@ -173,9 +225,13 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
     Row power{"H_c power", name + ": the power the stage reports", "estimated power", "-", found.mean, 0.0,
               "x V per grain"};
     power.tolerance = 0.25;
-    power.judged = set.replicas >= 10;  // a run's power is near 0 or 1: a mean over a few runs scatters by ~0.3
+    power.judged = set.replicas >= 10 && rest <= 0.5;  // a run's power is near 0 or 1: a mean over a few runs scatters by ~0.3
     power.note = "planted: the found fraction of the row above; the power is the stage's, on every replica (it "
-                 "reads a miss by it; on the misses alone it is lower: their flags have more errors)";
+                 "reads a miss by it)";
+    if (rest > 0.5)
+      power.limit = "a cone at rest in most snapshots: the walls' flags below the loss are mostly immobile, and the "
+                    "flip rate (the minority on each side) reads them as a cone present in most snapshots with "
+                    "fewer errors; the power is that of the paper's claim (walls mobile below H_c), too high for this case";
     reps.fill(power, [](const auto& m) { return number(m, "wall_mobility_power"); });
     rows.push_back(power);
   }

@@ -78,9 +78,13 @@ Settings load_settings(const std::string& path, bool quick) {
     t.number("intermittent_travel_mm", s.intermittent_travel_mm, 0.0, 1e3, "mm", analysis::StageConfig::Ends::open_low);
     t.numbers("cone_angles_deg", s.cone_angles_deg, 0.0, 90.0, "degrees", analysis::StageConfig::Ends::open);
     t.numbers("wall_lengths_mm", s.wall_lengths_mm, 0.0, 1e4, "mm", analysis::StageConfig::Ends::open_low);
+    t.numbers("asymmetric_cone_deg", s.asymmetric_cone_deg, 0.0, 90.0, "degrees", analysis::StageConfig::Ends::open);
+    t.numbers("edge_bends", s.edge_bends, -1.0, 1.0, "bend");
+    t.numbers("shape_piv_noise", s.shape_piv_noise, 0.0, 100.0, "x V per component");
     t.numbers("dilatancy", s.dilatancy, -0.5, 0.5, "solid fraction change");
     t.numbers("position_noise_d", s.position_noise_d, 0.0, 10.0, "x mean diameter");
     t.numbers("percolation_loss_mm", s.percolation_loss_mm, 0.0, 1e4, "mm", analysis::StageConfig::Ends::open_low);
+    t.numbers("percolation_lapse", s.percolation_lapse, 0.0, 1.0, "fraction of snapshots", analysis::StageConfig::Ends::open_high);
     t.numbers("spurious_strong", s.spurious_strong, 0.0, 1.0, "fraction of contacts");
     t.numbers("keystone_fractions", s.keystone_fractions, 0.0, 1.0, "fraction of ruptures");
     t.reject_unknown();
@@ -89,6 +93,9 @@ Settings load_settings(const std::string& path, bool quick) {
   if (quick) read(file.table("quick"));
   else file.table("quick");
   file.reject_unknown();
+  if (s.asymmetric_cone_deg.size() != 2)
+    throw analysis::StageError(path + ": asymmetric_cone_deg has " + std::to_string(s.asymmetric_cone_deg.size()) +
+                               " values: must be two angles, the left edge's and the right edge's");
   return s;
 }
 

@@ -77,9 +77,13 @@ struct Settings {
   std::vector<double> intermittent_at_rest{0.5, 0.7};  // H_c's power: fraction of snapshots in which nothing moves
   double intermittent_travel_mm = 5.0;                // ... in snapshots this far apart
   std::vector<double> wall_lengths_mm{54.0, 78.0, 124.0};
+  std::vector<double> asymmetric_cone_deg{50.0, 70.0};  // a cone's left and right edges (degrees)
+  std::vector<double> edge_bends{-0.1, 0.3};            // edges that bend (ConeScenario::bend)
+  std::vector<double> shape_piv_noise{0.0, 0.3};        // per-grain noise on those two families, x V
   std::vector<double> dilatancy{0.0, -0.01, -0.026, -0.05};
   std::vector<double> position_noise_d{0.0, 0.05, 0.1};  // grain-position noise, x mean diameter
   std::vector<double> percolation_loss_mm{70.0, 100.0};
+  std::vector<double> percolation_lapse{0.3, 0.5};  // percolation loss's power: fraction of snapshots without arches
   std::vector<double> spurious_strong{0.0, 0.05, 0.1};  // fraction of contacts made strong at random
   std::vector<double> keystone_fractions{0.0, 0.5, 1.0};
 };
