@@ -1,7 +1,7 @@
 // A step in per-snapshot yes/no flags against the intruder's height ("yes"
 // below, "no" above: the walls move, the force network percolates), as a
 // test: the best split, its permutation p-value, and the test's power to find
-// a step planted at a given depth below the surface in flags as noisy as the
+// a step planted at a given depth below the surface in flags as mixed as the
 // run's own. Pure functions of the flags; the cg stage (wall mobility) and the
 // network stage (percolation) make the flags. SI units (m).
 #pragma once
