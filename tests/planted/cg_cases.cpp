@@ -24,23 +24,6 @@ struct CgRun {
   }
 };
 
-Outcome number(const nlohmann::ordered_json& m, const char* key) {
-  const auto& v = m[key];
-  return v.is_number() ? Outcome{true, v.get<double>()} : Outcome{};
-}
-
-// Runs the replicas once and hands out what each row reads of them.
-struct Replicas {
-  std::vector<nlohmann::ordered_json> metrics;
-  Replicas(int n, const std::function<nlohmann::ordered_json(unsigned)>& f) : metrics(static_cast<std::size_t>(n)) {
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int r = 1; r <= n; ++r) metrics[static_cast<std::size_t>(r - 1)] = f(static_cast<unsigned>(r));
-  }
-  void fill(Row& row, const std::function<Outcome(const nlohmann::ordered_json&)>& read) const {
-    summarise(row, static_cast<int>(metrics.size()), [&](unsigned seed) { return read(metrics[seed - 1]); });
-  }
-};
-
 }  // namespace
 
 std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
@@ -90,9 +73,9 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
         b.note = "beyond what one run can resolve: the cone shows in a few snapshots only and beta is undetermined "
                  "(cone.min_snapshots, cone.max_interval_deg); judged: a value given must be right";
       }
-      reps.fill(b, [](const auto& m) { return number(m, "cone_angle_deg"); });
+      reps.fill(b, [](const auto& m) { return metric(m, "cone_angle_deg"); });
       rows.push_back(b);
-      const double hc = 1e3 * half_gap * std::tan(beta * std::numbers::pi / 180.0);
+      const double hc = 1e3 * wall_meeting(beta, 0.0, half_gap);
       for (const bool fixed : {false, true}) {
         if (fixed && corr > 0.0) continue;
         Row h{"wall mobility H_c (R6)", "the same cone: H_c = (L_c - L)/2 tan beta" + std::string(fixed ? ": the fixed level 0.25" : ""),
@@ -109,7 +92,7 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
                     "1-3 of 10: the walls' calibrated level is not yet proof against noise this strong and this "
                     "wide (cause not isolated)";
         }
-        reps.fill(h, [fixed](const auto& m) { return number(m, fixed ? "wall_mobility_length_fixed_level_mm" : "wall_mobility_length_mm"); });
+        reps.fill(h, [fixed](const auto& m) { return metric(m, fixed ? "wall_mobility_length_fixed_level_mm" : "wall_mobility_length_mm"); });
         rows.push_back(h);
       }
     }
@@ -130,13 +113,13 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
               beta, noise, "x V per grain"};
         b.judged = false;
         b.note = "a step is widened by the kernel: its v* = 0.25 contour lies ~0.7 w outside the edge";
-        reps.fill(b, [](const auto& m) { return number(m, "cone_angle_deg"); });
+        reps.fill(b, [](const auto& m) { return metric(m, "cone_angle_deg"); });
         rows.push_back(b);
         Row h{"wall mobility H_c (R6)", "the same step cone", "wall-mobility length", "mm",
-              1e3 * half_gap * std::tan(beta * std::numbers::pi / 180.0), noise, "x V per grain"};
+              1e3 * wall_meeting(beta, 0.0, half_gap), noise, "x V per grain"};
         h.judged = false;
         h.note = b.note;
-        reps.fill(h, [](const auto& m) { return number(m, "wall_mobility_length_mm"); });
+        reps.fill(h, [](const auto& m) { return metric(m, "wall_mobility_length_mm"); });
         rows.push_back(h);
       }
     // nothing moves but the noise
@@ -145,11 +128,11 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
     const Replicas still = replicas(nothing);
     Row nb{"cone angle (R5)", "nothing moves: the noise only", "beta", "deg", std::numeric_limits<double>::quiet_NaN(),
            noise, "x V per grain"};
-    still.fill(nb, [](const auto& m) { return number(m, "cone_angle_deg"); });
+    still.fill(nb, [](const auto& m) { return metric(m, "cone_angle_deg"); });
     rows.push_back(nb);
     Row nh{"wall mobility H_c (R6)", "nothing moves: the noise only", "wall-mobility length", "mm",
            std::numeric_limits<double>::quiet_NaN(), noise, "x V per grain"};
-    still.fill(nh, [](const auto& m) { return number(m, "wall_mobility_length_mm"); });
+    still.fill(nh, [](const auto& m) { return metric(m, "wall_mobility_length_mm"); });
     rows.push_back(nh);
   }
   // cones of other shapes: edges of two angles; edges that bend
@@ -164,7 +147,7 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
             is_left ? left : right, noise, "x V per grain"};
       b.tolerance = 5.0;
       b.note = "each side's angle is the mean over the snapshots of that side's fitted edge";
-      reps.fill(b, [is_left](const auto& m) { return number(m, is_left ? "cone_angle_left_deg" : "cone_angle_right_deg"); });
+      reps.fill(b, [is_left](const auto& m) { return metric(m, is_left ? "cone_angle_left_deg" : "cone_angle_right_deg"); });
       rows.push_back(b);
     }
     Row h{"wall mobility H_c (R6)", name + ": the walls' loss", "wall-mobility length", "mm",
@@ -174,7 +157,7 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
              fmt("%.1f", 1e3 * wall_meeting(std::max(left, right), 0.0, half_gap)) + " mm): a snapshot's walls are "
              "mobile while their mean mobile length is 1 d or more, so the loss follows the wall that stays mobile "
              "longer as the intruder rises";
-    reps.fill(h, [](const auto& m) { return number(m, "wall_mobility_length_mm"); });
+    reps.fill(h, [](const auto& m) { return metric(m, "wall_mobility_length_mm"); });
     rows.push_back(h);
     for (const double bend : set.edge_bends) {
       ConeScenario bent;
@@ -189,7 +172,7 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
              noise, "x V per grain"};
       hc.tolerance = 10.0;
       hc.note = "H_c is read from the walls, not from beta: it follows the edge whatever its shape";
-      r.fill(hc, [](const auto& m) { return number(m, "wall_mobility_length_mm"); });
+      r.fill(hc, [](const auto& m) { return metric(m, "wall_mobility_length_mm"); });
       rows.push_back(hc);
       Row bc{"cone angle (R5)", bname + ": beta against the chord to the wall meeting", "beta", "deg", chord, noise,
              "x V per grain"};
@@ -198,7 +181,7 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
                 "at the wall; ½(L_c - L) tan beta then misses H_c by the bias times about " +
                 fmt("%.1f", 1e3 * half_gap * std::numbers::pi / 180.0 / std::pow(std::cos(chord * std::numbers::pi / 180.0), 2)) +
                 " mm per degree";
-      r.fill(bc, [](const auto& m) { return number(m, "cone_angle_deg"); });
+      r.fill(bc, [](const auto& m) { return metric(m, "cone_angle_deg"); });
       rows.push_back(bc);
     }
   }
@@ -210,29 +193,17 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
     ConeScenario cone;
     cone.beta_deg = cg.in.config.wall_power_cone_angle_deg;
     cone.at_rest = rest, cone.travel = set.intermittent_travel_mm * 1e-3;
-    const Replicas reps = replicas(cone);
-    const double hc = 1e3 * half_gap * std::tan(cone.beta_deg * std::numbers::pi / 180.0);
-    const std::string name = "a " + fmt("%g", cone.beta_deg) + " deg cone at rest in " + fmt("%g", 100.0 * rest) + " % of the snapshots, one every " +
-                             fmt("%g", set.intermittent_travel_mm) + " mm";
-    Row found{"H_c power", name + ": how often H_c is found", "found fraction", "-", 1.0, 0.0, "x V per grain"};
-    found.judged = false;
-    found.note = "the found fraction is the mean (1: H_c within 10 mm of " + fmt("%.1f", hc) + " mm, 0: not)";
-    reps.fill(found, [hc](const auto& m) {
-      const Outcome h = number(m, "wall_mobility_length_mm");
-      return Outcome{true, h.found && std::abs(h.value - hc) <= 10.0 ? 1.0 : 0.0};
-    });
+    const std::string name = "a " + fmt("%g", cone.beta_deg) + " deg cone at rest in " + fmt("%g", 100.0 * rest) +
+                             " % of the snapshots, one every " + fmt("%g", set.intermittent_travel_mm) + " mm";
+    const std::string limit =
+        rest > 0.5 ? "a cone at rest in most snapshots: the walls' flags below the loss are mostly immobile, and the "
+                     "flip rate (the minority on each side) reads them as a cone present in most snapshots with "
+                     "fewer errors; the power is that of the paper's claim (walls mobile below H_c), too high for this case"
+                   : "";
+    const auto [found, power] = power_rows(replicas(cone), "H_c power", name, 0.0, "x V per grain",
+                                           "wall_mobility_length_mm", 1e3 * wall_meeting(cone.beta_deg, 0.0, half_gap),
+                                           10.0, "mm", "wall_mobility_power", limit);
     rows.push_back(found);
-    Row power{"H_c power", name + ": the power the stage reports", "estimated power", "-", found.mean, 0.0,
-              "x V per grain"};
-    power.tolerance = 0.25;
-    power.judged = set.replicas >= 10 && rest <= 0.5;  // a run's power is near 0 or 1: a mean over a few runs scatters by ~0.3
-    power.note = "planted: the found fraction of the row above; the power is the stage's, on every replica (it "
-                 "reads a miss by it)";
-    if (rest > 0.5)
-      power.limit = "a cone at rest in most snapshots: the walls' flags below the loss are mostly immobile, and the "
-                    "flip rate (the minority on each side) reads them as a cone present in most snapshots with "
-                    "fewer errors; the power is that of the paper's claim (walls mobile below H_c), too high for this case";
-    reps.fill(power, [](const auto& m) { return number(m, "wall_mobility_power"); });
     rows.push_back(power);
   }
   // dilatancy: a layer above the intruder stretched at every snapshot after the first
@@ -248,7 +219,7 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
         ConeScenario c;
         c.noise = 0.0, c.end = g.start + 0.008, c.jitter = jitter, c.seed = seed;
         c.dilation = -dphi / (bed.solid_fraction + dphi);  // phi / (1 + e) - phi = dphi
-        return number(cg.run(bed, c), "dilatancy_delta_phi");
+        return metric(cg.run(bed, c), "dilatancy_delta_phi");
       });
       rows.push_back(r);
     }

@@ -12,15 +12,6 @@
 
 namespace dem2d::planted {
 
-namespace {
-
-Outcome number(const nlohmann::ordered_json& m, const char* key) {
-  const auto& v = m[key];
-  return v.is_number() ? Outcome{true, v.get<double>()} : Outcome{};
-}
-
-}  // namespace
-
 std::vector<Row> network_cases(const Settings& set, const std::string& data_dir) {
   const analysis::NetworkConfig cfg = analysis::load_network_config(data_dir + "/network.toml");
   const analysis::Study study = analysis::load_study(data_dir + "/study.toml");
@@ -35,7 +26,7 @@ std::vector<Row> network_cases(const Settings& set, const std::string& data_dir)
     return analysis::run_network(src, {}, nan, names, cfg, study).metrics["network"];
   };
   auto loss_height = [&](double loss, double spurious, unsigned seed, double from, double to) {
-    return number(metrics(loss, spurious, seed, from, to), "percolation_loss_height_mm");
+    return metric(metrics(loss, spurious, seed, from, to), "percolation_loss_height_mm");
   };
   // where the stage plants the loss whose power it reports: power_depth_end_to_wall x (L_c - L)/2 below the bed
   const nlohmann::ordered_json probe = metrics(1.0, 0.0, 1, 0.080, 0.081);
@@ -55,16 +46,13 @@ std::vector<Row> network_cases(const Settings& set, const std::string& data_dir)
     }
     Row never{"percolation loss (R4, R10)", "arches to both walls at every height: never lost", "percolation-loss height",
               "mm", nan, spurious, "of the contacts strong at random"};
-    std::vector<nlohmann::ordered_json> nevers(static_cast<std::size_t>(set.replicas));  // replicas run side by side
-    summarise(never, set.replicas, [&](unsigned seed) {
-      nevers[seed - 1] = metrics(1.0, spurious, seed, 0.080, 0.130);
-      return number(nevers[seed - 1], "percolation_loss_height_mm");
-    });
+    const Replicas nevers(set.replicas, [&](unsigned seed) { return metrics(1.0, spurious, seed, 0.080, 0.130); });
+    nevers.fill(never, [](const auto& m) { return metric(m, "percolation_loss_height_mm"); });
     rows.push_back(never);
     Row sure{"percolation loss (R4, R10)", "never lost: the none's power to see a loss at " + fmt("%.0f", claim_mm) + " mm",
              "power", "-", 1.0, spurious, "of the contacts strong at random"};
     sure.tolerance = 1.0 - cfg.min_power;  // a none here is evidence of absence
-    summarise(sure, set.replicas, [&](unsigned seed) { return number(nevers[seed - 1], "percolation_loss_power"); });
+    nevers.fill(sure, [](const auto& m) { return metric(m, "percolation_loss_power"); });
     rows.push_back(sure);
     Row none{"percolation loss (R4, R10)", "no arches: never percolating, no loss within the heights seen (80-130 mm)",
              "percolation-loss height", "mm", nan, spurious, "of the contacts strong at random"};
@@ -73,26 +61,16 @@ std::vector<Row> network_cases(const Settings& set, const std::string& data_dir)
     // the power against the found rate: arches below the loss at the paper's
     // depth missing in a fraction of the snapshots at random
     for (const double lapse : set.percolation_lapse) {
-      std::vector<nlohmann::ordered_json> runs(static_cast<std::size_t>(set.replicas));
+      const Replicas runs(set.replicas, [&](unsigned seed) {
+        return metrics(1e-3 * claim_mm, spurious, seed, 1e-3 * (claim_mm - 30.0), 1e-3 * (claim_mm + 20.0), lapse);
+      });
       const std::string name = "lost at " + fmt("%.0f", claim_mm) + " mm, the arches below missing in " +
                                fmt("%g", 100.0 * lapse) + " % of the snapshots";
-      const double tol_mm = cfg.power_tolerance_d * study.mean_diameter * 1e3;
-      Row found{"percolation-loss power", name + ": how often it is found", "found fraction", "-", 1.0, spurious,
-                "of the contacts strong at random"};
-      found.judged = false;
-      found.note = "the found fraction is the mean (1: the loss within " + fmt("%g", tol_mm) + " mm, 0: not)";
-      summarise(found, set.replicas, [&](unsigned seed) {
-        runs[seed - 1] = metrics(1e-3 * claim_mm, spurious, seed, 1e-3 * (claim_mm - 30.0), 1e-3 * (claim_mm + 20.0), lapse);
-        const Outcome h = number(runs[seed - 1], "percolation_loss_height_mm");
-        return Outcome{true, h.found && std::abs(h.value - claim_mm) <= tol_mm ? 1.0 : 0.0};
-      });
+      const auto [found, power] = power_rows(runs, "percolation-loss power", name, spurious,
+                                             "of the contacts strong at random", "percolation_loss_height_mm", claim_mm,
+                                             cfg.power_tolerance_d * study.mean_diameter * 1e3, "mm",
+                                             "percolation_loss_power");
       rows.push_back(found);
-      Row power{"percolation-loss power", name + ": the power the stage reports", "estimated power", "-", found.mean,
-                spurious, "of the contacts strong at random"};
-      power.tolerance = 0.25;
-      power.judged = set.replicas >= 10;  // a run's power is near 0 or 1: a mean over a few runs scatters by ~0.3
-      power.note = "planted: the found fraction of the row above; the power is the stage's, on every replica";
-      summarise(power, set.replicas, [&](unsigned seed) { return number(runs[seed - 1], "percolation_loss_power"); });
       rows.push_back(power);
     }
     for (const double fraction : set.keystone_fractions) {
@@ -105,7 +83,7 @@ std::vector<Row> network_cases(const Settings& set, const std::string& data_dir)
         KeystoneScenario ks;
         ks.ejected = fraction, ks.spurious = spurious, ks.seed = seed;
         const KeystoneRun run = keystone_run(make_bed(g), ks);
-        return number(analysis::run_network(run.source, run.events, nan, names, cfg, study).metrics["network"],
+        return metric(analysis::run_network(run.source, run.events, nan, names, cfg, study).metrics["network"],
                       "keystone_explained_fraction");
       });
       rows.push_back(k);

@@ -50,6 +50,42 @@ void summarise(Row& row, int replicas, const std::function<Outcome(unsigned)>& r
   }
 }
 
+Outcome metric(const nlohmann::ordered_json& m, const char* key) {
+  const auto& v = m[key];
+  return v.is_number() ? Outcome{true, v.get<double>()} : Outcome{};
+}
+
+Replicas::Replicas(int n, const std::function<nlohmann::ordered_json(unsigned)>& run)
+    : metrics(static_cast<std::size_t>(n)) {
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int r = 1; r <= n; ++r) metrics[static_cast<std::size_t>(r - 1)] = run(static_cast<unsigned>(r));
+}
+
+void Replicas::fill(Row& row, const std::function<Outcome(const nlohmann::ordered_json&)>& read) const {
+  summarise(row, static_cast<int>(metrics.size()), [&](unsigned seed) { return read(metrics[seed - 1]); });
+}
+
+std::pair<Row, Row> power_rows(const Replicas& reps, const std::string& detector, const std::string& name, double noise,
+                               const std::string& noise_unit, const char* value_key, double planted, double tolerance,
+                               const std::string& unit, const char* power_key, const std::string& limit) {
+  Row found{detector, name + ": how often it is found", "found fraction", "-", 1.0, noise, noise_unit};
+  found.judged = false;
+  found.note = "the found fraction is the mean (1: within " + fmt("%g", tolerance) + " " + unit + " of " +
+               fmt("%.1f", planted) + " " + unit + ", 0: not)";
+  reps.fill(found, [&](const auto& m) {
+    const Outcome h = metric(m, value_key);
+    return Outcome{true, h.found && std::abs(h.value - planted) <= tolerance ? 1.0 : 0.0};
+  });
+  Row power{detector, name + ": the power the stage reports", "estimated power", "-", found.mean, noise, noise_unit};
+  power.tolerance = 0.25;
+  power.judged = reps.metrics.size() >= 10 && limit.empty();
+  power.limit = limit;
+  power.note = "planted: the found fraction of the row above; the power is the stage's, on every replica (it reads a "
+               "miss by it)";
+  reps.fill(power, [&](const auto& m) { return metric(m, power_key); });
+  return {found, power};
+}
+
 nlohmann::ordered_json to_json(const Row& r) {
   auto num = [](double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
   return {{"detector", r.detector},   {"case", r.name},           {"quantity", r.quantity},

@@ -11,6 +11,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -58,6 +59,27 @@ struct Row {
 // Runs `replica(seed)` for seeds 1..replicas and fills the row's statistics and verdict.
 void summarise(Row& row, int replicas, const std::function<Outcome(unsigned)>& replica);
 
+// A stage's metric as an outcome: its value, or none where it is null or absent.
+Outcome metric(const nlohmann::ordered_json& m, const char* key);
+
+// A scenario's replicas run once (seeds 1..n, side by side); each row then
+// reads what it needs of their metrics.
+struct Replicas {
+  std::vector<nlohmann::ordered_json> metrics;
+  Replicas(int n, const std::function<nlohmann::ordered_json(unsigned)>& run);
+  void fill(Row& row, const std::function<Outcome(const nlohmann::ordered_json&)>& read) const;
+};
+
+// A stage's power against its found rate, two rows: how often the replicas
+// find the planted value (metric `value_key` within `tolerance` of `planted`,
+// in `unit`; shown, not judged), and the mean of the power the stage reports
+// on every replica (metric `power_key`), judged against that rate within 0.25
+// from 10 replicas on (a run's power is near 0 or 1: a mean over a few runs
+// scatters by ~0.3), unless `limit` says why it cannot be (then shown only).
+std::pair<Row, Row> power_rows(const Replicas& reps, const std::string& detector, const std::string& name, double noise,
+                               const std::string& noise_unit, const char* value_key, double planted, double tolerance,
+                               const std::string& unit, const char* power_key, const std::string& limit = "");
+
 // A number printed with a printf format, for the cases' names.
 std::string fmt(const char* format, double v);
 
@@ -74,7 +96,7 @@ struct Settings {
   std::vector<double> correlated_piv_noise{0.15, 0.5};  // the same, correlated in space over ...
   std::vector<double> piv_correlation_d{2.0, 5.0};      // ... these lengths, x mean diameter
   std::vector<double> cone_angles_deg{50.0, 60.0, 70.0};
-  std::vector<double> intermittent_at_rest{0.5, 0.7};  // H_c's power: fraction of snapshots in which nothing moves
+  std::vector<double> intermittent_at_rest{0.3, 0.5, 0.7};  // H_c's power: fraction of snapshots in which nothing moves
   double intermittent_travel_mm = 5.0;                // ... in snapshots this far apart
   std::vector<double> wall_lengths_mm{54.0, 78.0, 124.0};
   std::vector<double> asymmetric_cone_deg{50.0, 70.0};  // a cone's left and right edges (degrees)
