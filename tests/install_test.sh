@@ -36,6 +36,20 @@ else
 fi
 cd "$P" && "$I/bin/dem2d" run "$SRC/tests/scenes/valid_minimal.toml" --out "$P/run" >"$P/run.log" 2>&1 ||
   fail "the installed dem2d did not run a scene: $(tail -3 "$P/run.log")"
+# sets that no line of sim/engine/kernel_sets.inc declares run too (on the generic kernel), and say so
+MIN="$SRC/tests/scenes/valid_minimal.toml"
+sed -e '/^normal_damping = true/d' -e '/^restitution = /d' "$MIN" >"$P/undamped.toml"  # {gravity,friction,walls}
+sed -e 's/^walls = true/walls = true\ncohesion = true/' -e 's/^friction = 0.5/friction = 0.5\ncohesion_force = 0.02\ncohesion_range = 1e-4/' \
+  "$MIN" >"$P/cohesive.toml"  # {gravity,normal_damping,friction,walls,cohesion}
+sed -e 's/^walls = true/walls = true\nrolling_resistance = true\ntangential_damping = true/' \
+  -e 's/^friction = 0.5/friction = 0.5\nrolling_friction = 1.5e-5\nrolling_stiffness = 1.7e-6\ntangential_damping_ratio = 0.3/' \
+  "$MIN" >"$P/rolling.toml"  # {gravity,normal_damping,friction,rolling_resistance,walls,tangential_damping}
+for s in undamped cohesive rolling; do
+  "$I/bin/dem2d" check "$P/$s.toml" >"$P/$s.check" 2>&1 && grep -q "runs on the generic kernel for {" "$P/$s.check" ||
+    fail "the installed dem2d check of an undeclared set ($s): $(cat "$P/$s.check")"
+  "$I/bin/dem2d" run "$P/$s.toml" --out "$P/$s" >"$P/$s.log" 2>&1 && [ -s "$P/$s/run.h5" ] &&
+    grep -q "generic kernel for {" "$P/$s/run.log" || fail "the installed dem2d run of an undeclared set ($s): $(tail -3 "$P/$s.log")"
+done
 version=$(${PYTHON:-/usr/bin/python3} -c 'import h5py, sys; print(h5py.File(sys.argv[1], "r").attrs["code_version"])' \
   "$P/run/run.h5" 2>&1) || fail "cannot read the installed run's code version: $version"
 case $version in *+unknown | "") fail "the installed dem2d has no code version: '$version'" ;; esac

@@ -282,5 +282,35 @@ TEST(Checkpoint, RefusesToResumeAnotherScene) {
   EXPECT_TRUE(run_scene(s, opt).complete);
 }
 
+// A run killed before its first checkpoint (or with checkpoint_interval = 0)
+// leaves segments and no checkpoint: the rerun starts from step 0 and its
+// first line says so, instead of starting over silently.
+TEST(Checkpoint, RestartFromZeroSaysSo) {
+  const Scene s = stirred_box();
+  TempDir dir("killed");
+  fs::create_directories(dir.path() / ".run.work");
+  std::ofstream(dir.path() / ".run.work" / "segment_000000.h5") << "the segment of a killed run";
+  const RunReport r = run_scene(s, {dir.path().string()});
+  ASSERT_TRUE(r.complete);
+  EXPECT_FALSE(r.resumed);
+  std::ifstream log(dir.path() / "run.log");
+  const std::string first_line = [&] {
+    std::string line;
+    std::getline(log, line);
+    return line;
+  }();
+  EXPECT_NE(first_line.find(" started '"), std::string::npos) << first_line;
+  EXPECT_NE(first_line.find("left no checkpoint (killed before its first, or checkpoint_interval = 0): started "
+                            "again from step 0"),
+            std::string::npos)
+      << first_line;
+  // a folder without an unfinished run says nothing of the kind
+  TempDir clean("clean");
+  run_scene(s, {clean.path().string()});
+  std::ifstream log2(clean.path() / "run.log");
+  const std::string text((std::istreambuf_iterator<char>(log2)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text.find("left no checkpoint"), std::string::npos) << text;
+}
+
 }  // namespace
 }  // namespace dem2d::test

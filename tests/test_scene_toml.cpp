@@ -192,6 +192,8 @@ TEST(SceneToml, ValidFullScene) {
   EXPECT_EQ(s.output.series_interval, 1e-3);
   EXPECT_EQ(s.output.snapshot_interval, 0.01);
   EXPECT_EQ(s.output.checkpoint_interval, 600.0);
+  // without the key: a checkpoint every 5 min of wall time, so that a killed run resumes
+  EXPECT_EQ(parse_scene(edit(kValid, "checkpoint_interval = 600\n", ""), kPath).output.checkpoint_interval, 300.0);
   // Explicit particles first, in file order, then the generator's.
   EXPECT_EQ(s.particles[0].x, 0.0);
   EXPECT_EQ(s.particles[0].y, 0.1);
@@ -645,19 +647,22 @@ TEST(SceneTomlErrors, BodiesNeedWalls) {
                {"effects.walls = true", "no [[body]]"}, 2);
 }
 
-// A set the build has no kernels for is refused, naming the line to add
-// (sim/engine/kernel_sets.inc); the study's set is compiled.
-TEST(SceneTomlErrors, EffectSetWithoutKernels) {
+// Every valid set is read: the study's on its specialised kernel, one that
+// sim/engine/kernel_sets.inc does not declare on the generic kernel. An
+// effect switched off with its keys kept is the keys' error, not the kernel's.
+TEST(SceneTomlErrors, EveryValidEffectSetIsRead) {
   static_assert(parse_effect_set("friction,gravity") == (effect::gravity | effect::friction));
   static_assert(parse_effect_set("") == EffectSet{0});
   static_assert(!parse_effect_set("gravity,,friction") && !parse_effect_set("gravity,") &&
                 !parse_effect_set("gravity,gravity") && !parse_effect_set("gravitation"));
-  EXPECT_TRUE(kernels_compiled(parse_scene(kValid, kPath).effects));
+  const EffectSet study = parse_scene(kValid, kPath).effects;
+  EXPECT_TRUE(kernels_specialised(study));
+  EXPECT_EQ(kernel_description(study).rfind("kernel specialised for {", 0), 0u);
+  const EffectSet paddle = study & ~effect::rolling_resistance & ~effect::normal_damping;  // declared by no line
+  ASSERT_FALSE(kernels_specialised(paddle));
+  EXPECT_EQ(kernel_description(paddle).rfind("generic kernel for {gravity,friction,walls,moving_bodies}", 0), 0u);
   expect_error(edit(kValid, "normal_damping = true\n", ""),
-               {"effects = {", "no kernels for the effect set "
-                "{gravity,friction,rolling_resistance,walls,moving_bodies}: add the line\n"
-                "  \"gravity,friction,rolling_resistance,walls,moving_bodies\",\nto sim/engine/kernel_sets.inc"},
-               3);
+               {"contact.restitution = 0.9", "given but effects.normal_damping is false"}, 16);
 }
 
 TEST(SceneTomlErrors, MovingBodyNeedsMovingBodies) {

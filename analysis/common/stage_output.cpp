@@ -47,4 +47,12 @@ std::string format_number(double v) {
   return buf;
 }
 
+std::string show_metric(const nlohmann::ordered_json& v) {
+  if (v.is_null()) return "n/a";
+  if (!v.is_number()) return v.dump();
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", v.get<double>());
+  return buf;
+}
+
 }  // namespace dem2d::analysis

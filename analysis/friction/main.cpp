@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
         r.h5.write(cmd.out + "/friction.h5");
         write_file_atomic(cmd.out + "/metrics.json", r.metrics.dump(2) + "\n");
         const auto& m = r.metrics["friction"];
-        const auto show = [](const nlohmann::ordered_json& v) { return v.is_null() ? std::string("n/a") : v.dump(); };
+        const auto show = show_metric;
         if (!m.value("intruder", true))
           return "no intruder: slip fraction " + show(m["slip_fraction"]) + ", mean mu* bulk " +
                  show(m["mean_mu_star_bulk"]) + ", walls " + show(m["mean_mu_star_wall"]);

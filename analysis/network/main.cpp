@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
         r.h5.write(cmd.out + "/network.h5");
         write_file_atomic(cmd.out + "/metrics.json", r.metrics.dump(2) + "\n");
         const auto& m = r.metrics["network"];
-        const auto show = [](const nlohmann::ordered_json& v) { return v.is_null() ? std::string("n/a") : v.dump(); };
+        const auto show = show_metric;
         if (!m.value("intruder", true))
           return "no intruder: strong network spans wall to wall in " + show(m["spanning_fraction"]) +
                  " of the snapshots; at the end the side walls carry " + show(m["final"]["wall_load_fraction"]) +

@@ -2,6 +2,7 @@
 grains as discs, bodies as their rounded outlines' cores, contacts as lines."""
 import numpy as np
 from matplotlib.collections import EllipseCollection, LineCollection
+from matplotlib.patches import Circle, Polygon
 
 
 def draw_grains(ax, run, snap, colour="0.85", edge="0.6", values=None, cmap="viridis"):
@@ -21,13 +22,28 @@ def draw_grains(ax, run, snap, colour="0.85", edge="0.6", values=None, cmap="vir
 
 
 def draw_bodies(ax, run, snap, colour="#1f77b4"):
-    """Every body's core, drawn with its rounding's thickness (a segment is a line, a polygon closed)."""
+    """Every body as it is in data units (m): its core swept by a disc of its thickness (a segment a
+    stadium, a polygon with rounded corners), so that the drawing does not depend on the axes' limits
+    or on when it is drawn. A body of zero thickness is its core's outline."""
     for b in run.bodies:
-        core = b.core(snap.body_vertices)
-        if b.vertex_count >= 3:
-            core = np.vstack([core, core[:1]])
-        width_pt = max(1.0, b.thickness * points_per_metre(ax))
-        ax.plot(core[:, 0], core[:, 1], color=colour, lw=width_pt, solid_capstyle="round")
+        core = np.asarray(b.core(snap.body_vertices), dtype=float)
+        closed = b.vertex_count >= 3
+        if b.thickness <= 0:
+            ring = np.vstack([core, core[:1]]) if closed else core
+            ax.plot(ring[:, 0], ring[:, 1], color=colour, lw=1.0)
+            continue
+        half = b.thickness / 2
+        if closed:
+            ax.add_patch(Polygon(core, closed=True, facecolor=colour, edgecolor="none", zorder=2))
+        ends = range(len(core) if closed else len(core) - 1)
+        for k in ends:
+            a, c = core[k], core[(k + 1) % len(core)]
+            length = np.hypot(*(c - a))
+            if length > 0:
+                n = np.array([a[1] - c[1], c[0] - a[0]]) * (half / length)
+                ax.add_patch(Polygon([a + n, c + n, c - n, a - n], closed=True, facecolor=colour, edgecolor="none", zorder=2))
+        for v in core:
+            ax.add_patch(Circle(v, half, facecolor=colour, edgecolor="none", zorder=2))
 
 
 def draw_contacts(ax, snap, width_max=3.0, cmap="inferno_r"):
@@ -41,14 +57,6 @@ def draw_contacts(ax, snap, width_max=3.0, cmap="inferno_r"):
     lines.set_array(fn)
     ax.add_collection(lines)
     return lines
-
-
-def points_per_metre(ax):
-    """How many typographic points one metre of data spans in x (for line widths in data units)."""
-    ax.figure.canvas.draw_idle()
-    x0, x1 = ax.get_xlim()
-    width_in = ax.get_window_extent().width / ax.figure.dpi
-    return 72.0 * width_in / max(x1 - x0, 1e-300)
 
 
 def frame(ax, run, snap, margin=0.003):

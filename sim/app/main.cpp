@@ -1,5 +1,6 @@
 // dem2d: the command line.
 //   dem2d run SCENE.toml --out DIR [--overlay FILE]... [--initial RUN.h5] [--threads N] [--fresh] [--overwrite] [--progress S]
+//             [--generic-kernel]
 //   dem2d check SCENE.toml [--overlay FILE]... [--initial RUN.h5] [--json]
 //   dem2d bench [--scene FILE] [--steps N] [--threads 1,2]
 //   dem2d inspect RUN.h5
@@ -24,6 +25,7 @@
 #include "core/share_dir.hpp"
 #include "run/output_dir.hpp"
 #include "core/version.hpp"
+#include "engine/kernel_sets.hpp"
 #include "io/toml_reader.hpp"  // did_you_mean, show_key
 #include "run/run.hpp"
 #include "run/thread_choice.hpp"
@@ -50,6 +52,7 @@ int cmd_check(const std::string& path, const dem2d::SceneSources& extra, bool js
                               {"particles", s.particles.size()},
                               {"bodies", s.bodies.size()},
                               {"effects", dem2d::effect_names(s.effects)},
+                              {"kernel", dem2d::kernels_specialised(s.effects) ? "specialised" : "generic"},
                               {"dt_s", s.dt},
                               {"critical_dt_s", s.critical_dt()},
                               {"stable_dt_s", limit.dt},
@@ -62,6 +65,7 @@ int cmd_check(const std::string& path, const dem2d::SceneSources& extra, bool js
   }
   std::printf("%s: valid\n  particles %zu, bodies %zu\n  effects: %s\n", path.c_str(), s.particles.size(),
               s.bodies.size(), s.effects ? dem2d::effect_names(s.effects, ", ").c_str() : "none");
+  std::printf("  runs on the %s\n", dem2d::kernel_description(s.effects).c_str());
   std::printf("  dt = %.6g s = dt_c/%.4g (dt_c = %.6g s), %lld steps for %.6g s\n", s.dt, s.critical_dt() / s.dt,
               s.critical_dt(), steps, s.stop.duration);
   std::printf("  stability limit dt_s = %.6g s = %.4g dt_c (fastest mode: %s); dt = %.3g dt_s\n", limit.dt,
@@ -72,8 +76,10 @@ int cmd_check(const std::string& path, const dem2d::SceneSources& extra, bool js
   return 0;
 }
 
-int cmd_run(const std::string& path, const dem2d::SceneSources& extra, dem2d::RunOptions opt, int threads) {
+int cmd_run(const std::string& path, const dem2d::SceneSources& extra, dem2d::RunOptions opt, int threads,
+            bool generic_kernel) {
   dem2d::Scene scene = dem2d::load_scene(path, extra);
+  scene.generic_kernel = generic_kernel;
   if (threads == 0) {
     const int cores = std::max(omp_get_num_procs(), 1);
     const dem2d::ThreadChoice c = dem2d::choose_threads(scene.particles.size(), cores, dem2d::free_cores_now(cores));
@@ -113,6 +119,7 @@ int main(int argc, char** argv) {
   dem2d::SceneSources extra;
   dem2d::RunOptions run_opt;
   int threads = 0;
+  bool generic_kernel = false;
   // More threads than 4 per processor only wait on each other (and at 65536
   // libgomp fails without a message): bounded, with the reason in the error.
   const int max_threads = 4 * std::max(omp_get_num_procs(), 1);
@@ -139,6 +146,9 @@ int main(int argc, char** argv) {
   run->add_option("--threads", threads,
                   "OpenMP threads (default 0: chosen from the scene's size and the cores free now)")
       ->check(thread_count);
+  run->add_flag("--generic-kernel", generic_kernel,
+                "Run on the generic kernel (the effects tested at run time) even where this build has one "
+                "specialised for the scene's effects: the same results, slower");
   run->add_flag("--fresh", run_opt.fresh, "Discard a checkpoint in DIR instead of resuming from it");
   run->add_flag("--overwrite", run_opt.overwrite,
                 "Replace DIR/run.h5 and DIR/run.xdmf even if they are not a dem2d run's (never through a link)");
@@ -195,7 +205,7 @@ int main(int argc, char** argv) {
     return kExitBadInput;
   }
   try {
-    if (*run) return cmd_run(scene_path, extra, run_opt, threads);
+    if (*run) return cmd_run(scene_path, extra, run_opt, threads, generic_kernel);
     if (*check) return cmd_check(scene_path, extra, check_json);
     if (*bench) return dem2d::run_bench(bench_opt);
     if (*inspect) return dem2d::inspect_run_file(inspect_path);

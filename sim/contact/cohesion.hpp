@@ -66,7 +66,7 @@ struct Cohesion {
 
   // After the normal term: the repulsion acts in contact only, the pull in range.
   template <EffectSet E>
-  static ContactState apply(const Coeffs& c, const ContactKinematics k, ContactState s) {
+  static ContactState apply(const Coeffs& c, const ContactKinematics k, ContactState s, EffectSet /*scene*/) {
     s.touch = s.acts && k.delta < 0.0;
     s.load = s.touch ? s.f.fn : 0.0;
     s.f.fn = s.acts ? s.load - pull(c, k.delta) : 0.0;

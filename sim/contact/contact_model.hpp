@@ -7,6 +7,9 @@
 // contact/contact_law.hpp) in order, each compiled in only for the effect
 // sets that name it (`if constexpr`), so an absent effect costs nothing; the
 // model is a value (its coefficients) passed to the loop, inlined into it.
+// The generic model (E == effect::generic) has every term compiled in and
+// applies those of the scene's set, tested at run time: a term it skips
+// leaves no trace, so its forces are the specialised model's bit for bit.
 #pragma once
 
 #include "contact/contact_law.hpp"
@@ -18,15 +21,18 @@ namespace dem2d {
 template <EffectSet E>
 struct ContactModel {
   LawCoefficients c;
+  EffectSet scene = E;  // the scene's effects: what the generic model applies
 
+  // The effects the model applies.
+  EffectSet effects() const { return E == effect::generic ? scene : E; }
   // How far beyond touching (gap > 0) the law still acts (m): the loops
   // treat a candidate as acting when its gap is below this.
-  double range() const { return law_range(c, E); }
+  double range() const { return law_range(c, effects()); }
   // The centre distance below which a pair with radii summing to rsum acts
   // (rsum itself when no term reaches beyond contact: no `+ 0.0` left for
-  // the compiler to keep).
+  // the compiler to keep; the generic model's rsum + 0.0 is rsum too).
   double reach(double rsum) const {
-    if constexpr (reaches_beyond_contact(E))
+    if constexpr (E == effect::generic || reaches_beyond_contact(E))
       return rsum + range();
     else
       return rsum;
@@ -48,8 +54,10 @@ struct ContactModel {
   }
   template <class T>
   ContactState apply_one(const ContactKinematics k, const ContactState s) const {
-    if constexpr (term_active<T>(E))
-      return T::template apply<E>(c, k, s);
+    if constexpr (E == effect::generic)
+      return term_active<T>(scene) ? T::template apply<E>(c, k, s, scene) : s;
+    else if constexpr (term_active<T>(E))
+      return T::template apply<E>(c, k, s, scene);
     else
       return s;
   }

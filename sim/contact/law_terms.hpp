@@ -8,7 +8,8 @@
 //   static constexpr std::array<LawKey<Params>, N> keys; // their [contact] keys, units, ranges
 //   struct Coeffs { double ...; };                      // what one step uses
 //   static Coeffs coefficients(const Params&, double dt);
-//   template <EffectSet E> static ContactState apply(const Coeffs&, ContactKinematics, ContactState);
+//   template <EffectSet E>
+//   static ContactState apply(const Coeffs&, ContactKinematics, ContactState, EffectSet scene);
 // and, where it has them,
 //   static double range(const Coeffs&);      // how far beyond touching it acts (m)
 //   template <class Law> static std::optional<LawIssue> check(const Law&);  // conditions across terms
@@ -24,8 +25,11 @@
 //
 // Parameter and coefficient names must be unique across terms (ContactLaw
 // and LawCoefficients inherit every term's, so a clash does not compile).
-// Within apply, `if constexpr (has(E, ...))` compiles out what an effect set
-// lacks; apply must be branch-free (selects), and takes and returns the
+// Within apply, `if (applies<E>(scene, ...))` tests an effect the term
+// depends on: a constant in a kernel specialised for E (the code of an absent
+// effect is dropped), the scene's set in the generic kernel (E ==
+// effect::generic, core/effects.hpp). apply must be branch-free otherwise
+// (selects), and takes and returns the
 // contact by value (a loop-local whose address is taken stays in memory
 // inside an `omp simd` loop), so that the loops over list slots vectorise.
 //
@@ -132,7 +136,7 @@ constexpr bool term_active(EffectSet e) {
   return T::effect == 0 || has(e, T::effect);
 }
 
-// An incremental spring capped at +-cap, with (Damped) a dashpot beside it
+// An incremental spring capped at +-cap, with (damped) a dashpot beside it
 // and their sum capped again: the tangential force and the rolling moment.
 // `increment` is the spring's change this step (-k v dt), `dashpot` the
 // dashpot's force c v.
@@ -141,13 +145,10 @@ struct CappedSpring {
   double spring;  // the spring stored for the next step
 };
 
-template <bool Damped>
-inline CappedSpring capped_spring(double stored, double increment, double dashpot, double cap) {
+inline CappedSpring capped_spring(bool damped, double stored, double increment, double dashpot, double cap) {
   const double spring = std::clamp(stored + increment, -cap, cap);
-  if constexpr (!Damped)
-    return {spring, spring};
-  else
-    return {std::clamp(spring - dashpot, -cap, cap), spring};
+  if (!damped) return {spring, spring};
+  return {std::clamp(spring - dashpot, -cap, cap), spring};
 }
 
 }  // namespace dem2d

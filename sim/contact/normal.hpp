@@ -61,9 +61,9 @@ struct NormalLaw {
   }
 
   template <EffectSet E>
-  static ContactState apply(const Coeffs& c, const ContactKinematics k, ContactState s) {
+  static ContactState apply(const Coeffs& c, const ContactKinematics k, ContactState s, EffectSet scene) {
     double fn = -c.kn * k.delta;
-    if constexpr (has(E, effect::normal_damping)) fn -= c.damp * k.sqrt_m * k.vn;
+    if (applies<E>(scene, effect::normal_damping)) fn -= c.damp * k.sqrt_m * k.vn;
     s.f.fn = s.acts ? (fn > 0.0 ? fn : 0.0) : 0.0;
     s.load = s.f.fn;
     return s;

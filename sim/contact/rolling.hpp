@@ -51,9 +51,9 @@ struct Rolling {
   }
 
   template <EffectSet E>
-  static ContactState apply(const Coeffs& c, const ContactKinematics k, ContactState s) {
-    const CappedSpring r = capped_spring<has(E, effect::rolling_damping)>(
-        *s.mr, -c.kr_dt * k.spin, c.damp_r * k.sqrt_i * k.spin, c.mu_r * s.load);
+  static ContactState apply(const Coeffs& c, const ContactKinematics k, ContactState s, EffectSet scene) {
+    const CappedSpring r = capped_spring(applies<E>(scene, effect::rolling_damping), *s.mr, -c.kr_dt * k.spin,
+                                         c.damp_r * k.sqrt_i * k.spin, c.mu_r * s.load);
     s.f.mr = s.touch ? r.force : 0.0;
     *s.mr = s.touch ? r.spring : 0.0;
     return s;

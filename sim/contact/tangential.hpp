@@ -58,9 +58,9 @@ struct Tangential {
   }
 
   template <EffectSet E>
-  static ContactState apply(const Coeffs& c, const ContactKinematics k, ContactState s) {
-    const CappedSpring t = capped_spring<has(E, effect::tangential_damping)>(
-        *s.ft, -c.kt_dt * k.vt, c.damp_t * k.sqrt_m * k.vt, c.mu * s.load);
+  static ContactState apply(const Coeffs& c, const ContactKinematics k, ContactState s, EffectSet scene) {
+    const CappedSpring t = capped_spring(applies<E>(scene, effect::tangential_damping), *s.ft, -c.kt_dt * k.vt,
+                                         c.damp_t * k.sqrt_m * k.vt, c.mu * s.load);
     s.f.ft = s.touch ? t.force : 0.0;
     *s.ft = s.touch ? t.spring : 0.0;
     return s;

@@ -1,6 +1,8 @@
 // Opt-in physical effects. A scene names the set it needs; the engine runs a
-// kernel instantiated for exactly that set (see engine/kernels.hpp), so an
-// absent effect is compiled out of the hot loop rather than tested per contact.
+// kernel instantiated for exactly that set where the build has one (see
+// engine/kernels.hpp), so an absent effect is compiled out of the hot loop
+// rather than tested per contact; any other valid set runs on the generic
+// kernel, which tests the set at run time.
 #pragma once
 
 #include <array>
@@ -25,6 +27,10 @@ inline constexpr EffectSet cohesion = 1u << 8;            // attraction up to a 
 inline constexpr EffectSet rotating_bodies = 1u << 9;     // schedules that turn bodies about a pivot (core/motion.hpp)
 inline constexpr int count = 10;
 inline constexpr EffectSet all = (1u << count) - 1;
+// Not a scene effect: the mark of the generic kernel, which has every term
+// compiled in and applies the ones the scene's set names, tested at run time
+// (engine/kernel_table.hpp).
+inline constexpr EffectSet generic = 1u << 31;
 }  // namespace effect
 
 struct EffectName {
@@ -54,6 +60,26 @@ inline constexpr std::array<std::array<EffectSet, 2>, 4> kEffectNeeds{{
 }};
 
 constexpr bool has(EffectSet set, EffectSet bit) { return (set & bit) != 0; }
+
+// Whether a kernel compiled for E applies effect `bit` to a scene whose set
+// is `scene`. A specialised kernel's answer is fixed when it is compiled (a
+// constant: the code of an absent effect is dropped); the generic kernel's
+// is the scene's.
+template <EffectSet E>
+constexpr bool applies(EffectSet scene, EffectSet bit) {
+  if constexpr (E == effect::generic)
+    return has(scene, bit);
+  else
+    return has(E, bit);
+}
+
+// Whether a kernel compiled for E has the code of effect `bit` at all (for
+// `if constexpr`, where a whole function is compiled in or out): a
+// specialised kernel only for its own effects, the generic one for every one.
+template <EffectSet E>
+constexpr bool compiles(EffectSet bit) {
+  return E == effect::generic || has(E, bit);
+}
 
 // A set the engine runs: known bits only, and every effect's prerequisite present.
 constexpr bool is_valid(EffectSet set) {

@@ -122,9 +122,14 @@ double max_overlap(const System& sys) {
   return m;
 }
 
-std::size_t contact_count(const System& sys) {
+std::size_t pair_contact_count(const System& sys) {
   std::size_t c = 0;
   for_touching(sys.state.lists.pairs, [&](std::size_t) { ++c; });
+  return c;
+}
+
+std::size_t contact_count(const System& sys) {
+  std::size_t c = pair_contact_count(sys);
   for_touching(sys.state.lists.walls, [&](std::size_t) { ++c; });
   return c;
 }

@@ -42,5 +42,7 @@ bool held_by_bed(const System& sys, std::size_t b);
 // Largest overlap over all touching contacts (m), and their number.
 double max_overlap(const System& sys);
 std::size_t contact_count(const System& sys);
+// The touching grain-grain contacts among them.
+std::size_t pair_contact_count(const System& sys);
 
 }  // namespace dem2d

@@ -1,6 +1,6 @@
-// The effect sets the kernels are compiled for (engine/kernel_sets.inc, or
-// every valid set in a build with -DDEM2D_KERNEL_SETS=all): a scene's set
-// must be one of them.
+// The effect sets the kernels are specialised for (engine/kernel_sets.inc,
+// or every valid set in a build with -DDEM2D_KERNEL_SETS=all); any other
+// valid set runs on the generic kernel (engine/kernel_table.hpp).
 #pragma once
 
 #include <optional>
@@ -30,11 +30,11 @@ constexpr std::optional<EffectSet> parse_effect_set(std::string_view names) {
   return set;
 }
 
-// Whether this build has the kernels of `effects`.
-bool kernels_compiled(EffectSet effects);
+// Whether this build has kernels specialised for `effects`.
+bool kernels_specialised(EffectSet effects);
 
-// Why a scene with `effects` cannot run in this build, and the line to add
-// ("" if it can).
-std::string kernels_missing(EffectSet effects);
+// Which kernel runs a scene with (valid) `effects`, in words for a log
+// (`generic`: the generic one asked for, Scene::generic_kernel).
+std::string kernel_description(EffectSet effects, bool generic = false);
 
 }  // namespace dem2d

@@ -16,26 +16,24 @@ const KernelEntry* find(EffectSet effects) {
   return nullptr;
 }
 
-const KernelEntry& lookup(EffectSet effects) {
-  if (const KernelEntry* k = find(effects)) return *k;
-  throw std::invalid_argument(kernels_missing(effects));
+const KernelEntry& lookup(EffectSet effects, bool generic) {
+  if (const KernelEntry* k = find(effects); k && !generic) return *k;
+  if (is_valid(effects)) return generic_kernel();
+  throw std::invalid_argument("effect set {" + effect_names(effects) +
+                              "} is not valid (unknown bits, or an effect without the one it needs)");
 }
 
 }  // namespace
 
-bool kernels_compiled(EffectSet effects) { return find(effects) != nullptr; }
+bool kernels_specialised(EffectSet effects) { return find(effects) != nullptr; }
 
-std::string kernels_missing(EffectSet effects) {
-  if (kernels_compiled(effects)) return "";
-  if (!is_valid(effects))
-    return "effect set {" + effect_names(effects) +
-           "} is not valid (unknown bits, or an effect without the one it needs)";
-  return "this build has no kernels for the effect set {" + effect_names(effects) +
-         "}: add the line\n  \"" + effect_names(effects) +
-         "\",\nto sim/engine/kernel_sets.inc and rebuild (docs/engine.md, \"Effect sets\")";
+std::string kernel_description(EffectSet effects, bool generic) {
+  if (kernels_specialised(effects) && !generic) return "kernel specialised for {" + effect_names(effects) + "}";
+  return "generic kernel for {" + effect_names(effects) +
+         "} (the effects tested at run time: slower than a specialised kernel, docs/performance.md)";
 }
 
-AdvanceFn advance_kernel(EffectSet effects) { return lookup(effects).advance; }
-ForceFn initial_force_kernel(EffectSet effects) { return lookup(effects).initial_forces; }
+AdvanceFn advance_kernel(EffectSet effects, bool generic) { return lookup(effects, generic).advance; }
+ForceFn initial_force_kernel(EffectSet effects, bool generic) { return lookup(effects, generic).initial_forces; }
 
 }  // namespace dem2d

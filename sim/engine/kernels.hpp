@@ -1,5 +1,9 @@
-// The hot loop, templated on the effect set E. Every effect test below is
-// `if constexpr`: an instantiation contains only the physics its scene names.
+// The hot loop, templated on the effect set E. Every effect test below is a
+// constant in an instantiation for a scene's set (applies<E>, compiles<E>:
+// core/effects.hpp), so it contains only the physics its scene names; the
+// generic instantiation (E == effect::generic) has all of it and tests the
+// scene's set (s.config.effects) at run time, doing the same arithmetic for
+// the effects it applies and none for the others.
 //
 // One time step (velocity Verlet, as in LAMMPS: velocity-dependent forces use
 // the half-step velocity). Thread t owns the grains [part[t], part[t+1]) and
@@ -90,12 +94,13 @@ DEM2D_HOT inline void integrate(System& s) {
   // floating-point max is needed: a speed^2 is never negative, and
   // non-negative doubles order like their bit patterns (NaN above all).
   std::int64_t v2max_bits = 0, escaped = 0;
+  const bool gravity = applies<E>(s.config.effects, effect::gravity);
 #pragma omp simd reduction(max : v2max_bits) reduction(| : escaped)
   for (size_t i = begin; i < end; ++i) {
     const double live = im[i] > 0.0 ? 1.0 : 0.0;
     const double k = h * live;
     double ax = fx[i] * im[i], ay = fy[i] * im[i];
-    if constexpr (has(E, effect::gravity)) {
+    if (gravity) {
       ax += gx;
       ay += gy;
     }
@@ -143,6 +148,8 @@ DEM2D_HOT inline void pair_forces(System& s, const ContactModel<E> model) {  // 
   double *fx = L.fx.data(), *fy = L.fy.data(), *fn = L.fn.data(), *ov = L.overlap.data();
   const std::pair<std::int64_t, std::int64_t> slots = my_slots(s, L.start);
   const std::int64_t first = slots.first, last = slots.second;
+  const bool friction = applies<E>(model.scene, effect::friction);
+  const bool rolling = applies<E>(model.scene, effect::rolling_resistance);
   // simd: slots are independent (each reads grain data, writes only its own slot)
 #pragma omp simd
   for (std::int64_t sl = first; sl < last; ++sl) {
@@ -160,26 +167,26 @@ DEM2D_HOT inline void pair_forces(System& s, const ContactModel<E> model) {  // 
     const double ai = ri + 0.5 * delta, aj = rj + 0.5 * delta;
     const double tx = -ny, ty = nx;
     double vt = 0.0, spin = 0.0, sqrt_i = 0.0;
-    if constexpr (has(E, effect::friction)) vt = rvx * tx + rvy * ty - (ai * w[i] + aj * w[j]);
-    if constexpr (has(E, effect::rolling_resistance)) {
+    if (friction) vt = rvx * tx + rvy * ty - (ai * w[i] + aj * w[j]);
+    if (rolling) {
       spin = w[i] - w[j];
       sqrt_i = sqi[sl];
     }
     const ContactForce f = model.eval({delta, rvx * nx + rvy * ny, vt, spin, sqm[sl], sqrt_i}, acts, ft[sl], mr[sl]);
     double fxs = f.fn * nx, fys = f.fn * ny, tqi = 0.0, tqj = 0.0;
-    if constexpr (has(E, effect::friction)) {
+    if (friction) {
       fxs += f.ft * tx;
       fys += f.ft * ty;
       tqi = -ai * f.ft;
       tqj = -aj * f.ft;
     }
-    if constexpr (has(E, effect::rolling_resistance)) {
+    if (rolling) {
       tqi += f.mr;
       tqj -= f.mr;
     }
     fx[sl] = acts ? fxs : 0.0;
     fy[sl] = acts ? fys : 0.0;
-    if constexpr (has(E, effect::friction) || has(E, effect::rolling_resistance)) {
+    if (friction || rolling) {
       ti[sl] = acts ? tqi : 0.0;
       tj[sl] = acts ? tqj : 0.0;
     }
@@ -212,6 +219,9 @@ DEM2D_HOT inline void wall_forces(System& s, const ContactModel<E> model) {  // 
   double *gd = L.dist.data(), *gnx = L.nx.data(), *gny = L.ny.data();
   const std::pair<std::int64_t, std::int64_t> slots = my_slots(s, L.start);
   const std::int64_t first = slots.first, last = slots.second;
+  const EffectSet scene = model.scene;
+  const bool moving = applies<E>(scene, effect::moving_bodies), rotating = applies<E>(scene, effect::rotating_bodies);
+  const bool friction = applies<E>(scene, effect::friction), rolling = applies<E>(scene, effect::rolling_resistance);
   if constexpr (Polygons)
     for (std::int64_t sl = first; sl < last; ++sl) {
       const std::int32_t i = own[sl];
@@ -232,30 +242,30 @@ DEM2D_HOT inline void wall_forces(System& s, const ContactModel<E> model) {  // 
     const double delta = g.dist - (ri + brad[b]);
     const bool acts = delta < model.range();
     double rvx = vx[i], rvy = vy[i];
-    if constexpr (has(E, effect::moving_bodies)) {
+    if (moving) {
       rvx -= bvx[b];
       rvy -= bvy[b];
     }
     const double a = ri + 0.5 * delta;  // centre to contact point (m)
-    if constexpr (has(E, effect::rotating_bodies)) {  // the body's surface there: omega x (contact point - pivot)
+    if (rotating) {  // the body's surface there: omega x (contact point - pivot)
       rvx += bw[b] * (y[i] - a * g.ny - bpy[b]);
       rvy -= bw[b] * (x[i] - a * g.nx - bpx[b]);
     }
     const double tx = -g.ny, ty = g.nx;
     double vt = 0.0, spin = 0.0, sqrt_i = 0.0;
-    if constexpr (has(E, effect::friction)) vt = rvx * tx + rvy * ty - a * w[i];
-    if constexpr (has(E, effect::rolling_resistance)) {
+    if (friction) vt = rvx * tx + rvy * ty - a * w[i];
+    if (rolling) {
       spin = w[i];
       sqrt_i = sqi[sl];
     }
     const ContactForce f = model.eval({delta, rvx * g.nx + rvy * g.ny, vt, spin, sqm[sl], sqrt_i}, acts, ft[sl], mr[sl]);
     double fx = f.fn * g.nx, fy = f.fn * g.ny, tq = 0.0;
-    if constexpr (has(E, effect::friction)) {
+    if (friction) {
       fx += f.ft * tx;
       fy += f.ft * ty;
       tq = -a * f.ft;
     }
-    if constexpr (has(E, effect::rolling_resistance)) tq += f.mr;
+    if (rolling) tq += f.mr;
     fxo[sl] = acts ? fx : 0.0;
     fyo[sl] = acts ? fy : 0.0;
     tqo[sl] = acts ? tq : 0.0;
@@ -297,24 +307,26 @@ DEM2D_HOT inline void gather(System& s) {
   const PairList& L = s.state.lists.pairs;
   const WallList& W = s.state.lists.walls;
   const std::pair<size_t, size_t> range = my_grains(s);
+  const EffectSet scene = s.config.effects;
+  const bool torque = applies<E>(scene, effect::friction) || applies<E>(scene, effect::rolling_resistance);
+  const bool walls = applies<E>(scene, effect::walls);
   for (size_t i = range.first; i < range.second; ++i) {
     if (!p.active[i]) continue;
-    constexpr bool kTorque = has(E, effect::friction) || has(E, effect::rolling_resistance);
     double fx = 0.0, fy = 0.0, tq = 0.0;
     const auto end = static_cast<size_t>(L.start[i + 1]);
     for (auto sl = static_cast<size_t>(L.start[i]); sl < end; ++sl) {
       fx += L.fx[sl];
       fy += L.fy[sl];
-      if constexpr (kTorque) tq += L.ti[sl];
+      if (torque) tq += L.ti[sl];
     }
     const auto rend = static_cast<size_t>(L.rev_start[i + 1]);
     for (auto r = static_cast<size_t>(L.rev_start[i]); r < rend; ++r) {
       const auto sl = static_cast<size_t>(L.rev_slot[r]);
       fx -= L.fx[sl];
       fy -= L.fy[sl];
-      if constexpr (kTorque) tq += L.tj[sl];
+      if (torque) tq += L.tj[sl];
     }
-    if constexpr (has(E, effect::walls)) {
+    if (walls) {
       const auto wend = static_cast<size_t>(W.start[i + 1]);
       for (auto sl = static_cast<size_t>(W.start[i]); sl < wend; ++sl) {
         fx += W.fx[sl];
@@ -355,16 +367,19 @@ inline void body_sums(System& s) {
 
 template <EffectSet E>
 void initial_forces(System& s) {
-  ContactModel<E> pp{s.config.pp}, pw{s.config.pw};  // no spring increments: there is no previous step
+  const EffectSet scene = s.config.effects;
+  ContactModel<E> pp{s.config.pp, scene}, pw{s.config.pw, scene};  // no spring increments: there is no previous step
   pp.c.kt_dt = pp.c.kr_dt = pw.c.kt_dt = pw.c.kr_dt = 0.0;
+  const bool walls = applies<E>(scene, effect::walls);
 #pragma omp parallel num_threads(s.config.threads)
   {
     pair_forces<E>(s, pp);
-    if constexpr (has(E, effect::walls)) body_forces<E>(s, pw);
+    if constexpr (compiles<E>(effect::walls))
+      if (walls) body_forces<E>(s, pw);
 #pragma omp barrier
     gather<E>(s);
   }  // (the region's end is a barrier)
-  if constexpr (has(E, effect::walls)) {
+  if (walls) {
     body_sums(s);
     s.reset_body_sums();
   }
@@ -376,7 +391,7 @@ void initial_forces(System& s) {
 template <EffectSet E>
 inline void open_step_serial(System& s) {
   ++s.state.step;
-  if constexpr (has(E, effect::moving_bodies)) s.place_bodies();
+  if (applies<E>(s.config.effects, effect::moving_bodies)) s.place_bodies();
 }
 
 template <EffectSet E>
@@ -385,6 +400,8 @@ void advance(System& s, std::int64_t steps) {
   bool failed = false;
   StepBarrier barrier;  // the step's phases (step_barrier.hpp: its waiters sleep when the cores are taken)
   barrier.reset(s.config.threads);
+  const EffectSet scene = s.config.effects;
+  const bool walls = applies<E>(scene, effect::walls);
 #pragma omp parallel num_threads(s.config.threads)
   {
     // every thread keeps the same displacement bound, from the same numbers
@@ -420,8 +437,9 @@ void advance(System& s, std::int64_t steps) {
         moved = 0.0;
         if (failed) break;
       }
-      pair_forces<E>(s, ContactModel<E>{s.config.pp});
-      if constexpr (has(E, effect::walls)) body_forces<E>(s, ContactModel<E>{s.config.pw});
+      pair_forces<E>(s, ContactModel<E>{s.config.pp, scene});
+      if constexpr (compiles<E>(effect::walls))
+        if (walls) body_forces<E>(s, ContactModel<E>{s.config.pw, scene});
       barrier.wait();
       if (ledger) {
         energy::close_step(s);
@@ -438,7 +456,7 @@ void advance(System& s, std::int64_t steps) {
       {
         // this step's body force sums (all wall slots were done before the
         // barrier above) need the bodies where they were: sum, then move them
-        if constexpr (has(E, effect::walls)) body_sums(s);
+        if (walls) body_sums(s);
         if (open) open_step_serial<E>(s);
       }
     }

@@ -108,8 +108,8 @@ System::System(const Scene& scene) : config(config_of(scene)) {
   const Box& domain = config.domain;
   state.lists.configure(domain.xmin, domain.ymin, domain.xmax, domain.ymax, std::max(r_max, 1e-300), scene.skin,
                         range);
-  advance_ = advance_kernel(effects);
-  initial_forces_ = initial_force_kernel(effects);
+  advance_ = advance_kernel(effects, scene.generic_kernel);
+  initial_forces_ = initial_force_kernel(effects, scene.generic_kernel);
   remove_escaped();
   if (!failure.empty()) throw std::runtime_error(failure);
   rebuild();

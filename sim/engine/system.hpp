@@ -1,7 +1,8 @@
 // Everything that evolves during a run, as plain data, plus the entry points
 // that advance it. The kernels (engine/kernels.hpp) are instantiated once per
-// effect set; `advance` picks the one for the scene's effects when the System
-// is built and never branches on an absent effect afterwards.
+// declared effect set, plus a generic one; `advance` picks the one for the
+// scene's effects when the System is built, and a specialised kernel never
+// branches on an absent effect afterwards.
 #pragma once
 
 #include <cstdint>
@@ -149,8 +150,10 @@ struct System {
 // with other effects or parameters.
 Scene with_state(Scene scene, const System& sys);
 
-// The kernel table: one entry per effect set, built in engine/kernels_*.cpp.
-AdvanceFn advance_kernel(EffectSet effects);
-ForceFn initial_force_kernel(EffectSet effects);
+// The kernels that run a scene with `effects`: those specialised for it if
+// the build has them and `generic` is false, else the generic ones
+// (engine/kernel_table.hpp).
+AdvanceFn advance_kernel(EffectSet effects, bool generic);
+ForceFn initial_force_kernel(EffectSet effects, bool generic);
 
 }  // namespace dem2d

@@ -79,14 +79,15 @@ std::string Progress::line_since(Mark& m, Clock::time_point now, std::int64_t st
   return line(t, step, dt_, steps_per_s, particles_, end, eta_rate_.rate());
 }
 
-void Progress::update(std::int64_t step, double t, const EndForecast& end) {
+void Progress::update(std::int64_t step, double t, const EndForecast& end, const std::string& physics) {
   const auto now = Clock::now();
+  const std::string more = physics.empty() ? "" : "  " + physics;
   if (opt_.terminal && since(term_, now) >= kTerminalSeconds) {
-    std::fprintf(stderr, "\r[dem2d] %s   ", line_since(term_, now, step, t, end).c_str());
+    std::fprintf(stderr, "\r[dem2d] %s%s   ", line_since(term_, now, step, t, end).c_str(), more.c_str());
     std::fflush(stderr);
   }
   if (opt_.every > 0.0 && since(plain_, now) >= opt_.every) {
-    const std::string text = line_since(plain_, now, step, t, end);
+    const std::string text = line_since(plain_, now, step, t, end) + more;
     if (!opt_.terminal) std::fprintf(stderr, "[dem2d] %s\n", text.c_str());
     note(text);
   }

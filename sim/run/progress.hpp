@@ -57,8 +57,9 @@ class Progress {
 
   // Whether a line is due now (cheap: call every loop pass).
   bool due() const;
-  // Writes the lines that are due; `end` is the run's forecast end.
-  void update(std::int64_t step, double t, const EndForecast& end);
+  // Writes the lines that are due; `end` is the run's forecast end,
+  // `physics` the state's numbers (run/thermo.hpp), appended.
+  void update(std::int64_t step, double t, const EndForecast& end, const std::string& physics = "");
   // A line in the log, stamped with the date and time.
   void note(const std::string& what);
   // note(), and the same line on stderr when progress lines are on (the run's first line).

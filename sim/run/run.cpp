@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/version.hpp"
+#include "engine/kernel_sets.hpp"
 #include "engine/system.hpp"
 #include "io/run_file.hpp"
 #include "run/body_removals.hpp"
@@ -18,6 +19,7 @@
 #include "run/output_control.hpp"
 #include "run/progress.hpp"
 #include "run/stop_criteria.hpp"
+#include "run/thermo.hpp"
 #include "run/thread_choice.hpp"
 
 namespace dem2d {
@@ -60,6 +62,9 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   }
   if (resume && ckpt_scene != scene.text)
     throw unusable(ckpt + " was written by a different scene or dem2d version");
+  std::error_code ec;
+  // an unfinished run that left no checkpoint (killed before its first one, or checkpoint_interval = 0)
+  const bool lost_work = !resume && !opt.fresh && fs::exists(work, ec) && !fs::is_empty(work, ec);
   if (!resume) folder.fresh_work();
   RunRecorder recorder(sys, work.string());
   // what acts at given steps, in the order it acts within a step
@@ -87,8 +92,13 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   Progress progress(opt.progress, out_dir / "run.log", scene.dt, sys.size(), first_step);
   const std::string threads = opt.threads_why.empty() ? threads_text(sys.config.threads) : opt.threads_why;
   progress.announce(std::string(report.resumed ? "resumed" : "started") + " '" + scene.name + "' at step " +
-                    std::to_string(first_step) + " of " + std::to_string(total) + ", " + threads +
-                    (scene.path.empty() ? "" : ", scene " + scene.path));
+                    std::to_string(first_step) + " of " + std::to_string(total) + ", " + threads + ", " +
+                    kernel_description(scene.effects, scene.generic_kernel) +
+                    (scene.path.empty() ? "" : ", scene " + scene.path) +
+                    (lost_work ? "; the unfinished run in " + work.string() +
+                                     " left no checkpoint (killed before its first, or checkpoint_interval = 0): "
+                                     "started again from step 0"
+                               : ""));
   auto finish_report = [&](bool complete) {
     report.complete = complete;
     report.final_step = sys.state.step;
@@ -135,7 +145,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     // aim at ~0.1 s per call: responsive to signals and checkpoints, negligible overhead
     if (n == chunk && secs > 0)
       chunk = std::clamp<std::int64_t>(static_cast<std::int64_t>(static_cast<double>(n) / secs * 0.1), 1, 1 << 24);
-    if (progress.due()) progress.update(sys.state.step, sys.time(), forecast_end(controllers, sys));
+    if (progress.due()) progress.update(sys.state.step, sys.time(), forecast_end(controllers, sys), thermo_text(sys));
   }
   progress.done();
   for (Controller* c : controllers) c->finish(sys);

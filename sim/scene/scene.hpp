@@ -120,6 +120,7 @@ struct Scene {
   Box domain;               // grains leaving it are removed and reported
   double skin = 0.0;        // Verlet-list skin (m)
   int threads = 0;          // 0: OpenMP default
+  bool generic_kernel = false;  // run on the generic kernel even where the build has a specialised one
 
   std::vector<ParticleInit> particles;
   std::vector<BodySpec> bodies;

@@ -10,11 +10,11 @@
 #include <limits>
 #include <optional>
 #include <sstream>
+#include <set>
 #include <unordered_map>
 #include <utility>
 #include <vector>
 
-#include "engine/kernel_sets.hpp"
 #include "scene/scene_keys.hpp"
 #include "core/body_roles.hpp"
 #include "core/key_spec.hpp"
@@ -112,7 +112,7 @@ class SceneParser {
     if (s_.particles.empty())
       f_.fail(nullptr, "the scene has no particles: add [[particle]] entries or a [[generator]]");
     check_domain();
-    if (!allow_overlap && s_.initial_run.empty()) check_overlaps();  // a run's grains touch: that is their state
+    if (!allow_overlap) check_overlaps();
     set_time_step(time);
     check_step_counts();
     check_neighbour_cells();
@@ -129,7 +129,6 @@ class SceneParser {
       if (has(s_.effects, bit) && !has(s_.effects, needs))
         effects_.fail(effect_key(bit).substr(8),
                       "needs " + effect_key(needs) + " = true (" + effect_key(bit) + " acts on what it adds)");
-    if (const std::string missing = kernels_missing(s_.effects); !missing.empty()) top_.fail("effects", missing);
 
     if (has(s_.effects, effect::gravity)) {
       const Vec2 g = top_.table("gravity", {"g"})
@@ -225,8 +224,8 @@ class SceneParser {
     const Num every = scene_key::output_interval;
     s_.output = {o.number_or("series_interval", every, 0.0),
                  o.number_or("snapshot_interval", every, 0.0),
-                 o.number_or("checkpoint_interval",
-                             scene_key::checkpoint_interval, 0.0),
+                 o.number_or("checkpoint_interval", scene_key::checkpoint_interval,
+                             scene_key::kDefaultCheckpointInterval),
                  o.number_or("displacement_window",
                              scene_key::displacement_window,
                              0.0),
@@ -582,7 +581,16 @@ class SceneParser {
                 " the engine can index: shrink [domain] to where the grains can go");
   }
 
+  // Grains overlapping each other or a body at t = 0. The grains of an
+  // initial run touch each other and the bodies they touched there: that is
+  // their state. A body that overlaps a grain it did not touch (one placed
+  // into the bed) is refused like a generated grain's overlap.
   void check_overlaps() const {
+    if (s_.initial_run.empty()) check_grain_overlaps();
+    check_body_overlaps();
+  }
+
+  void check_grain_overlaps() const {
     const auto& ps = s_.particles;
     const std::size_t n = ps.size();
     double d_max = 0.0, x0 = ps[0].x, x1 = x0, y0 = ps[0].y, y1 = y0;
@@ -627,19 +635,33 @@ class SceneParser {
                   sig3(100.0 * depth(i, first) / std::min(ps[i].d, ps[first].d)) +
                   "% of the smaller diameter); set allow_initial_overlap = true to accept");
     }
-    std::vector<Shape> shapes;
-    for (const BodySpec& b : s_.bodies) shapes.push_back(make_shape(b.vertices));
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t k = 0; k < s_.bodies.size(); ++k) {
-        const BodySpec& b = s_.bodies[k];
-        const double reach = 0.5 * (ps[i].d + b.thickness);
-        const double overlap = reach - closest_point(shapes[k], ps[i].x, ps[i].y).dist;
-        if (overlap > kOverlapTolerance)
-          f_.fail(origin(i).where,
-                  who(i) + " overlaps body '" + b.name + "' by " + sig3(overlap) + " m (" +
-                      sig3(100.0 * overlap / ps[i].d) +
-                      "% of its diameter); set allow_initial_overlap = true to accept");
+  }
+
+  void check_body_overlaps() const {
+    const auto& ps = s_.particles;
+    std::set<std::pair<std::int32_t, std::string_view>> touched;  // (grain, body) in contact in the initial run
+    for (const InitialContact& c : s_.initial_contacts)
+      if (c.j < 0) touched.emplace(c.i, c.body);
+    std::size_t count = 0, worst_i = 0, worst_k = 0;
+    double worst = 0.0;
+    for (std::size_t k = 0; k < s_.bodies.size(); ++k) {
+      const BodySpec& b = s_.bodies[k];
+      const Shape shape = make_shape(b.vertices);
+      for (std::size_t i = 0; i < ps.size(); ++i) {
+        const double overlap = 0.5 * (ps[i].d + b.thickness) - closest_point(shape, ps[i].x, ps[i].y).dist;
+        if (!(overlap > kOverlapTolerance) || touched.contains({static_cast<std::int32_t>(i), b.name})) continue;
+        ++count;
+        if (overlap > worst) worst = overlap, worst_i = i, worst_k = k;
       }
+    }
+    if (count == 0) return;
+    const std::string others = count > 1 ? " (the deepest of " + std::to_string(count) + " such overlaps)" : "";
+    f_.fail(origin(worst_i).where,
+            who(worst_i) + " overlaps body '" + s_.bodies[worst_k].name + "' by " + sig3(worst) + " m (" +
+                sig3(100.0 * worst / ps[worst_i].d) + "% of its diameter)" + others +
+                (s_.initial_run.empty() ? "" : ", a contact the initial run did not have: the body was placed into "
+                                               "the bed; move it, or take out the grains it overlaps") +
+                "; set allow_initial_overlap = true to accept (overlapping grains are pushed out at once)");
   }
 
   void set_time_step(const TableReader& t) {

@@ -41,7 +41,7 @@ struct InnerPull {
   static double pull(const Coeffs& c, double delta) { return -c.ka * delta; }
 
   template <EffectSet E>
-  static ContactState apply(const Coeffs& c, const ContactKinematics k, ContactState s) {
+  static ContactState apply(const Coeffs& c, const ContactKinematics k, ContactState s, EffectSet /*scene*/) {
     s.f.fn -= s.touch ? pull(c, k.delta) : 0.0;
     return s;
   }

@@ -142,7 +142,8 @@ class Suite:
 
     def consumers(self, run, out):
         c = {s: self.stage_command(s, run, out / s) for s in STAGES}
-        c["dem2d_initial"] = [self.dem2d, "check", ROOT / "tests/fuzz/tiny_pulloff.toml", "--initial", run]
+        c["dem2d_initial"] = [self.dem2d, "check", ROOT / "tests/fuzz/tiny_pulloff.toml", "--initial", run,
+                              "--overlay", ROOT / "tests/fuzz/accept_overlap.toml"]
         return c
 
     def parallel(self, items, fn):

@@ -85,13 +85,13 @@ int main(int argc, char** argv) {
                           });
   }
   const int rc = RUN_ALL_TESTS();
-  if (with_ensemble) {  // the three verdicts counted
-    int n[3] = {0, 0, 0};
-    for (const Target& t : targets) {
-      const std::string o = dem2d::check::evaluate(t, metrics, &ensemble).outcome;
-      ++n[o == "holds" ? 0 : o == "fails" ? 1 : 2];
-    }
-    std::printf("[  VERDICTS ] %d hold, %d fail, %d undetermined (of %zu targets)\n", n[0], n[1], n[2], targets.size());
+  // the three verdicts counted, in the report's words
+  int n[3] = {0, 0, 0};
+  for (const Target& t : targets) {
+    const std::string o = dem2d::check::evaluate(t, metrics, with_ensemble ? &ensemble : nullptr).outcome;
+    ++n[o == "holds" || o == "pass" ? 0 : o == "fails" || o == "fail" ? 1 : 2];
   }
+  std::printf("[  VERDICTS ] %d %s, %d fail, %d undetermined (of %zu targets)\n", n[0], with_ensemble ? "hold" : "pass",
+              n[1], n[2], targets.size());
   return rc == 0 ? 0 : 1;
 }

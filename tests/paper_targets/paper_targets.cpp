@@ -253,7 +253,7 @@ Verdict evaluate(const Target& t, const nlohmann::json& metrics, const nlohmann:
                 (power_note.empty() ? "" : ": " + power_note + ": " + v.outcome);
   else
     v.message = head + format_number(*v.ours) + ", paper " + v.expected + ": " +
-                (ensemble ? v.outcome : v.pass ? std::string("pass") : std::string("FAIL")) +
+                v.outcome +
                 (v.members_needed ? " (about " + std::to_string(*v.members_needed) + " members would decide)" : "") +
                 " [" + t.source + "; tolerance: " + t.why + "]";
   return v;

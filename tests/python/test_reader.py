@@ -183,3 +183,34 @@ def test_parameters_are_the_scenes_typed_with_units(example_runs, tmp_path):
         del f["parameters"]
     with pytest.raises(dem2d.RunFileError, match="old.h5: written by dem2d .* before run files carried their parameters"):
         dem2d.open_run(old)
+
+
+def test_bodies_are_drawn_in_data_units_whenever_they_are_drawn(example_runs):
+    """A body's drawing (its core swept by a disc of its thickness) does not depend on the axes' limits:
+    drawn before or after the frame is set, the picture is the same."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from dem2d.plot import draw_bodies, draw_grains, frame
+
+    def picture(bodies_first):
+        with dem2d.open_run(example_runs["pulloff"]) as run:
+            s = run.snapshot(len(run) - 1)
+            fig, ax = plt.subplots(figsize=(3, 3), dpi=80)
+            if bodies_first:
+                draw_bodies(ax, run, s)
+            draw_grains(ax, run, s)
+            frame(ax, run, s)
+            if not bodies_first:
+                draw_bodies(ax, run, s)
+            fig.canvas.draw()
+            image = np.asarray(fig.canvas.buffer_rgba()).copy()
+            plt.close(fig)
+            return image
+
+    first, last = picture(True), picture(False)
+    assert first.shape == last.shape
+    assert np.array_equal(first, last)
+    # and the bodies are there: the intruder's blue
+    assert (np.abs(first[..., :3].astype(int) - [0x1f, 0x77, 0xb4]).sum(axis=-1) < 30).sum() > 20
