@@ -75,12 +75,15 @@ rm "$WORK/work/.run.work/mine.txt"
 expect 0 "run.h5" -- "$DEM2D" run "$MIN" --out "$WORK/work"
 [ "$(cat "$WORK/work/run.h5.tmp" 2>/dev/null)" = keep ] || fail "a user's run.h5.tmp was replaced or deleted"
 cp "$WORK/minimal/run.h5" "$WORK/bed_copy.h5"
+# (the quick pull-off's walls stand where the minimal scene's grains lie: accepted, so that the folder is what is refused)
+printf 'allow_initial_overlap = true\n' >"$WORK/accept_overlap.toml"
 expect 2 "holds the run this one starts from (--initial" -- \
-  "$DEM2D" run "$TESTS/scenes/quick_pulloff.toml" --initial "$WORK/minimal/run.h5" --out "$WORK/minimal"
+  "$DEM2D" run "$TESTS/scenes/quick_pulloff.toml" --overlay "$WORK/accept_overlap.toml" --initial "$WORK/minimal/run.h5" --out "$WORK/minimal"
 cmp -s "$WORK/minimal/run.h5" "$WORK/bed_copy.h5" || fail "the bed a run starts from was replaced"
 mkdir -p "$WORK/minimal/beds" && cp "$WORK/bed_copy.h5" "$WORK/minimal/beds/bed.h5"
 expect 2 "holds the run this one starts from (--initial" -- \
-  "$DEM2D" run "$TESTS/scenes/quick_pulloff.toml" --initial "$WORK/minimal/beds/bed.h5" --out "$WORK/minimal"
+  "$DEM2D" run "$TESTS/scenes/quick_pulloff.toml" --overlay "$WORK/accept_overlap.toml" --initial "$WORK/minimal/beds/bed.h5" \
+  --out "$WORK/minimal"
 cmp -s "$WORK/minimal/beds/bed.h5" "$WORK/bed_copy.h5" || fail "a bed inside --out was touched"
 
 # reference: the pour, uninterrupted
@@ -90,7 +93,7 @@ expect 0 "run.h5" -- "$DEM2D" run "$SCENE" --out "$WORK/ref" --threads 2
 # progress when stderr is not a terminal (a batch job): plain lines every --progress seconds,
 # the same in DIR/run.log; none with --progress 0
 "$DEM2D" run "$SCENE" --out "$WORK/progress" --threads 1 --progress 0.05 2>"$WORK/progress.err" >/dev/null
-grep -Eq '^\[dem2d\] t = [0-9.e+-]+ s  step [0-9]+  [0-9.]+ % of [0-9.]+ s \(the duration\) .* ETA [0-9]+:[0-9]{2}:[0-9]{2}$' \
+grep -Eq '^\[dem2d\] t = [0-9.e+-]+ s  step [0-9]+  [0-9.]+ % of [0-9.]+ s \(the duration\) .* ETA [0-9]+:[0-9]{2}:[0-9]{2}  KE [0-9.e+-]+ J/m  contacts/grain [0-9.e+-]+  max overlap/d [0-9.e+-]+  lost [0-9]+$' \
   "$WORK/progress.err" || fail "no progress line on stderr: $(head -3 "$WORK/progress.err")"
 [ "$(grep -c ' t = .* ETA ' "$WORK/progress/run.log")" -eq "$(grep -c '^\[dem2d\] t = ' "$WORK/progress.err")" ] ||
   fail "run.log and stderr disagree on the progress lines"

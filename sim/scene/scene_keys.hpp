@@ -25,8 +25,8 @@ inline constexpr Num skin{"Verlet-list skin", "m", Rule::positive};
 inline constexpr Num output_interval{"interval, 0 = off", "s", Rule::non_negative};
 inline constexpr Num checkpoint_interval{"wall-clock interval, 0 = off", "s", Rule::non_negative};
 // A scene that does not give checkpoint_interval: a checkpoint every 5 min of
-// wall time (s), so that a killed run resumes (one costs ~10 ms for 1600
-// grains: docs/engine.md, "Checkpoints").
+// wall time (s), so that a killed run resumes (one costs ~5 ms for the
+// 1600-grain bed: docs/engine.md, "Checkpoint/restart").
 inline constexpr double kDefaultCheckpointInterval = 300.0;
 inline constexpr Num displacement_window{"window of the displacement stored with each snapshot, 0 = off", "s",
                                          Rule::non_negative};
