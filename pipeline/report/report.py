@@ -121,7 +121,8 @@ def human(key: str) -> str:
 
 def sensitivity(metrics: dict) -> list[str]:
     """Each stage's tables of how its numbers move with its thresholds: the threshold's values down
-    the first column, then only the numbers that move; those that stay put are named below the table."""
+    the first column, then only the numbers that move; those that stay put are named below the table.
+    Each folded (a <details> block, one click away), so that they do not make most of the page."""
     lines = []
     for stage in (s.name for s in stages()):
         for name, rows in metrics.get(stage, {}).get("sensitivity", {}).items():
@@ -132,13 +133,14 @@ def sensitivity(metrics: dict) -> list[str]:
             moving = [k for k in rest if len({fmt(r.get(k)) for r in rows}) > 1]
             still = [k for k in rest if k not in moving]
             header = [human(name) if first == "value" else human(first)] + [human(k) for k in moving]
-            lines += [f"**{stage}: {human(name)}**", "", "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+            lines += ['<details markdown="1">', f'<summary markdown="span">{stage}: {human(name)}</summary>', "",
+                      "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
             for r in rows:
                 lines.append("| " + " | ".join(fmt(r.get(k)) for k in [first] + moving) + " |")
             if still:
                 lines += ["", "Unchanged over these values: " +
                           "; ".join(f"{human(k)} {fmt(rows[0].get(k))}" for k in still) + "."]
-            lines.append("")
+            lines += ["", "</details>", ""]
     return lines
 
 
@@ -205,7 +207,7 @@ def fmt(v) -> str:
 
 def html_page(markdown_text: str, results: Path, preset: str) -> str:
     """report.md as one self-contained HTML page: the figures embedded (base64 PNG), nothing to fetch."""
-    body = markdown.markdown(markdown_text, extensions=["tables"])
+    body = markdown.markdown(markdown_text, extensions=["tables", "md_in_html"])
 
     def embed(m):
         png = results / m.group(1)
