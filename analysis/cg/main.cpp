@@ -47,8 +47,8 @@ int main(int argc, char** argv) {
         const auto& m = result.metrics["cg"];
         if (!m.value("intruder", true)) {
           const auto& f = m["final"];
-          return std::to_string(m["snapshots"].get<std::size_t>()) + " snapshots, no intruder (lab frame): final bed solid fraction " +
-                 show(f["bed_solid_fraction"], "") + ", mean speed " + show(f["mean_speed_mm_s"], " mm/s") +
+          return std::to_string(m["snapshots"].get<std::size_t>()) + " snapshots, no intruder (lab frame): final CG solid fraction over the bed's nodes " +
+                 show(f["bed_solid_fraction"], "") + " (walls and surface included; bed_metrics' Φ is the bulk's)" + ", mean speed " + show(f["mean_speed_mm_s"], " mm/s") +
                  ", mobile fraction " + show(f["mobile_fraction"], "");
         }
         return std::to_string(m["snapshots"].get<std::size_t>()) + " snapshots, " +
