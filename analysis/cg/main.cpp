@@ -5,19 +5,9 @@
 // writes DIR/metrics.json ({"cg": {...}}) and DIR/cg.h5. Exit codes
 // (common/stage_main.hpp): 0 done; 1 an output could not be written; 2 bad
 // input (run, events or config file, command line).
-#include <cstdio>
-
 #include "cg/cg_stage.hpp"
 #include "common/stage_main.hpp"
-
-namespace {
-std::string show(const nlohmann::ordered_json& v, const char* unit) {
-  if (v.is_null()) return "n/a";
-  char b[48];
-  std::snprintf(b, sizeof b, "%.4g%s", v.get<double>(), unit);
-  return b;
-}
-}  // namespace
+#include "common/stage_output.hpp"
 
 int main(int argc, char** argv) {
   using namespace dem2d::analysis;
@@ -48,18 +38,18 @@ int main(int argc, char** argv) {
         if (!m.value("intruder", true)) {
           const auto& f = m["final"];
           return std::to_string(m["snapshots"].get<std::size_t>()) + " snapshots, no intruder (lab frame): final CG solid fraction over the bed's nodes " +
-                 show(f["bed_solid_fraction"], "") + " (walls and surface included; bed_metrics' Φ is the bulk's)" + ", mean speed " + show(f["mean_speed_mm_s"], " mm/s") +
-                 ", mobile fraction " + show(f["mobile_fraction"], "");
+                 show_metric(f["bed_solid_fraction"], "") + " (walls and surface included; bed_metrics' Φ is the bulk's), mean speed " + show_metric(f["mean_speed_mm_s"], " mm/s") +
+                 ", mobile fraction " + show_metric(f["mobile_fraction"], "");
         }
         return std::to_string(m["snapshots"].get<std::size_t>()) + " snapshots, " +
                m["velocity_source"].get<std::string>() + " velocities, " + m["loading_selection"].get<std::string>() +
                ": cone angle " +
-               (m["cone_angle_deg"].is_number() ? show(m["cone_angle_deg"], " deg")
+               (m["cone_angle_deg"].is_number() ? show_metric(m["cone_angle_deg"], " deg")
                                                 : m["cone_angle_outcome"].get<std::string>()) + " (" +
                std::to_string(m["cone_narrowing_edges"].get<std::size_t>()) + " of " +
                std::to_string(m["cone_fitted_edges"].get<std::size_t>()) + " edges narrow, left out; with them " +
-               show(m["cone_angle_including_narrowing_deg"], " deg") + "), wall-mobility length " +
-               show(m["wall_mobility_length_mm"], " mm") + " (from beta " +
-               show(m["wall_mobility_length_from_beta_mm"], " mm") + "), dilatancy " + show(m["dilatancy_delta_phi"], "");
+               show_metric(m["cone_angle_including_narrowing_deg"], " deg") + "), wall-mobility length " +
+               show_metric(m["wall_mobility_length_mm"], " mm") + " (from beta " +
+               show_metric(m["wall_mobility_length_from_beta_mm"], " mm") + "), dilatancy " + show_metric(m["dilatancy_delta_phi"], "");
       });
 }

@@ -47,11 +47,11 @@ std::string format_number(double v) {
   return buf;
 }
 
-std::string show_metric(const nlohmann::ordered_json& v) {
+std::string show_metric(const nlohmann::ordered_json& v, const char* unit) {
   if (v.is_null()) return "n/a";
   if (!v.is_number()) return v.dump();
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", v.get<double>());
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.4g%s", v.get<double>(), unit);
   return buf;
 }
 

@@ -67,7 +67,8 @@ std::string format_number(double v);
 // A length in metres as millimetres with 4 significant digits ("45.23 mm"), for messages.
 std::string format_mm(double metres);
 // A metric for a stage's summary line: a number with 4 significant digits
-// ("0.3158"), "n/a" for null, other values as JSON.
-std::string show_metric(const nlohmann::ordered_json& v);
+// and its unit ("0.3158", "45.23 mm" for unit " mm"), "n/a" for null, other
+// values as JSON.
+std::string show_metric(const nlohmann::ordered_json& v, const char* unit = "");
 
 }  // namespace dem2d::analysis

@@ -24,11 +24,10 @@ int main(int argc, char** argv) {
         r.h5.write(cmd.out + "/friction.h5");
         write_file_atomic(cmd.out + "/metrics.json", r.metrics.dump(2) + "\n");
         const auto& m = r.metrics["friction"];
-        const auto show = show_metric;
         if (!m.value("intruder", true))
-          return "no intruder: slip fraction " + show(m["slip_fraction"]) + ", mean mu* bulk " +
-                 show(m["mean_mu_star_bulk"]) + ", walls " + show(m["mean_mu_star_wall"]);
-        return "slip fraction " + show(m["slip_fraction"]) + ", mean mu* lower " + show(m["mean_mu_star_lower"]) +
-               ", upper " + show(m["mean_mu_star_upper"]);
+          return "no intruder: slip fraction " + show_metric(m["slip_fraction"]) + ", mean mu* bulk " +
+                 show_metric(m["mean_mu_star_bulk"]) + ", walls " + show_metric(m["mean_mu_star_wall"]);
+        return "slip fraction " + show_metric(m["slip_fraction"]) + ", mean mu* lower " + show_metric(m["mean_mu_star_lower"]) +
+               ", upper " + show_metric(m["mean_mu_star_upper"]);
       });
 }

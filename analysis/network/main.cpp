@@ -32,16 +32,15 @@ int main(int argc, char** argv) {
         r.h5.write(cmd.out + "/network.h5");
         write_file_atomic(cmd.out + "/metrics.json", r.metrics.dump(2) + "\n");
         const auto& m = r.metrics["network"];
-        const auto show = show_metric;
         if (!m.value("intruder", true))
-          return "no intruder: strong network spans wall to wall in " + show(m["spanning_fraction"]) +
-                 " of the snapshots; at the end the side walls carry " + show(m["final"]["wall_load_fraction"]) +
+          return "no intruder: strong network spans wall to wall in " + show_metric(m["spanning_fraction"]) +
+                 " of the snapshots; at the end the side walls carry " + show_metric(m["final"]["wall_load_fraction"]) +
                  " of the load";
         const std::string loss = m["percolation_loss_height_mm"].is_null()
                                      ? "percolation loss " + m["percolation_loss_outcome"].get<std::string>()
-                                     : "percolation lost above " + show(m["percolation_loss_height_mm"]) + " mm";
-        return loss + ", percolating below the top layer " + show(m["percolating_fraction_below_top_layer"]) +
-               ", top-layer anisotropy " + show(m["top_layer_anisotropy"]) + ", keystone-explained fraction " +
-               show(m["keystone_explained_fraction"]);
+                                     : "percolation lost above " + show_metric(m["percolation_loss_height_mm"]) + " mm";
+        return loss + ", percolating below the top layer " + show_metric(m["percolating_fraction_below_top_layer"]) +
+               ", top-layer anisotropy " + show_metric(m["top_layer_anisotropy"]) + ", keystone-explained fraction " +
+               show_metric(m["keystone_explained_fraction"]);
       });
 }
