@@ -250,8 +250,11 @@ endif
 # $(call started,WHAT): a line saying which stage starts, where, and when
 started = echo "make: $(1) $(@D) started $$(date +%T)"
 simulating = $(call started,simulation) && echo "  (a progress line every $(PROGRESS) s of wall time, also in $(@D)/run.log)"
-# every simulation's: its threads, its progress lines
-RUN_OPTIONS = $(THREADS_OPTION) --progress $(PROGRESS)
+# every simulation's: its threads, its progress lines; --overwrite: make
+# reruns a simulation only when its run.h5 is out of date (its scene, an
+# overlay, the run it starts from or dem2d is newer), and the new run then
+# replaces the finished one (an unfinished one is resumed)
+RUN_OPTIONS = $(THREADS_OPTION) --progress $(PROGRESS) --overwrite
 timed = $(call started,stage) && cmd=($(1)) && echo "  $${cmd[*]}" && t0=$$(date +%s.%N) && \
   { "$${cmd[@]}" || { echo "make: $(@D) failed. If the message above names a missing or corrupt input file, delete it and run \`make reproduce PRESET=$(PRESET)\`, which remakes it." >&2; exit 1; }; } && awk -v t0=$$t0 -v t1=$$(date +%s.%N) \
   'BEGIN { printf "{\"wall_seconds\": %.3f}\n", t1 - t0 }' > $(@D)/timing.json.tmp && \

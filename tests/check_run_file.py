@@ -18,7 +18,8 @@ import numpy as np
 ATTRS = {"scene_text": str, "scene_path": str, "code_version": str, "threads": np.int64, "dt": np.float64,
          "steps": np.int64, "end_time": np.float64, "stop_reason": str, "effects": str,
          "n_particles": np.int64, "n_bodies": np.int64, "lost_particles": np.int64, "format": str,
-         "initial_run": str, "jams": np.int64, "wall_seconds": np.float64,
+         "initial_run": str, "initial_source": str, "initial_digest": str, "jams": np.int64,
+         "wall_seconds": np.float64,
          "displacement_window": np.float64}
 EFFECTS = {"gravity", "normal_damping", "friction", "rolling_resistance", "walls", "moving_bodies",
            "tangential_damping", "rolling_damping", "cohesion", "rotating_bodies"}

@@ -50,6 +50,17 @@ expect 0 "run.h5" -- "$DEM2D" run "$WORK/cohesive.toml" --out "$WORK/cohesive"
 $PY -c 'import h5py, sys; f = h5py.File(sys.argv[1]); sys.exit(not (f["contacts/fn"][...] < 0).any())' \
   "$WORK/cohesive/run.h5" || fail "the cohesive run has no contact under tension (the check below means nothing)"
 $CHECK "$WORK/cohesive/run.h5" >/dev/null || fail "check_run_file on a cohesive run: $($CHECK "$WORK/cohesive/run.h5")"
+# a finished run is a result: the same command again has nothing to do; another scene into its folder is
+# refused (the run file untouched) unless --overwrite, which says what goes stale
+cp "$WORK/minimal/run.h5" "$WORK/minimal_first.h5"
+expect 0 "is complete: this scene's run, from the same starting state, by this dem2d version; nothing to do" -- \
+  "$DEM2D" run "$MIN_SCENE" --out "$WORK/minimal"
+expect 2 "minimal/run.h5 (step [0-9]*, t = .*) is a finished run, not of this command: it ran another scene" -- \
+  "$DEM2D" run "$WORK/cohesive.toml" --out "$WORK/minimal"
+cmp -s "$WORK/minimal/run.h5" "$WORK/minimal_first.h5" || fail "a finished run was replaced without --overwrite"
+cp -r "$WORK/minimal" "$WORK/replaced" && echo "{}" >"$WORK/replaced/metrics.json"
+expect 0 "replacing the finished run .*: it ran another scene or other overlays; what was made from it goes stale, beside it: metrics.json" -- \
+  "$DEM2D" run "$WORK/cohesive.toml" --out "$WORK/replaced" --overwrite --progress 60
 # inspect: the whole file through the analyses' reader; damage is bad input naming the file and dataset
 "$DEM2D" inspect "$WORK/minimal/run.h5" | grep -q "a sound run file" || fail "inspect of the minimal run"
 expect 2 "not-a-run.h5: no such file" -- "$DEM2D" inspect "$WORK/not-a-run.h5"
@@ -136,6 +147,14 @@ if [ -e "$WORK/term/run.h5" ]; then
 else
   [ "$rc" -eq 3 ] || fail "SIGTERM: exit $rc, expected 3"
   grep -q "interrupted at step" "$WORK/term.err" || fail "SIGTERM: no message: $(cat "$WORK/term.err")"
+  # the checkpoint as a starting state with a changed setting (LAMMPS's read_restart, then new settings)
+  cp "$WORK/term/.run.work/checkpoint.h5" "$WORK/term_checkpoint.h5"
+  sed -e '/^\[\[generator\]\]/,/^region/d' -e 's/^friction = 0.5/friction = 0.2/' -e 's/^duration = 0.6/duration = 0.05/' \
+    "$SCENE" >"$WORK/go_on.toml"
+  expect 0 "run.h5" -- "$DEM2D" run "$WORK/go_on.toml" --initial "$WORK/term_checkpoint.h5" --out "$WORK/go_on"
+  $PY -c 'import h5py, sys; a = h5py.File(sys.argv[1]).attrs; sys.exit(not (a["initial_source"].startswith("checkpoint at step ")
+          and a["initial_run"] == sys.argv[2] and len(a["initial_digest"]) == 16))' "$WORK/go_on/run.h5" "$WORK/term_checkpoint.h5" ||
+    fail "the run from a checkpoint does not say where it started"
   expect 0 "(resumed)" -- "$DEM2D" run "$SCENE" --out "$WORK/term"
   $CHECK "$WORK/term/run.h5" --same-as "$WORK/ref/run.h5" >/dev/null || fail "run resumed after SIGTERM differs"
 fi

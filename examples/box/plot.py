@@ -32,9 +32,20 @@ def main(path, out):
         g = -run.parameters.gravity[1]
         weight = run.particles.mass[s.active].sum() * g
         floor = -load_on(s, run.body("floor"))[1] / weight  # the share of the weight it carries
-        walls = -sum(load_on(s, run.body(w))[1] for w in ("left_wall", "right_wall")) / weight
+        sides = [run.body(w) for w in ("left_wall", "right_wall")]
+        walls = -sum(load_on(s, w)[1] for w in sides) / weight
+        # The walls' share is static friction: anything within +-mu times their normal load holds the bed,
+        # and which value it takes is the last slip along them (settling down along them gives the Janssen
+        # sign; the bed's rebound after landing, the opposite). Not a material property.
+        mu = run.parameters.contact["grain_body"]["friction"]
+        bound = mu * sum(abs(load_on(s, w)[0]) for w in sides) / weight
+        # The snapshot catches the bed's elastic sway; the mean force over the last series interval does not.
+        mean = run.dataset("series/body_force_mean")[-1]
+        held = -sum(mean[b.index][1] for b in [run.body("floor"), *sides]) / weight
         print(f"box: {s.active.sum()} grains at t = {s.time:.3f} s ({run.stop_reason}): the floor carries "
-              f"{floor:.4f} of their weight, the side walls {walls:.4f}")
+              f"{floor:.4f} of their weight, the side walls {walls:.4f} (static friction: at most {bound:.3f} either "
+              f"way, mu times their normal load; its sign is the last slip along them); averaged over the last "
+              f"{1e3 * run.parameters.output['series_interval']:.0f} ms floor and walls carry {held:.4f}")
         fig, ax = plt.subplots(figsize=(5, 6), constrained_layout=True)
         draw_grains(ax, run, s, colour="0.92", edge="0.75")
         frame(ax, run, s)

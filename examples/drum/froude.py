@@ -60,7 +60,7 @@ def main():
         with open(os.path.join(folder, "froude.toml"), "w") as f:
             f.write(overlay(fr, args.turn))
         r = subprocess.run([args.dem2d, "run", SCENE, "--overlay", f.name, "--out", os.path.join(folder, "run"),
-                            "--threads", "1"], capture_output=True, text=True)
+                            "--threads", "1", "--overwrite"], capture_output=True, text=True)
         if r.returncode != 0:
             sys.exit(f"froude: the run at Fr = {fr:g} failed (exit {r.returncode}): {r.stderr.strip()}")
         with dem2d.open_run(os.path.join(folder, "run", "run.h5")) as run:

@@ -118,7 +118,7 @@ def main() -> None:
                 write_if_changed(overlay, toml_text(f"bed re-settled at k_n = {k:g} N/m", {"contact": stiffness(k, preset(base))}))
                 rules.append(f"{d}/run.h5: {path} {overlay} {RESETTLE_SCENE} $(DEM2D)\n"
                              f"\t$(DEM2D) run {RESETTLE_SCENE} --overlay pipeline/presets/{base}.toml --overlay {overlay} "
-                             f"--initial {path} --out $(@D) --threads {threads}\n")
+                             f"--initial {path} --out $(@D) --threads {threads} --overwrite\n")
                 beds[k] = f"{d}/run.h5"
             path = beds[k]
         return path

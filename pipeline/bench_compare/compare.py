@@ -205,7 +205,8 @@ run {steps}
 
 
 def run_dem2d(dem2d: str, scene: Path, initial: Path, out: Path, cores: int) -> dict:
-    cmd = [dem2d, "run", str(scene), "--initial", str(initial), "--out", str(out), "--threads", str(cores), "--fresh"]
+    cmd = [dem2d, "run", str(scene), "--initial", str(initial), "--out", str(out), "--threads", str(cores), "--fresh",
+           "--overwrite"]  # timed afresh each time
     done = subprocess.run(cmd, capture_output=True, text=True)
     if done.returncode != 0:
         fail(f"{' '.join(cmd)} failed:\n{done.stderr}")
@@ -244,7 +245,8 @@ def main() -> None:
     write_atomic(settle_scene, dem2d_scene(d, settle=True))
     settled = out / "settle" / "run.h5"
     t0 = time.time()  # settled afresh each time: seconds, and never stale
-    done = subprocess.run([dem2d, "run", str(settle_scene), "--out", str(out / "settle"), "--fresh"],
+    done = subprocess.run([dem2d, "run", str(settle_scene), "--out", str(out / "settle"), "--fresh",
+                           "--overwrite"],
                           capture_output=True, text=True)
     if done.returncode != 0:
         fail(f"settling the bed failed:\n{done.stderr}")

@@ -86,7 +86,8 @@ def run(dem2d: str, scene: dict, out: Path, extra_args=()) -> Run:
     out.mkdir(parents=True, exist_ok=True)
     path = out / "scene.toml"
     path.write_text(toml_text(scene))
-    cmd = [dem2d, "run", str(path), "--out", str(out), "--threads", "1", "--fresh", *extra_args]
+    cmd = [dem2d, "run", str(path), "--out", str(out), "--threads", "1", "--fresh", "--overwrite",
+           *extra_args]  # its own folder: run afresh each time
     done = subprocess.run(cmd, capture_output=True, text=True)
     if done.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} failed ({done.returncode}):\n{done.stderr[-2000:]}")

@@ -1,7 +1,7 @@
 // dem2d: the command line.
-//   dem2d run SCENE.toml --out DIR [--overlay FILE]... [--initial RUN.h5] [--threads N] [--fresh] [--overwrite] [--progress S]
+//   dem2d run SCENE.toml --out DIR [--overlay FILE]... [--initial RUN.h5|CHECKPOINT.h5] [--threads N] [--fresh] [--overwrite] [--progress S]
 //             [--generic-kernel]
-//   dem2d check SCENE.toml [--overlay FILE]... [--initial RUN.h5] [--json]
+//   dem2d check SCENE.toml [--overlay FILE]... [--initial RUN.h5|CHECKPOINT.h5] [--json]
 //   dem2d bench [--scene FILE] [--steps N] [--threads 1,2]
 //   dem2d inspect RUN.h5
 // Exit codes: 0 done, 1 run failed, 2 bad input, 3 interrupted (checkpoint written).
@@ -93,6 +93,13 @@ int cmd_run(const std::string& path, const dem2d::SceneSources& extra, dem2d::Ru
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   const dem2d::RunReport r = dem2d::run_scene(scene, opt);
+  if (r.already_complete) {
+    std::fprintf(stderr,
+                 "dem2d: %s is complete: this scene's run, from the same starting state, by this dem2d version; "
+                 "nothing to do (--overwrite runs it again)\n",
+                 r.stop_reason.c_str());
+    return 0;
+  }
   if (!r.complete) {
     std::fprintf(stderr, "dem2d: interrupted at step %lld; checkpoint in %s/.run.work, rerun the same command to resume\n",
                  static_cast<long long>(r.final_step), opt.out_dir.c_str());
@@ -138,7 +145,8 @@ int main(int argc, char** argv) {
   auto scene_options = [&](CLI::App* cmd) {
     cmd->add_option("scene", scene_path, "Scene file (TOML)")->required();
     cmd->add_option("--overlay", extra.overlays, "TOML file merged over the scene, e.g. a preset (repeatable)");
-    cmd->add_option("--initial", extra.initial_run, "Run file whose final state the grains start from");
+    cmd->add_option("--initial", extra.initial_run, "Run file whose final state the grains start from, or a checkpoint (DIR/.run.work/checkpoint.h5 of an "
+                    "unfinished run: its state, with this scene's settings)");
   };
   auto* run = app.add_subcommand("run", "Run a scene; writes DIR/run.h5 and DIR/run.xdmf");
   scene_options(run);
@@ -151,7 +159,8 @@ int main(int argc, char** argv) {
                 "specialised for the scene's effects: the same results, slower");
   run->add_flag("--fresh", run_opt.fresh, "Discard a checkpoint in DIR instead of resuming from it");
   run->add_flag("--overwrite", run_opt.overwrite,
-                "Replace DIR/run.h5 and DIR/run.xdmf even if they are not a dem2d run's (never through a link)");
+                "Replace DIR/run.h5 and DIR/run.xdmf: a finished run (of this scene or another; says what goes "
+                "stale), or files that are not a dem2d run's (never through a link)");
   run->add_option("--progress", run_opt.progress.every,
                   "Seconds of wall time between progress lines in DIR/run.log, and on stderr when it is not a "
                   "terminal (0: none)")

@@ -6,23 +6,15 @@
 #include <string>
 #include <vector>
 
+#include "core/fnv.hpp"
+
 namespace dem2d::h5 {
 
 namespace {
 
 constexpr const char* kSeal = "content_hash";
 
-struct Fnv {
-  std::uint64_t h = 1469598103934665603ULL;
-  void add(const void* data, std::size_t n) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t k = 0; k < n; ++k) h = (h ^ p[k]) * 1099511628211ULL;
-  }
-  void add(const std::string& s) {
-    add(s.data(), s.size());
-    add("\0", 1);
-  }
-};
+using Fnv = Fnv1a;
 
 struct Walk {
   const File* file;
@@ -109,12 +101,6 @@ void add_group(const File& f, hid_t group, const std::string& path, Fnv& fnv) {
   }
 }
 
-std::string hex(std::uint64_t v) {
-  char buf[20];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
-  return buf;
-}
-
 }  // namespace
 
 std::uint64_t content_hash(const File& f) {
@@ -125,11 +111,15 @@ std::uint64_t content_hash(const File& f) {
   return fnv.h;
 }
 
-void seal(const File& f) { write_attr(f, "/", kSeal, hex(content_hash(f))); }
+namespace {
+std::string content_hash_hex(const File& f) { return Fnv{content_hash(f)}.hex(); }
+}  // namespace
+
+void seal(const File& f) { write_attr(f, "/", kSeal, content_hash_hex(f)); }
 
 void check_seal(const File& f) {
   if (!has_attr(f, "/", kSeal)) throw std::runtime_error(f.path() + ": no content checksum (content_hash): not written whole");
-  const std::string stored = read_attr_string(f, "/", kSeal), now = hex(content_hash(f));
+  const std::string stored = read_attr_string(f, "/", kSeal), now = content_hash_hex(f);
   if (stored != now)
     throw std::runtime_error(f.path() + ": its content does not match its checksum (" + now + ", written " + stored +
                              "): the file is damaged");

@@ -72,6 +72,8 @@ void write_header(const h5::File& f, const System& sys, const RunInfo& info, con
   h5::write_attr(f, "/", "n_bodies", i64(sys.state.bodies.size()));
   h5::write_attr(f, "/", "lost_particles", i64(sys.state.lost.size()));
   h5::write_attr(f, "/", "initial_run", info.initial_run);
+  h5::write_attr(f, "/", "initial_source", info.scene->initial_source);
+  h5::write_attr(f, "/", "initial_digest", info.scene->initial_digest);
   h5::write_attr(f, "/", "jams", i64(info.jam_times.size()));
   h5::write_attr(f, "/", "wall_seconds", info.wall_seconds);
   h5::write_attr(f, "/", "displacement_window", info.displacement_window);

@@ -1,9 +1,12 @@
-// The run file's format names (root attribute `format`, docs/run_file.md),
-// shared by the writer (io/run_file.hpp) and the reader (io/run_reader.hpp).
+// The format names (root attribute `format`) of the run file (docs/run_file.md;
+// written by io/run_file.hpp, read by io/run_reader.hpp) and of the checkpoint
+// (written and resumed from by run/checkpoint.hpp, read as a starting state
+// by io/checkpoint_state.hpp).
 #pragma once
 
 namespace dem2d {
 
 inline constexpr const char* kRunFileFormat = "dem2d-run-2";
+inline constexpr const char* kCheckpointFormat = "dem2d-checkpoint-4";
 
 }  // namespace dem2d

@@ -11,12 +11,11 @@
 #include "io/h5.hpp"
 #include "io/h5_seal.hpp"
 #include "io/run_file.hpp"
+#include "io/run_format.hpp"
 
 namespace dem2d {
 
 namespace {
-
-constexpr const char* kFormat = "dem2d-checkpoint-3";
 
 // The particle arrays a checkpoint stores, by name.
 template <class P>
@@ -111,7 +110,7 @@ double ControllerState::get_double(const std::string& key) const {
 void write_checkpoint(const std::string& path, const System& sys, std::span<Controller* const> controllers,
                       double wall_seconds, const std::string& scene_text) {
   h5::write_atomically(path, [&](const h5::File& f) {
-    h5::write_attr(f, "/", "format", std::string(kFormat));
+    h5::write_attr(f, "/", "format", std::string(kCheckpointFormat));
     h5::write_attr(f, "/", "scene_text", scene_text);
     h5::write_attr(f, "/", "code_version", code_version());
     h5::write_attr(f, "/", "step", sys.state.step);
@@ -119,12 +118,17 @@ void write_checkpoint(const std::string& path, const System& sys, std::span<Cont
     for (Controller* c : controllers) c->save(ControllerState(f, controller_group(c)));
     for (const auto& [name, v] : particle_arrays(sys.state.p)) h5::write(f, std::string("particles/") + name, *v);
     h5::write(f, "particles/active", sys.state.p.active);
+    // what makes a checkpoint a starting state of its own (--initial, io/checkpoint_state.hpp)
+    std::vector<double> diameter(sys.size());
+    for (std::size_t i = 0; i < diameter.size(); ++i) diameter[i] = 2.0 * sys.state.p.radius[i];
+    h5::write(f, "particles/diameter", diameter);
     const bool gaps = reaches_beyond_contact(sys.config.effects);
     write_history(f, "pairs", sys.state.lists.pairs, sys.state.lists.pairs.partner, gaps);
     write_history(f, "walls", sys.state.lists.walls, sys.state.lists.walls.body, gaps);
     const Bodies& B = sys.state.bodies;
     for (const auto& [name, v] : body_arrays(B)) h5::write(f, std::string("bodies/") + name, *v);
     h5::write(f, "bodies/anchor_step", B.anchor_step);
+    h5::write_strings(f, "bodies/name", B.name);
     h5::write(f, "bodies/active", B.active);
     h5::write(f, "bodies/removing", B.removing);
     h5::write_attr(f, "/", "rebuild_pending", static_cast<std::int64_t>(sys.state.rebuild_pending));
@@ -143,13 +147,13 @@ void write_checkpoint(const std::string& path, const System& sys, std::span<Cont
 std::string checkpoint_scene_text(const std::string& path) {
   if (!std::filesystem::exists(path)) return "";
   const h5::File f = h5::File::open_read(path);
-  if (!h5::has_attr(f, "/", "format") || h5::read_attr_string(f, "/", "format") != kFormat) return "";
+  if (!h5::has_attr(f, "/", "format") || h5::read_attr_string(f, "/", "format") != kCheckpointFormat) return "";
   return h5::read_attr_string(f, "/", "scene_text");
 }
 
 double read_checkpoint(const std::string& path, System& sys, std::span<Controller* const> controllers) {
   const h5::File f = h5::File::open_read(path);
-  if (h5::read_attr_string(f, "/", "format") != kFormat)
+  if (h5::read_attr_string(f, "/", "format") != kCheckpointFormat)
     throw std::runtime_error(path + ": not a dem2d checkpoint");
   h5::check_seal(f);
   const std::size_t n = sys.size();

@@ -14,6 +14,7 @@
 #include "io/run_file.hpp"
 #include "run/body_removals.hpp"
 #include "run/checkpoint.hpp"
+#include "run/finished_run.hpp"
 #include "run/jam_control.hpp"
 #include "run/output_dir.hpp"
 #include "run/output_control.hpp"
@@ -44,7 +45,6 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   const fs::path work = folder.work();
   const std::string ckpt = (work / "checkpoint.h5").string();
 
-  System sys(scene);
   RunReport report;
   const bool resume = !opt.fresh && fs::exists(ckpt);
   // A checkpoint that cannot be resumed from: say so, and how to start over.
@@ -62,6 +62,14 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   }
   if (resume && ckpt_scene != scene.text)
     throw unusable(ckpt + " was written by a different scene or dem2d version");
+  const Rerun rerun = resume ? Rerun{} : check_rerun(out_dir, scene, code_version(), opt.overwrite);
+  if (rerun.nothing_to_do) {
+    report.complete = report.already_complete = true;
+    report.run_file = (out_dir / "run.h5").string();
+    report.stop_reason = rerun.finished;
+    return report;
+  }
+  System sys(scene);
   std::error_code ec;
   // an unfinished run that left no checkpoint (killed before its first one, or checkpoint_interval = 0)
   const bool lost_work = !resume && !opt.fresh && fs::exists(work, ec) && !fs::is_empty(work, ec);
@@ -99,6 +107,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
                                      " left no checkpoint (killed before its first, or checkpoint_interval = 0): "
                                      "started again from step 0"
                                : ""));
+  if (!rerun.replacing.empty()) progress.announce(rerun.replacing);
   auto finish_report = [&](bool complete) {
     report.complete = complete;
     report.final_step = sys.state.step;

@@ -6,7 +6,9 @@
 //   DIR/.run.work/             segments and checkpoint while it runs
 //   DIR/run.log                how far it is: start, resume, a line every progress.every s, checkpoints,
 //                              end (appended)
-// Rerunning the same scene into the same DIR resumes from the checkpoint.
+// Rerunning the same scene into the same DIR resumes from the checkpoint; into
+// a DIR whose run.h5 is already this run's (run/finished_run.hpp), it does
+// nothing; another run's is replaced only with --overwrite.
 #pragma once
 
 #include <cstdint>
@@ -20,7 +22,8 @@ namespace dem2d {
 struct RunOptions {
   std::string out_dir;
   bool fresh = false;     // discard an existing checkpoint instead of resuming
-  bool overwrite = false;  // replace DIR/run.h5 and run.xdmf even if they are not a dem2d run's
+  bool overwrite = false;  // replace DIR/run.h5 and run.xdmf: a finished run (of this scene or another), or
+                           // files that are not a dem2d run's
   ProgressOptions progress{};  // where and how often to say how far the run is (run/progress.hpp)
   std::string threads_why{};   // how the thread count was chosen, for the first progress line (run/thread_choice.hpp)
   // For tests: act as if interrupted once this step is reached (-1: never).
@@ -30,6 +33,7 @@ struct RunOptions {
 struct RunReport {
   bool complete = false;  // false: interrupted, checkpoint written
   bool resumed = false;
+  bool already_complete = false;  // DIR/run.h5 was this run's already: nothing done (stop_reason: which run)
   std::string stop_reason;
   std::string stopped_by;  // the criterion (Controller::stop_criterion)
   std::int64_t steps = 0;        // steps advanced by this invocation

@@ -4,13 +4,17 @@
 #include <cmath>
 #include <vector>
 
+#include "core/fnv.hpp"
+#include "core/number_text.hpp"
+#include "io/checkpoint_state.hpp"
 #include "io/run_reader.hpp"
 
 namespace dem2d {
 
 void load_initial_state(const std::string& run_path, Scene& scene) {
-  const RunReader run(run_path);
-  const Snapshot last = run.last_snapshot();
+  const bool checkpoint = is_checkpoint(run_path);
+  const Snapshot last = checkpoint ? checkpoint_state(run_path) : RunReader(run_path).last_snapshot();
+  const std::size_t first_grain = scene.particles.size(), first_contact = scene.initial_contacts.size();
   std::vector<std::size_t> order;  // active grains of the run, in spatial order
   double row = 0.0;                // (m)
   for (std::size_t i = 0; i < last.size(); ++i)
@@ -48,6 +52,24 @@ void load_initial_state(const std::string& run_path, Scene& scene) {
     if (ic.i >= 0) scene.initial_contacts.push_back(ic);
   }
   scene.initial_run = run_path;
+  scene.initial_source = checkpoint ? "checkpoint at step " + std::to_string(last.step)
+                                    : "last snapshot, t = " + shortest(last.time) + " s (step " +
+                                          std::to_string(last.step) + ")";
+  // what the run starts from, whatever the file's other content: the identity a rerun compares (run/finished_run.hpp)
+  Fnv1a digest;
+  for (std::size_t k = first_grain; k < scene.particles.size(); ++k) {
+    const ParticleInit& q = scene.particles[k];
+    for (const double v : {q.x, q.y, q.d, q.vx, q.vy, q.omega}) digest.add(&v, sizeof v);
+  }
+  for (std::size_t k = first_contact; k < scene.initial_contacts.size(); ++k) {
+    const InitialContact& ic = scene.initial_contacts[k];
+    digest.add(&ic.i, sizeof ic.i);
+    digest.add(&ic.j, sizeof ic.j);
+    digest.add(ic.body);
+    digest.add(&ic.ft, sizeof ic.ft);
+    digest.add(&ic.mr, sizeof ic.mr);
+  }
+  scene.initial_digest = digest.hex();
 }
 
 }  // namespace dem2d

@@ -1,6 +1,7 @@
 // A scene's grains taken from the final state of an earlier run (scene key
 // [initial] run, or `dem2d run --initial`): the active grains of the run
-// file's last snapshot, with their positions, velocities, spins and the
+// file's last snapshot, or of a checkpoint (an unfinished run's state, to go
+// on from with changed settings: io/checkpoint_state.hpp), with their positions, velocities, spins and the
 // contact history (tangential springs, rolling moments) of every touching
 // contact. Wall contacts keep their body's name, so they carry over to a
 // body of the same name in the new scene and are dropped otherwise.
@@ -19,9 +20,10 @@
 
 namespace dem2d {
 
-// Appends the grains and sets scene.initial_contacts and scene.initial_run.
-// Throws std::runtime_error (message starting with the file) if the file is
-// not a readable run file with a snapshot.
+// Appends the grains and sets scene.initial_contacts, initial_run,
+// initial_source and initial_digest. Throws std::runtime_error (message
+// starting with the file) if the file is neither a readable run file with a
+// snapshot nor a checkpoint of this dem2d version.
 void load_initial_state(const std::string& run_path, Scene& scene);
 
 }  // namespace dem2d

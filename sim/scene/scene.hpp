@@ -124,7 +124,10 @@ struct Scene {
 
   std::vector<ParticleInit> particles;
   std::vector<BodySpec> bodies;
-  std::string initial_run;                      // run file the grains come from ("" if none)
+  std::string initial_run;                      // run file or checkpoint the grains come from ("" if none)
+  std::string initial_source;                   // which state of it: "last snapshot, t = 1.2 s (step 4000)",
+                                                // "checkpoint at step 4000"
+  std::string initial_digest;                   // FNV-1a of the grains and contacts taken from it (16 hex digits)
   std::vector<InitialContact> initial_contacts;  // its contact history
   JamControl jam;
   OutputSpec output;

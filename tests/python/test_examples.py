@@ -28,11 +28,14 @@ def numbers(text):
 
 def test_box_walls_and_floor_carry_the_weight(example_runs, tmp_path):
     out = plot("box", example_runs["box"], tmp_path)
-    floor, walls = numbers(out.split("the floor carries")[1])[:2]
-    # all of the weight, to the bed's last sway: the run stops once the kinetic energy is below
-    # 5e-11 J/m per grain, when the bed's centre of mass still accelerates at ~1 % of g
+    floor, walls, bound, held = numbers(out.split("the floor carries")[1])[:4]
+    # all of the weight: averaged over the last series interval to 0.5 %; in the snapshot to the bed's
+    # last sway (the run stops once the kinetic energy is below 5e-11 J/m per grain, when the bed still
+    # vibrates at accelerations of ~1 % of g)
+    assert held == pytest.approx(1.0, abs=0.005), out
     assert floor + walls == pytest.approx(1.0, abs=0.02), out
-    assert abs(walls) < 0.1, out
+    # the walls' share is static friction: within mu times their normal load (its sign is history)
+    assert abs(walls) < bound, out
 
 
 def test_silo_drains(example_runs, tmp_path):
@@ -43,9 +46,9 @@ def test_silo_drains(example_runs, tmp_path):
 
 def test_heap_stands_at_an_angle(example_runs, tmp_path):
     out = plot("heap", example_runs["heap"], tmp_path)
-    m = re.search(r"(\d+) of 200 grains stay on the base \((\d+) ran off\); angle of repose ([\d.]+) deg", out)
-    assert m and int(m[1]) + int(m[2]) == 200 and int(m[1]) > 20, out
-    assert 3.0 < float(m[3]) < 30.0, out  # make validate: 12-14 deg for such disks on a 100 mm base
+    m = re.search(r"(\d+) of 440 grains stay on the base \((\d+) ran off\); angle of repose ([\d.]+) deg", out)
+    assert m and int(m[1]) + int(m[2]) == 440 and int(m[1]) > 200, out  # a heap of ~9 layers, not a few grains
+    assert 10.0 < float(m[3]) < 25.0, out  # 16.2 deg (14.2 and 19.3 with the grains' seed 4 and 5)
 
 
 def test_pulloff_drag_falls_as_the_bar_rises(example_runs, tmp_path):
