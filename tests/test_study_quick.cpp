@@ -18,6 +18,7 @@
 #include "io/h5.hpp"
 #include "io/run_reader.hpp"
 #include "pulloff/drag_cycles.hpp"
+#include "quick_study.hpp"
 #include "frame/drag_profile.hpp"
 #include "run/progress.hpp"
 #include "run/run.hpp"
@@ -30,9 +31,24 @@ namespace {
 namespace fs = std::filesystem;
 const std::string kScenes = std::string(DEM2D_TESTS_DIR) + "/scenes/";
 
+// A run of the fixture `quick_study` (tests/quick_study.hpp), as run_scene reported it.
+struct Made {
+  bool complete = false;
+  std::string run_file, stop_reason;
+  std::size_t lost = 0;
+  std::int64_t final_step = 0;
+};
+
+Made made(const std::string& path) {
+  if (!fs::exists(path)) return {false, path, quick_study_missing(path)};
+  const h5::File f = h5::File::open_read(path);
+  return {true, path, h5::read_attr_string(f, "/", "stop_reason"),
+          static_cast<std::size_t>(h5::read_attr_int(f, "/", "lost_particles")), h5::read_attr_int(f, "/", "steps")};
+}
+
 struct QuickStudy : ::testing::Test {
-  static inline fs::path dir;
-  static inline RunReport fill, pull;
+  static inline fs::path dir;  // this process's own runs (resumed, cyclic) and scenes
+  static inline Made fill, pull;
 
   // One thread: ctest runs tests side by side, and OpenMP threads waiting at
   // barriers on an oversubscribed machine slow everything down.
@@ -43,15 +59,19 @@ struct QuickStudy : ::testing::Test {
     s.threads = 1;
     return s;
   }
-
   static void SetUpTestSuite() {
     // per process: ctest runs each test of this suite in its own process, side by side
     dir = fs::temp_directory_path() / ("dem2d_quick_study_" + std::to_string(getpid()));
     fs::remove_all(dir);
-    fill = run_scene(scene("quick_fill.toml"), {(dir / "fill").string()});
-    pull = run_scene(scene("quick_pulloff.toml", fill.run_file), {(dir / "pulloff").string()});
+    fs::create_directories(dir);
+    fill = made(quick_study_run("fill"));
+    pull = made(quick_study_run("pulloff"));
   }
   static void TearDownTestSuite() { fs::remove_all(dir); }
+  void SetUp() override {
+    ASSERT_TRUE(fill.complete) << fill.stop_reason;
+    ASSERT_TRUE(pull.complete) << pull.stop_reason;
+  }
 };
 
 TEST_F(QuickStudy, FillEndsWithABedAtRest) {

@@ -17,6 +17,7 @@
 #include "cg/cg_stage.hpp"
 #include "cg/wall_loss.hpp"
 #include "io/h5.hpp"
+#include "quick_study.hpp"
 #include "temp_dir.hpp"
 
 namespace dem2d::analysis {
@@ -493,8 +494,8 @@ TEST(CgConfigFile, DefaultsAndErrors) {
 
 // The stage on the quick pull-off run (200 grains, 40 mm cell, 20 mm/s, PIV window 3 ms).
 TEST(CgStage, QuickPulloffRun) {
-  const std::string run = DEM2D_SOURCE_DIR "/results/quick/pulloff/run.h5";
-  if (!std::filesystem::exists(run)) GTEST_SKIP() << run << " does not exist (make the quick study first)";
+  const std::string run = test::quick_study_run("pulloff");
+  ASSERT_TRUE(std::filesystem::exists(run)) << test::quick_study_missing(run);
   test::TempDir dir;
   // events: loading phases of 0.06 s ending at peaks every 0.075 s
   const std::string events = (dir.path() / "events.h5").string();

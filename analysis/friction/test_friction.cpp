@@ -9,6 +9,7 @@
 
 #include "friction/friction.hpp"
 #include "io/h5.hpp"
+#include "quick_study.hpp"
 #include "temp_dir.hpp"
 
 namespace dem2d::analysis {
@@ -143,8 +144,8 @@ TEST(FrictionConfig, DataFileHoldsTheDefaultsAndBadKeysAreNamed) {
 }
 
 TEST(FrictionStage, QuickRun) {
-  const std::string run = DEM2D_RESULTS_DIR "/quick/pulloff/run.h5";
-  if (!std::filesystem::exists(run)) GTEST_SKIP() << run << " does not exist (make reproduce PRESET=quick?)";
+  const std::string run = test::quick_study_run("pulloff");
+  ASSERT_TRUE(std::filesystem::exists(run)) << test::quick_study_missing(run);
   const FrictionResult r = run_friction(run, "test", FrictionConfig{}, load_study(DEM2D_DATA_DIR "/study.toml"));
   const auto& m = r.metrics["friction"];
   EXPECT_EQ(m["mu_grain"].get<double>(), 0.5);
@@ -185,8 +186,8 @@ TEST(FrictionCommand, ExitCodes) {
   const std::string out = (dir.path() / "out").string();
   EXPECT_EQ(command((dir.path() / "missing.h5").string() + " --out " + out), 2);
   EXPECT_FALSE(std::filesystem::exists(out + "/metrics.json"));
-  const std::string run = DEM2D_RESULTS_DIR "/quick/pulloff/run.h5";
-  if (!std::filesystem::exists(run)) GTEST_SKIP() << run << " does not exist";
+  const std::string run = test::quick_study_run("pulloff");
+  ASSERT_TRUE(std::filesystem::exists(run)) << test::quick_study_missing(run);
   EXPECT_EQ(command(run + " --out " + out + " --config " + dir.file("bad.toml", "x = 1\n")), 2);
   EXPECT_EQ(command(run + " --out " + dir.file("file", "x")), 1);
   EXPECT_EQ(command(run + " --out " + out), 0);

@@ -57,19 +57,28 @@ struct FlowNetwork {
   double unit = 1.0;  // N/m per capacity unit
 
   explicit FlowNetwork(std::size_t vertices) : graph(vertices) {}
-  // An undirected edge: two arcs, each the other's reverse, both of capacity c.
+  // An undirected edge: an arc of capacity c each way, each with its own
+  // reverse arc of capacity 0, as push_relabel_max_flow requires (its own
+  // check, is_flow(), fails on two arcs of capacity c that are each other's
+  // reverse: found with assertions on, in the ASan+UBSan build).
   void add(std::size_t u, std::size_t v, std::int64_t c) {
+    arc(u, v, c);
+    arc(v, u, c);
+  }
+  void arc(std::size_t u, std::size_t v, std::int64_t c) {
     auto cap = boost::get(boost::edge_capacity, graph);
     auto rev = boost::get(boost::edge_reverse, graph);
     const auto a = boost::add_edge(u, v, graph).first, b = boost::add_edge(v, u, graph).first;
-    cap[a] = cap[b] = c;
+    cap[a] = c;
+    cap[b] = 0;
     rev[a] = b;
     rev[b] = a;
   }
   double max_flow(std::size_t source, std::size_t sink) {
     return unit * static_cast<double>(boost::push_relabel_max_flow(graph, source, sink));
   }
-  // The max flow with vertex v's arcs closed.
+  // The max flow with vertex v's arcs closed (each arc out of v and its
+  // reverse: every arc into v is the reverse of one out of it).
   double max_flow_without(std::size_t v, std::size_t source, std::size_t sink) {
     auto cap = boost::get(boost::edge_capacity, graph);
     auto rev = boost::get(boost::edge_reverse, graph);

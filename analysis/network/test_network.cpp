@@ -12,6 +12,7 @@
 #include "network/network_stage.hpp"
 #include "network/percolation_loss.hpp"
 #include "common/stage_config.hpp"
+#include "quick_study.hpp"
 #include "temp_dir.hpp"
 
 namespace dem2d::analysis {
@@ -405,8 +406,8 @@ TEST(NetworkConfig, DataFileHoldsTheDefaultsAndBadKeysAreNamed) {
 // The stage on the quick run (200 grains, 40 mm cell, 20 mm/s), with two
 // events placed on its snapshots.
 TEST(NetworkStage, QuickRun) {
-  const std::string run = DEM2D_RESULTS_DIR "/quick/pulloff/run.h5";
-  if (!std::filesystem::exists(run)) GTEST_SKIP() << run << " does not exist (make reproduce PRESET=quick?)";
+  const std::string run = test::quick_study_run("pulloff");
+  ASSERT_TRUE(std::filesystem::exists(run)) << test::quick_study_missing(run);
   const test::TempDir dir;
   const std::string events = (dir.path() / "events.h5").string();
   write_events(events, {0.5, 1.0}, {0.56, 1.05});
@@ -453,8 +454,8 @@ TEST(NetworkCommand, ExitCodes) {
   const std::string out = (dir.path() / "out").string();
   EXPECT_EQ(run_command((dir.path() / "missing.h5").string() + " --out " + out), 2);
   EXPECT_FALSE(std::filesystem::exists(out + "/metrics.json"));
-  const std::string run = DEM2D_RESULTS_DIR "/quick/pulloff/run.h5";
-  if (!std::filesystem::exists(run)) GTEST_SKIP() << run << " does not exist";
+  const std::string run = test::quick_study_run("pulloff");
+  ASSERT_TRUE(std::filesystem::exists(run)) << test::quick_study_missing(run);
   EXPECT_EQ(run_command(run + " --out " + out + " --events " + (dir.path() / "none.h5").string()), 2);
   const std::string blocker = dir.file("file", "x");  // a file where the output directory should be
   EXPECT_EQ(run_command(run + " --out " + blocker), 1);

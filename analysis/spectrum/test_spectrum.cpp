@@ -11,6 +11,7 @@
 #include "io/h5.hpp"
 #include "spectrum/spectrum.hpp"
 #include "spectrum/spectrum_stage.hpp"
+#include "quick_study.hpp"
 #include "temp_dir.hpp"
 
 namespace dem2d::analysis {
@@ -493,8 +494,8 @@ TEST(SpectrumConfigFile, UnknownKeysAndBadValuesNameFileKeyAndValue) {
 }
 
 TEST(SpectrumStage, QuickRunGivesTheOutputsAndTheEventsContract) {
-  const std::string run = DEM2D_RESULTS_DIR "/quick/pulloff/run.h5";
-  if (!std::filesystem::exists(run)) GTEST_SKIP() << run << " does not exist (make the quick study first)";
+  const std::string run = test::quick_study_run("pulloff");
+  ASSERT_TRUE(std::filesystem::exists(run)) << test::quick_study_missing(run);
   const test::TempDir dir;
   const SpectrumInputs in{run, DEM2D_DATA_DIR "/spectrum.toml", DEM2D_DATA_DIR "/study.toml", ""};
   const SpectrumStage st = compute_spectrum_stage(in, load_spectrum_config(in.config), load_study(in.study));

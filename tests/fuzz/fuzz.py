@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The input-and-fault suite (make fuzz; a short version in make test).
 
-  fuzz.py --bin DIR [--quick] [--seed N] [--work DIR] [--only CLASS,...]
+  fuzz.py --bin DIR [--quick] [--seed N] [--work DIR] [--only CLASS,...] [--setup-only | --base DIR]
 
 DIR holds sim/dem2d and analysis/<stage> (a build tree: build/release or
 build/sanitize). Deterministic for a seed. Classes:
@@ -109,7 +109,17 @@ class Suite:
             self.failures.append(f"{cls}/{kind}: {what}")
 
     # ---- the valid inputs everything starts from ----
-    def setup(self):
+    def setup(self, base=None):
+        """The valid fill, pull-off and spectrum every class mutates, checked by every consumer; made
+        here, or (base) taken from a folder an earlier `--setup-only` made (ctest's fixture fuzz_base)."""
+        if base is not None:
+            d = Path(base).resolve()
+            self.fill, self.pull = d / "fill/run.h5", d / "pull/run.h5"
+            self.events, self.spectrum_metrics = d / "spectrum/spectrum.h5", d / "spectrum/metrics.json"
+            missing = [p for p in (self.fill, self.pull, self.events, self.spectrum_metrics) if not p.exists()]
+            if missing:
+                sys.exit(f"fuzz: --base {base}: {missing[0]} does not exist (made by fuzz.py --setup-only)")
+            return
         d = self.fresh("base")
         fill, pull = d / "fill", d / "pull"
         for cmd in ([self.dem2d, "run", ROOT / "tests/fuzz/tiny_fill.toml", "--out", fill],
@@ -475,14 +485,22 @@ def main():
     ap.add_argument("--work", default=None, help="working folder (default: a temporary one)")
     ap.add_argument("--only", default=",".join(CLASSES), help=f"classes, of: {','.join(CLASSES)}")
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--setup-only", action="store_true",
+                    help="make the valid base (WORK/base) and stop: the fixture the classes' tests share")
+    ap.add_argument("--base", default=None, help="a valid base made by --setup-only, instead of making one")
     args = ap.parse_args()
+    if args.setup_only and args.work is None:
+        ap.error("--setup-only needs --work DIR (the base is left in DIR/base)")
     tmp = None
     if args.work is None:
         tmp = tempfile.TemporaryDirectory(prefix="dem2d_fuzz_")
         args.work = tmp.name
     t0 = time.monotonic()
     suite = Suite(args)
-    suite.setup()
+    suite.setup(args.base)
+    if args.setup_only:
+        print(f"fuzz: the valid base is in {Path(args.work) / 'base'}")
+        return 0
     classes = args.only.split(",")
     unknown = [c for c in classes if c not in CLASSES]
     if unknown:
