@@ -165,7 +165,8 @@ TEST(RestartFromCheckpoint, GoesOnAsTheUninterruptedRunWithTheNewSettings) {
   const std::vector<Grain> a = grains_of(whole), b = grains_of(from);
   ASSERT_EQ(a.size(), b.size());
   double worst = 0.0;
-  for (std::size_t k = 0; k < a.size(); ++k) worst = std::max({worst, std::abs(a[k][0] - b[k][0]), std::abs(a[k][1] - b[k][1])});
+  for (std::size_t k = 0; k < a.size(); ++k)
+    worst = std::max({worst, std::abs(a[k][0] - b[k][0]), std::abs(a[k][1] - b[k][1])});
   EXPECT_LT(worst, 1e-8) << "m: the continuation left the uninterrupted run";
 
   // with a changed setting, through run_scene: the run file says where it started

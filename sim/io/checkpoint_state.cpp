@@ -54,7 +54,9 @@ Snapshot checkpoint_state(const std::string& path) {
       throw std::runtime_error(path + ": " + group + " arrays differ in length: the file is damaged");
     for (std::size_t c = 0; c < row.size(); ++c) {
       const std::size_t limit = walls ? s.bodies.size() : n;
-      if (row[c] < 0 || static_cast<std::size_t>(row[c]) >= n || key[c] < 0 || static_cast<std::size_t>(key[c]) >= limit)
+      const bool inside = row[c] >= 0 && static_cast<std::size_t>(row[c]) < n && key[c] >= 0 &&
+                          static_cast<std::size_t>(key[c]) < limit;
+      if (!inside)
         throw std::runtime_error(path + ": " + group + "contact " + std::to_string(c) + " names a " +
                                  (walls ? "body" : "grain") + " the checkpoint does not have: the file is damaged");
       s.contacts.add(row[c], walls ? -1 - key[c] : key[c], 0.0, 0.0, 0.0, 0.0, ft[c], false, mr[c]);

@@ -25,8 +25,9 @@ FinishedRun finished_run(const fs::path& run_file, const Scene& scene, const std
       return h5::has_attr(f, "/", name) ? h5::read_attr_string(f, "/", name) : std::string("(none)");
     };
     const std::string version = text("code_version");
+    const double end = std::round(h5::read_attr_double(f, "/", "end_time") * 1e6) / 1e6;  // (s), to the microsecond
     r.summary = run_file.string() + " (step " + std::to_string(h5::read_attr_int(f, "/", "steps")) + ", t = " +
-                shortest(std::round(h5::read_attr_double(f, "/", "end_time") * 1e6) / 1e6) + " s, dem2d " + version + ")";
+                shortest(end) + " s, dem2d " + version + ")";
     std::vector<std::string> what;
     if (h5::read_attr_string(f, "/", "format") != kRunFileFormat)
       what.push_back("its format is " + h5::read_attr_string(f, "/", "format") + ", this dem2d writes " +
