@@ -161,6 +161,24 @@ TEST(NetworkPercolation, TheOtherWallIsNoShortcut) {
   EXPECT_FALSE(p.left);
 }
 
+// The grain with the highest index links like any other: a chain intruder -
+// 2 - 3 - 4 - left wall percolates through grain 4, the last of the list,
+// and so does the chain the other way round (4 on the intruder, 2 on the
+// wall). Grains 0 and 1 hold a weak contact (below the mean force).
+TEST(NetworkPercolation, TheLastGrainLinksLikeAnyOther) {
+  for (const bool reversed : {false, true}) {
+    SCOPED_TRACE(reversed ? "grain 4 on the intruder" : "grain 4 on the wall");
+    Snapshot s = cell({{0.030, 0.030}, {0.033, 0.030}, {0.012, 0.012}, {0.008, 0.014}, {0.004, 0.016}});
+    touch(s, 0, 1, 1);
+    touch(s, reversed ? 4 : 2, kIntruder, 10), touch(s, 2, 3, 10), touch(s, 3, 4, 10);
+    touch(s, reversed ? 2 : 4, kLeft, 10);
+    const Built b = build(s);
+    const Percolation p = percolation(b.g, b.g.mean_fn, FloorRule::vertex_removed, b.g.intruder());
+    EXPECT_TRUE(p.left);
+    EXPECT_FALSE(p.right);
+  }
+}
+
 TEST(NetworkKeystones, ASingleEndGrainCarryingAllTheLoadIsAKeystone) {
   // Grain 0 at the left end is the only way from the intruder to the left wall;
   // grain 4 on the middle of the intruder's top leads nowhere.
