@@ -145,8 +145,9 @@ int main(int argc, char** argv) {
   auto scene_options = [&](CLI::App* cmd) {
     cmd->add_option("scene", scene_path, "Scene file (TOML)")->required();
     cmd->add_option("--overlay", extra.overlays, "TOML file merged over the scene, e.g. a preset (repeatable)");
-    cmd->add_option("--initial", extra.initial_run, "Run file whose final state the grains start from, or a checkpoint (DIR/.run.work/checkpoint.h5 of an "
-                    "unfinished run: its state, with this scene's settings)");
+    cmd->add_option("--initial", extra.initial_run,
+                    "Run file whose final state the grains start from, or a checkpoint (DIR/.run.work/checkpoint.h5 "
+                    "of an unfinished run: its state, with this scene's settings)");
   };
   auto* run = app.add_subcommand("run", "Run a scene; writes DIR/run.h5 and DIR/run.xdmf");
   scene_options(run);

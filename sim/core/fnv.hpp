@@ -7,7 +7,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
-#include <vector>
 
 namespace dem2d {
 
@@ -21,12 +20,6 @@ struct Fnv1a {
   void add(const std::string& s) {
     add(s.data(), s.size());
     add("\0", 1);
-  }
-  template <class T>
-  void add(const std::vector<T>& v) {
-    const std::uint64_t n = v.size();
-    add(&n, sizeof n);
-    add(v.data(), v.size() * sizeof(T));
   }
   // 16 hexadecimal digits.
   std::string hex() const {

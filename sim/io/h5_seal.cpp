@@ -14,11 +14,9 @@ namespace {
 
 constexpr const char* kSeal = "content_hash";
 
-using Fnv = Fnv1a;
-
 struct Walk {
   const File* file;
-  Fnv* fnv;
+  Fnv1a* fnv;
   std::string path;  // of the object whose attributes are being walked
 };
 
@@ -28,7 +26,7 @@ struct Walk {
 
 // The values of an attribute or a dataset: strings as text, numbers as their native bytes.
 template <class Read>
-void add_values(const File& f, hid_t type, hid_t space, Fnv& fnv, const std::string& what, Read read) {
+void add_values(const File& f, hid_t type, hid_t space, Fnv1a& fnv, const std::string& what, Read read) {
   const hssize_t points = H5Sget_simple_extent_npoints(space);
   if (points < 0) fail(f, what);
   if (H5Tget_class(type) == H5T_STRING) {
@@ -65,13 +63,13 @@ herr_t add_attribute(hid_t object, const char* name, const H5A_info_t*, void* da
   return 0;
 }
 
-void add_attributes(const File& f, hid_t object, const std::string& path, Fnv& fnv) {
+void add_attributes(const File& f, hid_t object, const std::string& path, Fnv1a& fnv) {
   Walk w{&f, &fnv, path};
   hsize_t idx = 0;
   if (H5Aiterate2(object, H5_INDEX_NAME, H5_ITER_INC, &idx, add_attribute, &w) < 0) fail(f, "the attributes of " + path);
 }
 
-void add_group(const File& f, hid_t group, const std::string& path, Fnv& fnv) {
+void add_group(const File& f, hid_t group, const std::string& path, Fnv1a& fnv) {
   add_attributes(f, group, path, fnv);
   H5G_info_t info;
   if (H5Gget_info(group, &info) < 0) fail(f, "group " + path);
@@ -104,7 +102,7 @@ void add_group(const File& f, hid_t group, const std::string& path, Fnv& fnv) {
 }  // namespace
 
 std::uint64_t content_hash(const File& f) {
-  Fnv fnv;
+  Fnv1a fnv;
   Handle root(H5Gopen2(f.id(), "/", H5P_DEFAULT), H5Gclose);
   if (root.id() < 0) fail(f, "the root group");
   add_group(f, root, "/", fnv);
@@ -112,7 +110,7 @@ std::uint64_t content_hash(const File& f) {
 }
 
 namespace {
-std::string content_hash_hex(const File& f) { return Fnv{content_hash(f)}.hex(); }
+std::string content_hash_hex(const File& f) { return Fnv1a{content_hash(f)}.hex(); }
 }  // namespace
 
 void seal(const File& f) { write_attr(f, "/", kSeal, content_hash_hex(f)); }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "core/number_text.hpp"
 #include "io/h5.hpp"
@@ -12,6 +13,15 @@ namespace dem2d {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+struct FinishedRun {
+  bool present = false;  // DIR/run.h5 is a finished dem2d run
+  std::string differs;   // "" if it is this scene's run; else what differs, in words
+  std::string summary;   // "DIR/run.h5 (step N, t = T s, dem2d VERSION)"
+};
+
+// What DIR/run.h5 holds, against the scene about to run with code_version.
 FinishedRun finished_run(const fs::path& run_file, const Scene& scene, const std::string& code_version) {
   FinishedRun r;
   std::error_code ec;
@@ -45,6 +55,7 @@ FinishedRun finished_run(const fs::path& run_file, const Scene& scene, const std
   return r;
 }
 
+// The files and folders in DIR besides the run's own, by name: what replacing the run leaves stale.
 std::vector<std::string> beside_the_run(const fs::path& dir) {
   std::vector<std::string> names;
   std::error_code ec;
@@ -56,6 +67,8 @@ std::vector<std::string> beside_the_run(const fs::path& dir) {
   std::sort(names.begin(), names.end());
   return names;
 }
+
+}  // namespace
 
 Rerun check_rerun(const fs::path& dir, const Scene& scene, const std::string& code_version, bool overwrite) {
   const FinishedRun done = finished_run(dir / "run.h5", scene, code_version);
