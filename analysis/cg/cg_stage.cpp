@@ -7,7 +7,9 @@
 #include <cmath>
 #include <deque>
 #include <filesystem>
+#include <map>
 #include <numbers>
+#include <optional>
 #include <set>
 
 #include "cg/cg_report.hpp"
@@ -176,9 +178,11 @@ Setup make_setup(const SnapshotSource& run, const Snapshot& s0, const CgInput& i
 
 // The noise pre-pass: v* of the nodes at rest (rest_rows, outside the
 // intruder's column by the kernel's cut-off beyond its tips) in
-// noise.snapshots snapshots spread evenly over the run, sorted.
+// noise.snapshots snapshots spread evenly over the run, sorted. The fields it
+// coarse-grains go to `fields` (by snapshot), made as the main pass makes
+// them (every velocity set), which takes them instead of making them again.
 std::vector<double> rest_node_vstar(const SnapshotSource& run, const Setup& su, const CgConfig& c, bool has_piv,
-                                    std::size_t primary, int threads) {
+                                    std::size_t primary, int threads, std::map<std::size_t, Fields>& fields) {
   const std::size_t S = run.snapshots(), n = std::min<std::size_t>(S, static_cast<std::size_t>(c.noise_snapshots));
   std::vector<std::size_t> ks;
   for (std::size_t q = 0; q < n; ++q) {
@@ -189,11 +193,12 @@ std::vector<double> rest_node_vstar(const SnapshotSource& run, const Setup& su, 
   for_each_snapshot(
       run, ks, threads,
       [&](std::size_t, const Snapshot& s, const std::vector<Vec2>& disp) {
-        std::vector<double> found;
+        std::pair<std::vector<double>, std::optional<Fields>> result;
+        auto& [found, f] = result;
         const PivVelocities p = has_piv ? piv_velocities(s, disp, su.window) : PivVelocities{false, {}};
-        if (primary == kPiv && !p.ok) return found;
-        const Fields f = coarse_grain(su.grid, su.kernel, grains_of(s, primary == kPiv ? &p.v : nullptr));
-        const std::vector<double> vstar = speed_ratio(velocity(f, primary, su.min_phi), 0.0, 0.0, su.v_ref);
+        if (primary == kPiv && !p.ok) return result;
+        f = coarse_grain(su.grid, su.kernel, grains_of(s, has_piv ? &p.v : nullptr));
+        const std::vector<double> vstar = speed_ratio(velocity(*f, primary, su.min_phi), 0.0, 0.0, su.v_ref);
         const Intruder in = intruder_of(s.bodies[static_cast<std::size_t>(s.find_role("intruder"))]);
         const RestRows rows = rest_rows(su, c, in);
         const double reach = 0.5 * in.length() + su.kernel.radius();
@@ -204,9 +209,12 @@ std::vector<double> rest_node_vstar(const SnapshotSource& run, const Setup& su, 
             if (std::abs(su.grid.x(i) - in.xc) >= reach && std::isfinite(v)) found.push_back(v);
           }
         }
-        return found;
+        return result;
       },
-      [&](std::size_t, std::vector<double>&& found) { out.insert(out.end(), found.begin(), found.end()); });
+      [&](std::size_t k, std::pair<std::vector<double>, std::optional<Fields>>&& r) {
+        out.insert(out.end(), r.first.begin(), r.first.end());
+        if (r.second) fields.emplace(k, std::move(*r.second));
+      });
   std::sort(out.begin(), out.end());
   return out;
 }
@@ -223,7 +231,7 @@ struct Measured {
 };
 
 Measured measure_all(const SnapshotSource& run, const Setup& su, const CgInput& in, bool has_piv, std::size_t primary,
-                     const std::vector<std::size_t>& fields_at, int threads) {
+                     const std::vector<std::size_t>& fields_at, int threads, std::map<std::size_t, Fields>& made) {
   const CgConfig& c = in.config;
   const std::string& path = run.path();
   const std::size_t S = run.snapshots();
@@ -236,8 +244,11 @@ Measured measure_all(const SnapshotSource& run, const Setup& su, const CgInput& 
     std::vector<Fields> raw(k1 - k0);
     const auto t0 = std::chrono::steady_clock::now();
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (std::size_t q = 0; q < raw.size(); ++q)
-      raw[q] = coarse_grain(su.grid, su.kernel, grains_of(snaps[q], has_piv ? &piv[q].v : nullptr));
+    for (std::size_t q = 0; q < raw.size(); ++q) {
+      const auto it = made.find(k0 + q);  // (the pre-pass's, from the same input)
+      raw[q] = it != made.end() ? std::move(it->second)
+                                : coarse_grain(su.grid, su.kernel, grains_of(snaps[q], has_piv ? &piv[q].v : nullptr));
+    }
     out.cg_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     // trailing averages (serial: they depend on the previous snapshots)
     std::vector<Fields> avg(raw.size());
@@ -316,7 +327,8 @@ CgResult compute_cg(const SnapshotSource& run, const std::vector<RuptureEvent>* 
   const std::size_t primary = c.velocity == "piv" && has_piv ? kPiv : kInst;
   // the cone's level, raised to what the noise alone reaches at rest (and the
   // same for the sensitivity's false-alarm rates)
-  su.rest_nodes = rest_node_vstar(run, su, c, has_piv, primary, threads);
+  std::map<std::size_t, Fields> made;  // the pre-pass's fields, taken by the main pass
+  su.rest_nodes = rest_node_vstar(run, su, c, has_piv, primary, threads, made);
   for (const double a : c.cone_false_alarms) with(su.levels, cone_level(su, c, a));
   su.level0 = with(su.levels, cone_level(su, c, c.cone_false_alarm));
   su.level_fixed = with(su.levels, c.level);
@@ -338,7 +350,7 @@ CgResult compute_cg(const SnapshotSource& run, const std::vector<RuptureEvent>* 
                       after >= 0 ? static_cast<std::size_t>(after) : 0,
                       static_cast<std::size_t>(c.field_follow_snapshots));
 
-  Measured m = measure_all(run, su, in, has_piv, primary, fields_at, threads);
+  Measured m = measure_all(run, su, in, has_piv, primary, fields_at, threads, made);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
 
   StageRecord rec{std::move(su), c, std::move(m.ms), times, std::move(heights), std::move(m.piv_ok), has_piv, primary,

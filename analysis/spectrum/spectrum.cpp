@@ -539,13 +539,14 @@ void bottom_zone(SpectrumResult& r, const SpectrumConfig& c) {
 // Top layer: the change point of the fluctuations' variance, with its
 // interval; and the envelope's definition, kept beside it: above the last
 // height where the envelope reaches the noise floor.
-void top_layer(SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& c, const Context& f) {
+void top_layer(SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& c, const Context& f,
+               TopLayerMemo& memo) {
   const DragProfile& p = r.profile;
   const std::vector<double>& h = p.height;
   const std::size_t n = h.size();
   const TopLayerSearch search{c.search_from_fraction * f.hb, f.hb - c.search_margin_d * s.d, samples(c.block_d, f.fs),
                               c.top_bootstrap, c.top_confidence, c.top_false_alarm, 1};
-  r.top = find_top_layer(h, r.fluctuation, r.trend, search);
+  r.top = memo.find(h, r.fluctuation, r.trend, search);
   r.top_found = r.top.found;
   if (r.top.searched && !r.top.found && r.top.outcome != "reaches the surface") {
     // a miss: is it evidence of absence? The power to find a layer of the
@@ -559,8 +560,8 @@ void top_layer(SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig&
       for (const double fr : c.power_depth_fractions) planted.push_back(f.hb * (1.0 - fr));
       TopLayerSearch ps = search;
       ps.bootstrap = c.power_bootstrap;
-      r.top_power = top_layer_power(h, r.fluctuation, r.trend, quiet, ps, planted, c.power_replicas,
-                                    c.power_tolerance_d * s.d);
+      r.top_power = memo.power(h, r.fluctuation, r.trend, quiet, ps, planted, c.power_replicas,
+                               c.power_tolerance_d * s.d);
     }
     r.top.outcome = r.top_power.power >= c.min_power ? "none" : "undetermined";
   }
@@ -586,7 +587,7 @@ void top_layer(SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig&
 }  // namespace
 
 SpectrumResult analyse(const DragProfile& profile, const SpectrumScales& s, const SpectrumConfig& c,
-                       const std::string& source) {
+                       const std::string& source, TopLayerMemo* memo) {
   check_spectrum_config(c, source + " (config)");
   SpectrumResult r;
   r.profile = checked_profile(profile, c.uniform_tolerance, source, r);
@@ -602,7 +603,8 @@ SpectrumResult analyse(const DragProfile& profile, const SpectrumScales& s, cons
   spectra(r, s, c, f);
   ruptures(r, s, c, f);
   bottom_zone(r, c);
-  top_layer(r, s, c, f);
+  TopLayerMemo own;
+  top_layer(r, s, c, f, memo ? *memo : own);
   return r;
 }
 
@@ -904,7 +906,9 @@ nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumS
 }
 
 nlohmann::ordered_json sensitivity_table(const DragProfile& profile, const SpectrumScales& s, const SpectrumConfig& c,
-                                         const std::string& source) {
+                                         const std::string& source, TopLayerMemo* memo) {
+  TopLayerMemo own;
+  TopLayerMemo& searched = memo ? *memo : own;
   Json t = Json::object();
   auto vary = [&](const char* name, const std::vector<double>& values, double SpectrumConfig::*field) {
     for (const double v : values) {
@@ -912,7 +916,7 @@ nlohmann::ordered_json sensitivity_table(const DragProfile& profile, const Spect
       cv.*field = v;
       cv.size_bootstrap = 0;  // the rows do not report the size distribution's goodness of fit
       cv.power_replicas = 0;  // nor a miss's power
-      const SpectrumResult r = analyse(profile, s, cv, source);
+      const SpectrumResult r = analyse(profile, s, cv, source, &searched);
       const Json m = spectrum_metrics(r, s, cv, 1.0);
       t[name].push_back({{"value", v},
                          {"event_count", m["event_count"]},
@@ -943,7 +947,7 @@ nlohmann::ordered_json sensitivity_table(const DragProfile& profile, const Spect
     SpectrumConfig cv = c;
     cv.power_noise_factor = v;
     cv.size_bootstrap = 0;
-    const SpectrumResult r = analyse(profile, s, cv, source);
+    const SpectrumResult r = analyse(profile, s, cv, source, &searched);
     t["power_noise_factor"].push_back({{"value", v}, {"top_layer_outcome", r.top.outcome},
                                        {"top_layer_power", r.top_power.power}});
   }

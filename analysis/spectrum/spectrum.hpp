@@ -193,8 +193,10 @@ struct SpectrumResult {
 
 // Checks the profile (non-empty, finite, height increasing with uniform steps,
 // long enough) and analyses it. Errors are SpectrumErrors starting with `source`.
+// memo: top-layer searches already made on this profile (the same inputs give
+// the same result; nullptr: none kept).
 SpectrumResult analyse(const DragProfile& profile, const SpectrumScales& scales, const SpectrumConfig& config,
-                       const std::string& source);
+                       const std::string& source, TopLayerMemo* memo = nullptr);
 
 // The "spectrum" metrics (without the sensitivity table). Lengths in mm, travel in d.
 nlohmann::ordered_json spectrum_metrics(const SpectrumResult& r, const SpectrumScales& s, const SpectrumConfig& c,
@@ -207,6 +209,7 @@ std::vector<double> spacings(const SpectrumResult& r, double low, double high, d
 
 // The key numbers again with one setting changed at a time (config.sensitivity).
 nlohmann::ordered_json sensitivity_table(const DragProfile& profile, const SpectrumScales& scales,
-                                         const SpectrumConfig& config, const std::string& source);
+                                         const SpectrumConfig& config, const std::string& source,
+                                         TopLayerMemo* memo = nullptr);
 
 }  // namespace dem2d::analysis

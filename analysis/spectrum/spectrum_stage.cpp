@@ -199,8 +199,9 @@ SpectrumStage compute_spectrum_stage(const SpectrumInputs& in, const SpectrumCon
   if (!(st.scales.bed_height > 0.0))
     fail(in.run, "cannot tell the bed height: the run did not stop on the intruder leaving the bed "
                  "([stop] body_free); give --fill-metrics");
+  TopLayerMemo searched;  // the run's analysis and its sensitivity rows share their top-layer searches
   try {
-    st.result = analyse(profile, st.scales, config, in.run);
+    st.result = analyse(profile, st.scales, config, in.run, &searched);
   } catch (const SpectrumError& e) {  // the run's drag profile against the settings: name both
     throw SpectrumError(std::string(e.what()) + " (settings: " + (in.config.empty() ? "defaults" : in.config) + ")");
   }
@@ -214,7 +215,7 @@ SpectrumStage compute_spectrum_stage(const SpectrumInputs& in, const SpectrumCon
   m["exit_height_mm"] = 1e3 * exit;
   m["body_speed_mm_s"] = 1e3 * body_speed;
   m.update(spectrum_metrics(st.result, st.scales, config, study.intruder_depth));
-  m["sensitivity"] = sensitivity_table(profile, st.scales, config, in.run);
+  m["sensitivity"] = sensitivity_table(profile, st.scales, config, in.run, &searched);
   st.metrics = {{"spectrum", m}};
   return st;
 }

@@ -35,10 +35,11 @@ struct Model {
   // the rms of what is left without ruptures: a stationary part plus a part
   // following the load, added as amplitudes (a white noise of rms s0 + s1 L,
   // as the bed's ringing grows with its load)
-  double noise_rms(std::size_t b, const Params& p) const { return std::exp(0.5 * p[0]) + p[3] * load[b]; }
-  double value(std::size_t b, const Params& p) const {
+  // (sqrt_b: exp(p[0] / 2), sqrt(B), computed once per parameter set)
+  double noise_rms(std::size_t b, const Params& p, double sqrt_b) const { return sqrt_b + p[3] * load[b]; }
+  double value(std::size_t b, const Params& p, double sqrt_b) const {
     const double a = amplitude(b, p);
-    const double sd = noise_rms(b, p);
+    const double sd = noise_rms(b, p, sqrt_b);
     return sd * sd + a * a;
   }
   // c0 >= 0 and c1 >= 0: the amplitude is >= 0 and does not grow towards
@@ -51,11 +52,14 @@ struct Model {
   }
 };
 
-double sum_squares(const Model& m, const std::vector<double>& lnv, const Params& p) {
+// The sum of squared ln residuals at p, and the residuals (r, resized to the blocks).
+double sum_squares(const Model& m, const std::vector<double>& lnv, const Params& p, std::vector<double>& r) {
+  const double sqrt_b = std::exp(0.5 * p[0]);
+  r.resize(lnv.size());
   double s = 0.0;
   for (std::size_t b = 0; b < lnv.size(); ++b) {
-    const double r = lnv[b] - std::log(m.value(b, p));
-    s += r * r;
+    r[b] = lnv[b] - std::log(m.value(b, p, sqrt_b));
+    s += r[b] * r[b];
   }
   return s;
 }
@@ -125,15 +129,17 @@ TopLayerModelFit fit_at(const Blocks& k, const std::vector<double>& g, const std
       p[1] = 0.1 * std::exp(0.5 * p[0]) / gmax;  // a small amplitude: the gradient is not zero
     }
   }
-  double s = sum_squares(m, lnv, p), lambda = 1e-3;
+  std::vector<double> resid, trial;  // the ln residuals at p, and at a trial step
+  double s = sum_squares(m, lnv, p, resid), lambda = 1e-3;
   for (int it = 0; it < 40; ++it) {
     std::array<Params, kParams> jtj{};
     Params jtr{};
+    const double sqrt_b = std::exp(0.5 * p[0]);
     for (std::size_t b = 0; b < n; ++b) {
-      const double x = top - k.h[b], a = m.amplitude(b, p), mv = m.value(b, p), r = lnv[b] - std::log(mv);
+      const double x = top - k.h[b], a = m.amplitude(b, p), mv = m.value(b, p, sqrt_b), r = resid[b];
       // d(ln model)/d(params): the residual's derivatives with the sign flipped
-      const double sd = m.noise_rms(b, p);
-      Params j{sd * std::exp(0.5 * p[0]) / mv, 0.0, 0.0, 2.0 * sd * k.load[b] / mv};
+      const double sd = m.noise_rms(b, p, sqrt_b);
+      Params j{sd * sqrt_b / mv, 0.0, 0.0, 2.0 * sd * k.load[b] / mv};
       if (x > 0.0) j[1] = 2.0 * a * g[b] / mv, j[2] = fade ? 2.0 * a * g[b] * x / mv : 0.0;
       for (int i = 0; i < kParams; ++i) {
         jtr[i] += j[i] * r;
@@ -152,10 +158,11 @@ TopLayerModelFit fit_at(const Blocks& k, const std::vector<double>& g, const std
       Params q;
       for (int i = 0; i < kParams; ++i) q[i] = p[i] + step[i];
       m.project(q);
-      const double sq = sum_squares(m, lnv, q);
+      const double sq = sum_squares(m, lnv, q, trial);
       if (sq < s) {
         const double gain = s - sq;
         p = q, s = sq, improved = true, lambda = std::max(lambda / 3.0, 1e-12);
+        resid.swap(trial);
         if (gain < 1e-6 * (1.0 + s)) it = 40;  // converged
       } else {
         lambda *= 4.0;
@@ -205,8 +212,9 @@ TopLayerModelFit null_fit(const Blocks& k, const std::vector<double>& ones, cons
 std::vector<double> ln_model(const Blocks& k, const std::vector<double>& g, const TopLayerModelFit& f) {
   const Model m{k.h, g, k.load, f.height};
   const Params p{std::log(f.background), f.c0, f.c1, std::sqrt(f.noise)};
+  const double sqrt_b = std::exp(0.5 * p[0]);
   std::vector<double> out;
-  for (std::size_t b = 0; b < k.h.size(); ++b) out.push_back(std::log(m.value(b, p)));
+  for (std::size_t b = 0; b < k.h.size(); ++b) out.push_back(std::log(m.value(b, p, sqrt_b)));
   return out;
 }
 
@@ -277,14 +285,16 @@ TopLayerFit find_top_layer(const std::vector<double>& h, const std::vector<doubl
     std::vector<double> resid(k.h.size());
     for (std::size_t b = 0; b < k.h.size(); ++b) resid[b] = k.lnv[b] - fitted[b];
     int as_large = 0;
+    bool decided = false;  // decision_only: p >= false_alarm whatever the permutations left would give
     std::vector<double> lnv(k.h.size());
-    for (int r = 0; r < s.bootstrap; ++r) {
+    for (int r = 0; r < s.bootstrap && !decided; ++r) {
       for (std::size_t b = resid.size(); b-- > 1;) std::swap(resid[b], resid[static_cast<std::size_t>(rng() % (b + 1))]);
       for (std::size_t b = 0; b < k.h.size(); ++b) lnv[b] = fitted[b] + resid[b];
       const double best = std::min(best_fit(k, k.load, lnv, candidates).residual, best_fit(k, ones, lnv, candidates).residual);
       if (null_fit(k, ones, lnv, candidates.back(), nullptr).residual - best >= out.statistic) ++as_large;
+      decided = s.decision_only && (as_large + 1.0) / (s.bootstrap + 1.0) >= s.false_alarm;
     }
-    out.p_value = (as_large + 1.0) / (s.bootstrap + 1.0);
+    out.p_value = decided ? kNaN : (as_large + 1.0) / (s.bootstrap + 1.0);
     // the interval of H_top: a wild bootstrap of the best fit's residuals
     // (none for the power's plantings, which need only found or not, and where)
     std::vector<double> tops;
@@ -300,7 +310,7 @@ TopLayerFit find_top_layer(const std::vector<double>& h, const std::vector<doubl
     out.low = out.high = out.best.height;
   }
   const double surface = s.high - 0.5 * block_height;
-  const bool significant = out.p_value < s.false_alarm;
+  const bool significant = out.p_value < s.false_alarm;  // (false when not computed past the decision)
   out.found = significant && out.high < surface && out.best.height < surface;
   // the interval reported: at least half a block either side, the blocks'
   // resolution (the variance of a block cannot tell where in it the events
@@ -332,6 +342,7 @@ TopLayerPower top_layer_power(const std::vector<double>& h, const std::vector<do
     TopLayerSearch search = s;
     search.seed = s.seed + static_cast<std::uint64_t>(t) + 1;
     search.interval = false;  // found or not, and where: the interval is not needed
+    search.decision_only = true;
     const TopLayerFit fit = find_top_layer(h, g, trend, search);
     hit[static_cast<std::size_t>(t)] = fit.found && std::abs(fit.best.height - top) <= tolerance;
   }
@@ -342,6 +353,26 @@ TopLayerPower top_layer_power(const std::vector<double>& h, const std::vector<do
   }
   if (!out.found_fraction.empty()) out.power = *std::min_element(out.found_fraction.begin(), out.found_fraction.end());
   return out;
+}
+
+TopLayerFit TopLayerMemo::find(const std::vector<double>& h, const std::vector<double>& f,
+                               const std::vector<double>& trend, const TopLayerSearch& s) {
+  Inputs in{h, f, trend, {}, {}, s};
+  for (const auto& [key, fit] : fits_)
+    if (key == in) return fit;
+  fits_.emplace_back(std::move(in), find_top_layer(h, f, trend, s));
+  return fits_.back().second;
+}
+
+TopLayerPower TopLayerMemo::power(const std::vector<double>& h, const std::vector<double>& f,
+                                  const std::vector<double>& trend, const std::vector<double>& quiet,
+                                  const TopLayerSearch& s, const std::vector<double>& planted, int replicas,
+                                  double tolerance) {
+  Inputs in{h, f, trend, quiet, planted, s, replicas, tolerance};
+  for (const auto& [key, power] : powers_)
+    if (key == in) return power;
+  powers_.emplace_back(std::move(in), top_layer_power(h, f, trend, quiet, s, planted, replicas, tolerance));
+  return powers_.back().second;
 }
 
 }  // namespace dem2d::analysis

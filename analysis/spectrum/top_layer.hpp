@@ -44,6 +44,11 @@ struct TopLayerSearch {
   double false_alarm = 0.01;     // a change point is significant when its p-value is below this
   std::uint64_t seed = 1;        // of the bootstrap: the same input gives the same interval
   bool interval = true;          // false: no interval (low = high = the change point), e.g. for the power
+  // true: only found or not (and where) is wanted: the permutations stop once
+  // enough of them reach the statistic that p cannot fall below false_alarm
+  // (the same decision as all of them would give; p_value is then NaN)
+  bool decision_only = false;
+  bool operator==(const TopLayerSearch&) const = default;
 };
 
 struct TopLayerModelFit {
@@ -95,5 +100,30 @@ TopLayerPower top_layer_power(const std::vector<double>& h, const std::vector<do
                               const std::vector<double>& trend, const std::vector<double>& quiet,
                               const TopLayerSearch& s, const std::vector<double>& planted, int replicas,
                               double tolerance);
+
+// The results of find_top_layer and top_layer_power for inputs already
+// searched: a stage analyses one series many times (the sensitivity table
+// changes one setting at a time, most of which leave the top layer's inputs as
+// they were). A result is reused only for exactly the same inputs, so it is
+// the result a new search would give.
+class TopLayerMemo {
+ public:
+  TopLayerFit find(const std::vector<double>& h, const std::vector<double>& f, const std::vector<double>& trend,
+                   const TopLayerSearch& s);
+  TopLayerPower power(const std::vector<double>& h, const std::vector<double>& f, const std::vector<double>& trend,
+                      const std::vector<double>& quiet, const TopLayerSearch& s, const std::vector<double>& planted,
+                      int replicas, double tolerance);
+
+ private:
+  struct Inputs {
+    std::vector<double> h, f, trend, quiet, planted;
+    TopLayerSearch search;
+    int replicas = 0;
+    double tolerance = 0.0;
+    bool operator==(const Inputs&) const = default;
+  };
+  std::vector<std::pair<Inputs, TopLayerFit>> fits_;
+  std::vector<std::pair<Inputs, TopLayerPower>> powers_;
+};
 
 }  // namespace dem2d::analysis
