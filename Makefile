@@ -167,7 +167,7 @@ build-tests: $(BUILD)/CMakeCache.txt
 # checks run), -g1, two specialised kernels (the rest on the generic one, which
 # holds every term), only the tests that exercise memory (tests/CMakeLists.txt).
 # -O2, not -O1: at -O1 the quick tests took 17.5 min instead of 10.3
-# (fuzz_quick's run-file class alone 545 s)
+# (the fuzz run-file class alone 545 s)
 $(SANITIZE_BUILD)/CMakeCache.txt: | needs
 	cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1" \
 	  -DDEM2D_SANITIZE=ON -DDEM2D_KERNEL_SETS=$(abspath tests/sanitize_kernel_sets.inc) -DDEM2D_PYTHON=$(PYTHON)
