@@ -16,6 +16,9 @@ namespace dem2d::test {
 
 inline constexpr double kDensity = 2500.0;  // kg/m^3, glass
 inline constexpr double kMeanD = 3e-3;      // m
+// the study's effects: a poured bed with friction and rolling resistance in a walled cell
+inline constexpr EffectSet kFull =
+    effect::gravity | effect::normal_damping | effect::friction | effect::rolling_resistance | effect::walls;
 
 // The paper's law (docs/paper.md) with stiffness kn: k_t = k_n/2, e = 0.9, mu = 0.5,
 // mu_r = mu d 1e-2, k_r = d^2 k_n 1e-4.

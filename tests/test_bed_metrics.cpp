@@ -335,9 +335,7 @@ RunInfo run_info(const Scene& scene) {
 // are those of a settled bed.
 TEST(BedMetricsRunFile, SettledBedInARunFile) {
   TempDir dir;
-  constexpr EffectSet kFull = effect::gravity | effect::normal_damping | effect::friction |
-                              effect::rolling_resistance | effect::walls;
-  Scene scene = test::boxed_bed(kFull, 60, 0.024);
+  Scene scene = test::boxed_bed(test::kFull, 60, 0.024);
   std::mt19937_64 rng(3);  // sideways kicks, or the grains fall in columns and stay stacked
   for (ParticleInit& p : scene.particles) p.vx = std::uniform_real_distribution<double>(-0.2, 0.2)(rng);
   System sys(scene);

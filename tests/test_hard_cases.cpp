@@ -11,9 +11,6 @@
 namespace dem2d::test {
 namespace {
 
-constexpr EffectSet kFull = effect::gravity | effect::normal_damping | effect::friction |
-                            effect::rolling_resistance | effect::walls;
-
 bool all_finite(const System& sys) {
   for (const auto* a : {&sys.state.p.x, &sys.state.p.y, &sys.state.p.vx, &sys.state.p.vy, &sys.state.p.omega, &sys.state.p.fx, &sys.state.p.fy, &sys.state.p.torque})
     for (const double v : *a)

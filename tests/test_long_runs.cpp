@@ -9,9 +9,6 @@
 namespace dem2d::test {
 namespace {
 
-constexpr EffectSet kFull = effect::gravity | effect::normal_damping | effect::friction |
-                            effect::rolling_resistance | effect::walls;
-
 // The paper's stiffness and time step (k_n = 1.92e8 N/m, dt = 1e-7 s, about
 // dt_c/64): a pile poured and settled with them stays at rest. Over the 0.1 s
 // after settling no grain drifts by more than 1e-4 d, and the kinetic energy

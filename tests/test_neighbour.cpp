@@ -18,9 +18,6 @@
 namespace dem2d::test {
 namespace {
 
-constexpr EffectSet kFull = effect::gravity | effect::normal_damping | effect::friction |
-                            effect::rolling_resistance | effect::walls;
-
 // All touching pairs by brute force, O(N^2).
 std::set<std::pair<int, int>> touching_brute_force(const System& sys) {
   std::set<std::pair<int, int>> out;

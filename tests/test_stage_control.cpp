@@ -20,9 +20,6 @@ namespace dem2d::test {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr EffectSet kFull = effect::gravity | effect::normal_damping | effect::friction |
-                            effect::rolling_resistance | effect::walls;
-
 
 // Moving a body at v for n steps and back at -v for n steps returns it to
 // where it was (to round-off), and the motion is exact in between.

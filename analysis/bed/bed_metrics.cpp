@@ -7,12 +7,12 @@
 #include <numbers>
 #include <vector>
 
+#include "common/units.hpp"
+
 namespace dem2d::analysis {
 
 namespace {
 
-constexpr double kMm = 1e3;  // m -> mm
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double ratio(double sum, std::int64_t count) { return count > 0 ? sum / static_cast<double>(count) : kNaN; }
 

@@ -12,9 +12,10 @@
 #include <limits>
 
 #include "cg/cg_stage.hpp"
-#include "core/number_text.hpp"
 #include "common/snapshot_loop.hpp"
 #include "common/stage_output.hpp"   // number_or_null
+#include "common/units.hpp"
+#include "core/number_text.hpp"
 #include "io/h5.hpp"
 
 namespace dem2d::analysis {
@@ -22,8 +23,6 @@ namespace dem2d::analysis {
 namespace {
 
 using json = nlohmann::ordered_json;
-constexpr double kMm = 1e3;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // One snapshot's bed: the nodes with phi >= the mask.
 struct LabMeasure {
@@ -108,7 +107,7 @@ struct LabRun {
 // Every snapshot through the stages' snapshot loop (common/snapshot_loop.hpp):
 // each result depends on its own snapshot only (any thread count).
 void measure_lab(const SnapshotSource& run, bool has_piv, LabRun& L) {
-  struct Measured {
+  struct LabMeasured {
     LabMeasure m;
     double time = 0.0;
     bool piv_ok = false;
@@ -120,9 +119,9 @@ void measure_lab(const SnapshotSource& run, bool has_piv, LabRun& L) {
         // A snapshot without PIV-like velocities (the first ones) uses the instantaneous ones.
         const Fields f = coarse_grain(L.su.grid, L.su.kernel, grains_of(s, has_piv ? &piv.v : nullptr));
         const bool full = std::binary_search(L.fields_at.begin(), L.fields_at.end(), k);
-        return Measured{measure(L.su, f, piv.ok ? L.set : kInst, s, full), s.time, piv.ok};
+        return LabMeasured{measure(L.su, f, piv.ok ? L.set : kInst, s, full), s.time, piv.ok};
       },
-      [&](std::size_t, Measured&& x) {
+      [&](std::size_t, LabMeasured&& x) {
         L.ms.push_back(std::move(x.m)), L.times.push_back(x.time), L.piv_ok.push_back(x.piv_ok);
       });
 }

@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "cg/cg_field.hpp"
+#include "common/units.hpp"
 
 namespace dem2d::analysis {
 
-inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // A horizontal sphero-line intruder.
 struct Intruder {

@@ -7,16 +7,16 @@
 #include <numbers>
 #include <random>
 
+#include "cg/wall_loss.hpp"
 #include "common/normal.hpp"
 #include "common/snapshot_loop.hpp"  // column_of
-#include "cg/wall_loss.hpp"
+#include "common/units.hpp"
 #include "core/number_text.hpp"
 
 namespace dem2d::analysis {
 
 namespace {
 
-constexpr double kMm = 1e3;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kDeg = 180.0 / std::numbers::pi;
 using json = nlohmann::ordered_json;

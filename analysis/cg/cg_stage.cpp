@@ -15,6 +15,7 @@
 #include "cg/cg_report.hpp"
 #include "common/output.hpp"
 #include "common/snapshot_loop.hpp"
+#include "common/units.hpp"
 #include "io/h5.hpp"
 #include "io/run_reader.hpp"
 
@@ -22,7 +23,6 @@ namespace dem2d::analysis {
 
 namespace {
 
-constexpr double kMm = 1e3;
 
 // The index of v in values, appending it if absent.
 std::size_t with(std::vector<double>& values, double v) {

@@ -18,11 +18,9 @@ int main(int argc, char** argv) {
   cmd.add_config("cg.toml");
   cmd.add_study();
   CgInput in;
-  cmd.app().add_option("--events", in.events_path, "Loading/rupture events of the spectrum stage (its spectrum.h5, /events)");
-  cmd.app()
-      .add_option("--threads", in.threads,
-                  "OpenMP threads across snapshots (0: OpenMP's default); results do not depend on it")
-      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--events", in.events_path, "Loading/rupture events of the spectrum stage (its spectrum.h5, /events)");
+  cmd.add_threads(in.threads,
+                  "OpenMP threads across snapshots (0: OpenMP's default); results do not depend on it");
   return cmd.main(
       argc, argv,
       [&] {

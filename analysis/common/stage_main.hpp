@@ -3,17 +3,14 @@
 // and its exit codes: 0 done; 1 an output could not be written; 2 bad input
 // (run, config, study or events file, command line). Messages start with the
 // stage's name; the last line says what was measured and where it went.
+// (The parser, CLI11, is compiled once, in stage_main.cpp.)
 #pragma once
-
-#include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <exception>
+#include <memory>
 #include <new>
 #include <string>
-
-#include "core/share_dir.hpp"
-#include "core/version.hpp"
 
 namespace dem2d::analysis {
 
@@ -23,38 +20,24 @@ class StageCommand {
 
   // out_help: what --out is ("Metrics file to write (JSON)", "Output directory ...").
   StageCommand(std::string name, const std::string& description, const std::string& run_help,
-               const std::string& out_help)
-      : name_(std::move(name)), app_(name_ + ": " + description) {
-    app_.add_option("run", run, run_help)->required();
-    app_.add_option("--out", out, out_help)->required();
-    app_.set_version_flag("--version", name_ + " (dem2d) " + code_version());
-  }
-  CLI::App& app() { return app_; }
+               const std::string& out_help);
+  ~StageCommand();
   // --config: the stage's settings, by default data/<file> of the installation or build tree.
-  void add_config(const char* file) {
-    config = data_file(file);
-    app_.add_option("--config", config, "Settings (TOML)")->capture_default_str();
-  }
+  void add_config(const char* file);
   // --study: the study's constants (data/study.toml).
-  void add_study() {
-    study = data_file("study.toml");
-    app_.add_option("--study", study, "The study's constants (TOML)")->capture_default_str();
-  }
+  void add_study();
+  // the stage's own options: a path or name, a flag
+  void add_option(const std::string& flag, std::string& into, const std::string& help);
+  void add_flag(const std::string& flag, bool& into, const std::string& help);
+  // --threads: 0 (OpenMP's default) to 4 per processor, as dem2d run's (core/thread_limit.hpp)
+  void add_threads(int& into, const std::string& help);
 
   // Parses the command line; compute() reads and measures (any exception: bad
   // input, exit 2), write(result) writes the outputs (any exception: exit 1)
   // and returns the summary line.
   template <class Compute, class Write>
   int main(int argc, char** argv, Compute compute, Write write) {
-    try {
-      app_.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-      return app_.exit(e) == 0 ? 0 : kExitBadInput;
-    }
-    if (const std::string problem = share_problem(); !problem.empty()) {  // (its data, its code version)
-      std::fprintf(stderr, "%s: %s\n", name_.c_str(), problem.c_str());
-      return kExitBadInput;
-    }
+    if (const int code = parse(argc, argv); code >= 0) return code;
     decltype(compute()) result;
     try {
       result = compute();
@@ -82,8 +65,13 @@ class StageCommand {
   std::string run, out, config, study;
 
  private:
+  // the command line parsed and the installation's data found: -1; else the exit code
+  // (0 after --help or --version, 2 on a bad command line or installation)
+  int parse(int argc, char** argv);
+
   std::string name_;
-  CLI::App app_;
+  struct Parser;
+  std::unique_ptr<Parser> parser_;
 };
 
 }  // namespace dem2d::analysis

@@ -4,17 +4,16 @@
 #include <cmath>
 #include <numbers>
 
-#include "io/run_reader.hpp"
 #include "common/snapshot_loop.hpp"
 #include "common/stage_config.hpp"
+#include "common/units.hpp"
+#include "io/run_reader.hpp"
 
 namespace dem2d::analysis {
 
 namespace {
 
 using json = nlohmann::ordered_json;
-constexpr double kMm = 1e3;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "common/snapshot_loop.hpp"
+#include "common/units.hpp"
 #include "network/network_stage.hpp"
 
 namespace dem2d::analysis {
@@ -13,7 +14,6 @@ namespace dem2d::analysis {
 namespace {
 
 using json = nlohmann::ordered_json;
-constexpr double kMm = 1e3;
 
 // The force the grains put on the cell's bodies (N/m): minus the contact
 // force on the grain, fn n + ft t with t = z x n = (-ny, nx).

@@ -19,8 +19,8 @@ int main(int argc, char** argv) {
   cmd.add_config("network.toml");
   cmd.add_study();
   NetworkInputs in;
-  cmd.app().add_option("--events", in.events, "Events of the spectrum stage (its spectrum.h5, /events)");
-  cmd.app().add_option("--spectrum-metrics", in.spectrum_metrics, "metrics.json of the spectrum stage (top layer height)");
+  cmd.add_option("--events", in.events, "Events of the spectrum stage (its spectrum.h5, /events)");
+  cmd.add_option("--spectrum-metrics", in.spectrum_metrics, "metrics.json of the spectrum stage (top layer height)");
   return cmd.main(
       argc, argv,
       [&] {

@@ -8,18 +8,17 @@
 #include <numbers>
 #include <set>
 
-#include "io/run_reader.hpp"
-#include "network/percolation_loss.hpp"
 #include "common/snapshot_loop.hpp"
 #include "common/stage_config.hpp"
+#include "common/units.hpp"
+#include "io/run_reader.hpp"
+#include "network/percolation_loss.hpp"
 
 namespace dem2d::analysis {
 
 namespace {
 
 using json = nlohmann::ordered_json;
-constexpr double kMm = 1e3;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 json mm_or_null(const std::optional<double>& metres) { return metres ? json(*metres * kMm) : json(nullptr); }

@@ -26,10 +26,10 @@ int main(int argc, char** argv) {
   cmd.add_study();
   std::string bed_path;
   bool cycles = false;
-  cmd.app().add_option("--bed", bed_path, "The run the pull-off started from (the fill): the intruder's load at rest");
-  cmd.app().add_flag("--cycles", cycles,
-                     "A cyclic run: cut the drag into up and down legs, write them to DIR/cycles.csv (cycle,"
-                     "direction,time_s,height_mm,drag_N_per_m) and add pulloff.cycles to the metrics");
+  cmd.add_option("--bed", bed_path, "The run the pull-off started from (the fill): the intruder's load at rest");
+  cmd.add_flag("--cycles", cycles,
+               "A cyclic run: cut the drag into up and down legs, write them to DIR/cycles.csv (cycle,"
+               "direction,time_s,height_mm,drag_N_per_m) and add pulloff.cycles to the metrics");
   return cmd.main(
       argc, argv,
       [&] {

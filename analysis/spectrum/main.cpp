@@ -19,9 +19,9 @@ int main(int argc, char** argv) {
   cmd.add_config("spectrum.toml");
   cmd.add_study();
   std::string fill_metrics;
-  cmd.app().add_option("--fill-metrics", fill_metrics,
-                       "The fill stage's metrics.json: bed height = fill.bed_height_mm (default: where the intruder "
-                       "left the bed, by the run's stop criterion)");
+  cmd.add_option("--fill-metrics", fill_metrics,
+                 "The fill stage's metrics.json: bed height = fill.bed_height_mm (default: where the intruder "
+                 "left the bed, by the run's stop criterion)");
   return cmd.main(
       argc, argv,
       [&] {

@@ -1,6 +1,7 @@
 #include "spectrum/size_distribution.hpp"
 
 #include "common/normal.hpp"
+#include "common/units.hpp"
 
 #include <algorithm>
 #include <array>
@@ -13,7 +14,6 @@ namespace dem2d::analysis {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 const double kSqrt2 = std::sqrt(2.0);
 
 double normal_cdf(double z) { return 0.5 * std::erfc(-z / kSqrt2); }

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "common/units.hpp"
 #include "frame/drag_profile.hpp"
 #include "spectrum/size_distribution.hpp"
 #include "spectrum/spectrum_config.hpp"
@@ -27,7 +28,6 @@
 
 namespace dem2d::analysis {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // ---- building blocks ----------------------------------------------------
 

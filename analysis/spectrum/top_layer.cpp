@@ -6,11 +6,12 @@
 #include <numeric>
 #include <random>
 
+#include "common/units.hpp"
+
 namespace dem2d::analysis {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // The blocks' data: centre height, ln variance, load factor g.
 struct Blocks {

@@ -23,6 +23,7 @@
 #include "app/bench.hpp"
 #include "app/inspect.hpp"
 #include "core/share_dir.hpp"
+#include "core/thread_limit.hpp"
 #include "run/output_dir.hpp"
 #include "core/version.hpp"
 #include "engine/kernel_sets.hpp"
@@ -127,21 +128,7 @@ int main(int argc, char** argv) {
   dem2d::RunOptions run_opt;
   int threads = 0;
   bool generic_kernel = false;
-  // More threads than 4 per processor only wait on each other (and at 65536
-  // libgomp fails without a message): bounded, with the reason in the error.
-  const int max_threads = 4 * std::max(omp_get_num_procs(), 1);
-  const CLI::Validator thread_count(
-      [max_threads](const std::string& v) -> std::string {
-        long n = -1;
-        try {
-          n = std::stol(v);
-        } catch (const std::exception&) {
-        }
-        if (n >= 0 && n <= max_threads) return "";
-        return v + ": must be an integer from 0 (all processors) to " + std::to_string(max_threads) +
-               " (4 x the " + std::to_string(max_threads / 4) + " processors here)";
-      },
-      "0.." + std::to_string(max_threads));
+  const CLI::Validator thread_count(dem2d::thread_count_problem, "0.." + std::to_string(dem2d::max_threads()));
   auto scene_options = [&](CLI::App* cmd) {
     cmd->add_option("scene", scene_path, "Scene file (TOML)")->required();
     cmd->add_option("--overlay", extra.overlays, "TOML file merged over the scene, e.g. a preset (repeatable)");
