@@ -150,7 +150,7 @@ else
   grep -q "interrupted at step" "$WORK/term.err" || fail "SIGTERM: no message: $(cat "$WORK/term.err")"
   # the checkpoint as a starting state with a changed setting (LAMMPS's read_restart, then new settings)
   cp "$WORK/term/.run.work/checkpoint.h5" "$WORK/term_checkpoint.h5"
-  sed -e '/^\[\[generator\]\]/,/^region/d' -e 's/^friction = 0.5/friction = 0.2/' -e 's/^duration = 0.6/duration = 0.05/' \
+  sed -e '/^\[\[generator\]\]/,/^region/d' -e 's/^friction = 0.5/friction = 0.2/' -e 's/^duration = 0.3/duration = 0.05/' \
     "$SCENE" >"$WORK/go_on.toml"
   expect 0 "run.h5" -- "$DEM2D" run "$WORK/go_on.toml" --initial "$WORK/term_checkpoint.h5" --out "$WORK/go_on"
   $PY -c 'import h5py, sys; a = h5py.File(sys.argv[1]).attrs; sys.exit(not (a["initial_source"].startswith("checkpoint at step ")

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "core/hot_loop.hpp"
 #include "core/number_text.hpp"
 
 namespace dem2d::analysis {
@@ -52,7 +53,7 @@ Kernel make_kernel(double w, double cutoff_over_w) {
   return {w, cutoff_over_w};
 }
 
-Fields coarse_grain(const Grid& g, const Kernel& kernel, const Grains& grains) {
+DEM2D_HOT Fields coarse_grain(const Grid& g, const Kernel& kernel, const Grains& grains) {
   const std::size_t nodes = g.size(), sets = grains.velocities.size();
   Fields f;
   f.rho.assign(nodes, 0.0);

@@ -176,7 +176,9 @@ std::vector<double> local_linear_profile(const Grid& g, const Kernel& k, const G
     // weighted normal equations of v ~ a + b dx + c dy, both components at once
     double A[3][3] = {}, bx[3] = {}, by[3] = {};
     for (const std::size_t i : near) {
-      const double dx = grains.position[i].x - x, dy = grains.position[i].y - y, r = std::hypot(dx, dy);
+      const double dy = grains.position[i].y - y;
+      if (std::abs(dy) > R) continue;  // (beyond the cut-off: the same test as r > R, without the root)
+      const double dx = grains.position[i].x - x, r = std::hypot(dx, dy);
       if (r > R) continue;
       const double w = grains.mass[i] * k(r), f[3] = {1.0, dx, dy};
       for (int a = 0; a < 3; ++a) {
@@ -206,7 +208,9 @@ std::vector<double> local_linear_profile(const Grid& g, const Kernel& k, const G
                          (A[0][1] * A[1][2] - A[0][2] * A[1][1]) / D};
     double ll = 0.0;
     for (const std::size_t i : near) {
-      const double dx = grains.position[i].x - x, dy = grains.position[i].y - y, rr = std::hypot(dx, dy);
+      const double dy = grains.position[i].y - y;
+      if (std::abs(dy) > R) continue;
+      const double dx = grains.position[i].x - x, rr = std::hypot(dx, dy);
       if (rr > R) continue;
       const double l = grains.mass[i] * k(rr) * (r[0] + r[1] * dx + r[2] * dy);
       ll += l * l;

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The input-and-fault suite (make fuzz; a short version in make test).
 
-  fuzz.py --bin DIR [--quick] [--seed N] [--work DIR] [--only CLASS,...] [--setup-only | --base DIR]
+  fuzz.py --bin DIR [--quick] [--seed N] [--counts CLASS=N,...] [--work DIR] [--only CLASS,...] [--setup-only | --base DIR]
 
 DIR holds sim/dem2d and analysis/<stage> (a build tree: build/release or
 build/sanitize). Deterministic for a seed. Classes:
@@ -80,6 +80,18 @@ FULL_DISK_ENV = dict(os.environ, LSAN_OPTIONS=":".join(
     filter(None, [os.environ.get("LSAN_OPTIONS"), f"suppressions={Path(__file__).resolve().parent / 'lsan_full_disk.supp'}"])))
 
 
+def counts_option(text):
+    """--counts CLASS=N,...: the classes' case counts it sets (N a whole number >= 1)."""
+    counts = {}
+    for item in filter(None, text.split(",")):
+        cls, _, n = item.partition("=")
+        if cls not in CLASSES or not n.isdigit() or int(n) < 1:
+            sys.exit(f"fuzz: --counts {text}: {item!r}: expected CLASS=N with CLASS one of {', '.join(CLASSES)} "
+                     "and N a whole number >= 1")
+        counts[cls] = int(n)
+    return counts
+
+
 class Suite:
     def __init__(self, args):
         self.bin = Path(args.bin).resolve()
@@ -88,7 +100,7 @@ class Suite:
         self.rng = random.Random(args.seed)
         self.work = Path(args.work)
         self.timeout = TIMEOUT * (4 if "sanitize" in str(self.bin) else 1)
-        self.counts = COUNTS["quick" if args.quick else "full"]
+        self.counts = dict(COUNTS["quick" if args.quick else "full"], **counts_option(args.counts))
         self.table = collections.defaultdict(collections.Counter)  # (class, kind) -> outcome counts
         self.defects = []
         self.failures = []  # exit 1 with a message: not defects, listed for a look
@@ -488,6 +500,8 @@ def main():
     ap.add_argument("--setup-only", action="store_true",
                     help="make the valid base (WORK/base) and stop: the fixture the classes' tests share")
     ap.add_argument("--base", default=None, help="a valid base made by --setup-only, instead of making one")
+    ap.add_argument("--counts", default="", metavar="CLASS=N,...",
+                    help="cases per class instead of the version's (the ASan+UBSan build's shorter sample)")
     args = ap.parse_args()
     if args.setup_only and args.work is None:
         ap.error("--setup-only needs --work DIR (the base is left in DIR/base)")

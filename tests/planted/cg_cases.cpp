@@ -30,7 +30,7 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
   CgRun cg;
   cg.in.config = analysis::load_cg_config(data_dir + "/cg.toml");
   cg.in.config_path = data_dir + "/cg.toml";
-  cg.in.threads = 1;
+  cg.in.threads = 0;  // every thread, across one replica's snapshots: better balanced than 3 replicas on 2 cores
   const BedGeometry geometry;
   const double half_gap = 0.5 * (geometry.width - geometry.length);
   // the replicas of a scenario: bed and noise seeded alike, 1 ... set.replicas
@@ -41,7 +41,7 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
       ConeScenario c = scenario;
       c.seed = seed;
       return cg.run(make_bed(g), c);
-    });
+    }, false);
   };
   std::vector<Row> rows;
   // beta and H_c of planted graded cones under noise of `noise` x V per grain,

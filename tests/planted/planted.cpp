@@ -55,9 +55,9 @@ Outcome metric(const nlohmann::ordered_json& m, const char* key) {
   return v.is_number() ? Outcome{true, v.get<double>()} : Outcome{};
 }
 
-Replicas::Replicas(int n, const std::function<nlohmann::ordered_json(unsigned)>& run)
+Replicas::Replicas(int n, const std::function<nlohmann::ordered_json(unsigned)>& run, bool side_by_side)
     : metrics(static_cast<std::size_t>(n)) {
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) if (side_by_side)
   for (int r = 1; r <= n; ++r) metrics[static_cast<std::size_t>(r - 1)] = run(static_cast<unsigned>(r));
 }
 

@@ -62,11 +62,12 @@ void summarise(Row& row, int replicas, const std::function<Outcome(unsigned)>& r
 // A stage's metric as an outcome: its value, or none where it is null or absent.
 Outcome metric(const nlohmann::ordered_json& m, const char* key);
 
-// A scenario's replicas run once (seeds 1..n, side by side); each row then
-// reads what it needs of their metrics.
+// A scenario's replicas run once (seeds 1..n); each row then reads what it
+// needs of their metrics. Side by side, one thread each; or one after the
+// other when `run` uses every thread itself (side_by_side false).
 struct Replicas {
   std::vector<nlohmann::ordered_json> metrics;
-  Replicas(int n, const std::function<nlohmann::ordered_json(unsigned)>& run);
+  Replicas(int n, const std::function<nlohmann::ordered_json(unsigned)>& run, bool side_by_side = true);
   void fill(Row& row, const std::function<Outcome(const nlohmann::ordered_json&)>& read) const;
 };
 
