@@ -121,7 +121,7 @@ TEST_PACKAGES := python3-pytest python3-paraview xvfb
 # how packages are installed: directly as root, else through sudo when there is one (SUDO= : none)
 SUDO ?= $(shell [ "$$(id -u)" -eq 0 ] || command -v sudo)
 
-.PHONY: paraview deps needs needs-test build build-tests install test test-release test-sanitize test-pipeline test-cluster fuzz bench bench-scaling bench-compare reproduce check validate \
+.PHONY: paraview deps needs needs-test build build-tests install test test-release test-sanitize sanitize-build-idle test-pipeline test-cluster fuzz bench bench-scaling bench-compare reproduce check validate \
   pulloff-slice cyclic metrics figures report accuracy ensemble clean FORCE
 .DEFAULT_GOAL := build
 
@@ -173,18 +173,27 @@ $(SANITIZE_BUILD)/CMakeCache.txt: | needs
 	cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1" \
 	  -DDEM2D_SANITIZE=ON -DDEM2D_KERNEL_SETS=$(abspath tests/sanitize_kernel_sets.inc) -DDEM2D_PYTHON=$(PYTHON)
 
-test: test-release test-sanitize
+# The ASan+UBSan build compiles at the lowest priority beside the optimised
+# build's tests (it takes only the CPU they leave idle: the cluster test's waits,
+# a test's serial part); test-sanitize then finishes it (and reports its errors).
+test: needs-test $(SANITIZE_BUILD)/CMakeCache.txt
+	@$(MAKE) --no-print-directory -j2 test-release sanitize-build-idle
+	@$(MAKE) --no-print-directory test-sanitize
+
+sanitize-build-idle: $(SANITIZE_BUILD)/CMakeCache.txt
+	@echo "make: building $(SANITIZE_BUILD) at the lowest priority meanwhile (log: $(SANITIZE_BUILD)/build_idle.log)"
+	@nice -n 19 cmake --build $(SANITIZE_BUILD) -j $(JOBS) >$(SANITIZE_BUILD)/build_idle.log 2>&1 || true
 
 # ctest's output kept beside the build; tests/ctest_summary.sh prints the
 # counts and fails on a failed, skipped or not-run test (a skip proves nothing).
 # One job more than the cores: the cluster test mostly waits on Slurm.
-# NO_CLUSTER=1: without the cluster test (it needs root), said in the summary.
+# NO_CLUSTER=1: without the cluster tests (they need root), said in the summary.
 NO_CLUSTER ?=
 test-release: needs-test build-tests
 	cd $(BUILD) && mkdir -p Testing && set -o pipefail && \
-	  ctest --output-on-failure -j $$(($(JOBS) + 1)) $(if $(NO_CLUSTER),-E '^cluster$$') 2>&1 | tee Testing/make_test.log
+	  ctest --output-on-failure -j $$(($(JOBS) + 1)) $(if $(NO_CLUSTER),-E '^cluster') 2>&1 | tee Testing/make_test.log
 	tests/ctest_summary.sh $(BUILD)/Testing/make_test.log "make test (optimised build)"
-	$(if $(NO_CLUSTER),@echo "make test: the cluster test was NOT run (NO_CLUSTER=1): the Slurm executor is untested")
+	$(if $(NO_CLUSTER),@echo "make test: the cluster tests were NOT run (NO_CLUSTER=1): the Slurm executor is untested")
 
 test-sanitize: needs-test $(SANITIZE_BUILD)/CMakeCache.txt
 	cmake --build $(SANITIZE_BUILD) -j $(JOBS)
