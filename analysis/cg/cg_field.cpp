@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numbers>
 #include <sstream>
 
+#include "common/units.hpp"
 #include "core/hot_loop.hpp"
 #include "core/number_text.hpp"
 
@@ -137,10 +137,9 @@ void scale(Fields& f, double factor) {
 }
 
 Velocity velocity(const Fields& f, std::size_t set, double min_phi) {
-  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   Velocity v;
-  v.vx.assign(f.rho.size(), nan);
-  v.vy.assign(f.rho.size(), nan);
+  v.vx.assign(f.rho.size(), kNaN);
+  v.vy.assign(f.rho.size(), kNaN);
   for (std::size_t n = 0; n < f.rho.size(); ++n)
     if (f.phi[n] >= min_phi && f.rho[n] > 0.0) {
       v.vx[n] = f.px[set][n] / f.rho[n];
