@@ -160,27 +160,71 @@ std::vector<double> wall_profile(const Grid& g, const std::vector<double>& vstar
   return out;
 }
 
+namespace {
+
+// The grains near a node column, listed per row (compressed rows): row j lists, in the order of
+// `near`, those within one row of reaching it (|dy| <= R + dx); the exact cut-off is tested where
+// they are used. Each row then visits its own grains, not the whole column's.
+struct RowLists {
+  std::vector<std::size_t> first, grain;  // row j's grains: grain[first[j] .. first[j + 1])
+};
+
+RowLists row_lists(const Grid& g, const Grains& grains, const std::vector<std::size_t>& near, double R) {
+  const auto rows_of = [&](std::size_t i) {  // [a, b): the rows within R + dx of grain i
+    const double y = (grains.position[i].y - g.y0) / g.dx, reach = R / g.dx + 1.0;
+    if (!std::isfinite(y)) return std::pair{std::size_t{0}, g.ny};  // every row (and its fit) sees it
+    const double a = std::clamp(std::floor(y - reach), 0.0, static_cast<double>(g.ny));
+    const double b = std::clamp(std::ceil(y + reach) + 1.0, 0.0, static_cast<double>(g.ny));
+    return std::pair{static_cast<std::size_t>(a), static_cast<std::size_t>(b)};
+  };
+  RowLists l;
+  l.first.assign(g.ny + 1, 0);
+  for (const std::size_t i : near) {
+    const auto [a, b] = rows_of(i);
+    for (std::size_t j = a; j < b; ++j) ++l.first[j + 1];
+  }
+  std::partial_sum(l.first.begin(), l.first.end(), l.first.begin());
+  l.grain.resize(l.first.back());
+  std::vector<std::size_t> fill(l.first.begin(), l.first.end() - 1);
+  for (const std::size_t i : near) {
+    const auto [a, b] = rows_of(i);
+    for (std::size_t j = a; j < b; ++j) l.grain[fill[j]++] = i;
+  }
+  return l;
+}
+
+}  // namespace
+
 std::vector<double> local_linear_profile(const Grid& g, const Kernel& k, const Grains& grains, std::size_t set,
                                          double x, double v_ref, const std::vector<std::uint8_t>& valid,
                                          LocalLinearExtras* extras) {
   std::vector<double> out(g.ny, kNaN);
   if (extras) extras->vx.assign(g.ny, kNaN), extras->vy = extras->vx, extras->gain = extras->vx;
-  const double R = k.radius();
+  const double R = k.radius(), two_w2 = 2.0 * k.w * k.w, volume = k.volume();
   std::vector<std::size_t> near;  // grains within the cut-off of the column
   for (std::size_t i = 0; i < grains.position.size(); ++i)
     if (grains.active[i] && std::abs(grains.position[i].x - x) <= R) near.push_back(i);
+  const RowLists rows = row_lists(g, grains, near, R);
   const auto& v = grains.velocities[set];
+  struct Term {
+    double w, dx, dy;
+  };
+  std::vector<Term> terms;  // one row's grains within the cut-off, in the order summed
   for (std::size_t j = 0; j < g.ny; ++j) {
     if (!valid[j]) continue;
     const double y = g.y(j);
     // weighted normal equations of v ~ a + b dx + c dy, both components at once
     double A[3][3] = {}, bx[3] = {}, by[3] = {};
-    for (const std::size_t i : near) {
+    terms.clear();
+    for (std::size_t n = rows.first[j]; n < rows.first[j + 1]; ++n) {
+      const std::size_t i = rows.grain[n];
       const double dy = grains.position[i].y - y;
       if (std::abs(dy) > R) continue;  // (beyond the cut-off: the same test as r > R, without the root)
       const double dx = grains.position[i].x - x, r = std::hypot(dx, dy);
       if (r > R) continue;
-      const double w = grains.mass[i] * k(r), f[3] = {1.0, dx, dy};
+      // m_i G(r) (Kernel::operator(), its volume computed once)
+      const double w = grains.mass[i] * (std::exp(-r * r / two_w2) / volume), f[3] = {1.0, dx, dy};
+      terms.push_back({w, dx, dy});
       for (int a = 0; a < 3; ++a) {
         bx[a] += w * f[a] * v[i].x, by[a] += w * f[a] * v[i].y;
         for (int b = 0; b < 3; ++b) A[a][b] += w * f[a] * f[b];
@@ -207,12 +251,8 @@ std::vector<double> local_linear_profile(const Grid& g, const Kernel& k, const G
     const double r[3] = {(A[1][1] * A[2][2] - A[1][2] * A[2][1]) / D, (A[0][2] * A[2][1] - A[0][1] * A[2][2]) / D,
                          (A[0][1] * A[1][2] - A[0][2] * A[1][1]) / D};
     double ll = 0.0;
-    for (const std::size_t i : near) {
-      const double dy = grains.position[i].y - y;
-      if (std::abs(dy) > R) continue;
-      const double dx = grains.position[i].x - x, rr = std::hypot(dx, dy);
-      if (rr > R) continue;
-      const double l = grains.mass[i] * k(rr) * (r[0] + r[1] * dx + r[2] * dy);
+    for (const Term& t : terms) {
+      const double l = t.w * (r[0] + r[1] * t.dx + r[2] * t.dy);
       ll += l * l;
     }
     extras->gain[j] = std::sqrt(ll);
