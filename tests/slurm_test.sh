@@ -83,7 +83,7 @@ cluster_part() {
   # a node lost under a member (slurmd and the member's processes killed): the wait ends at its bound and the
   # submission exits non-zero naming the member; a resubmission while its jobs are still listed is refused
   t5=$(date +%s.%N)
-  descendants() { local p; for p in $(pgrep -P "$1"); do descendants "$p"; echo "$p"; done; }
+  tree() { echo "$1"; local p; for p in $(pgrep -P "$1"); do tree "$p"; done; }  # a process, then its descendants
   SLURM_WAIT_MINUTES=1 make --no-print-directory ensemble PRESET=quick MEMBERS=1 \
     RESULTS="$WORK/lost" EXECUTOR=slurm SLURM_WAIT=1 >"$WORK/lost.log" 2>&1 &
   lost_make=$!
@@ -91,7 +91,17 @@ cluster_part() {
   [ -e "$WORK/lost/ensemble/member_000/fill/run.log" ] || fail "the member never started: $(tail -5 "$WORK/lost.log")"
   job=$(head -1 "$WORK/lost/ensemble/slurm/jobs" 2>/dev/null)
   kill -9 "$(cat "$WORK/cluster/slurmd.pid")"
-  for stepd in $(pgrep -f "^slurmstepd: \[$job[._]"); do kill -9 $(descendants "$stepd") "$stepd" 2>/dev/null; done
+  # the member's processes vanish at once, as with their node: each frozen before its children (so that none
+  # sees a child die and writes an exit status, as a slower kill, children first, let the task's shell do on a
+  # busy machine), listed again until no new one appeared, then killed
+  frozen=""
+  for _ in 1 2 3 4 5; do
+    procs=$(for stepd in $(pgrep -f "^slurmstepd: \[$job[._]"); do tree "$stepd"; done)
+    [ -n "$procs" ] && kill -STOP $procs 2>/dev/null
+    [ "$procs" = "$frozen" ] && break
+    frozen=$procs
+  done
+  [ -n "$frozen" ] && kill -9 $frozen 2>/dev/null
   t_lost=$(date +%s)
   wait $lost_make && fail "a member on a lost node was reported as a success: $(tail -5 "$WORK/lost.log")"
   echo "slurm_test: the lost node's submission ended $(( $(date +%s) - t_lost )) s after the node was killed"
