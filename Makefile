@@ -175,11 +175,11 @@ $(SANITIZE_BUILD)/CMakeCache.txt: | needs
 	cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1" \
 	  -DDEM2D_SANITIZE=ON -DDEM2D_KERNEL_SETS=$(abspath tests/sanitize_kernel_sets.inc) -DDEM2D_PYTHON=$(PYTHON)
 
-# The ASan+UBSan build compiles beside the optimised build's tests (it fills
-# the CPU they leave idle: the cluster test's waits, a test's serial part);
-# test-sanitize then finishes it (and reports its errors). At normal priority:
-# at the lowest, beside other work that keeps the cores busy, it starved (two
-# busy loops left it ~1 % of a core: it would have taken hours).
+# The ASan+UBSan build compiles beside the optimised build's tests (sharing
+# the cores with them, and taking what they leave idle: the cluster test's
+# waits, a test's serial part); test-sanitize then finishes it (and reports
+# its errors). At normal priority: at the lowest, beside other work that kept
+# the cores busy, it starved (busy loops left it ~1 % of a core).
 test: needs-test $(SANITIZE_BUILD)/CMakeCache.txt
 	@$(MAKE) --no-print-directory -j2 test-release sanitize-build-beside
 	@$(MAKE) --no-print-directory test-sanitize
@@ -273,12 +273,9 @@ ifeq ($(INSTALLED)$(PROGRAMS_BUILT),)
 $(DEM2D) $(STAGE_PROGRAMS) $(CHECK) &: FORCE | $(BUILD)/CMakeCache.txt
 	@MAKEFLAGS= flock $(BUILD)/.build.lock cmake --build $(BUILD) -j $(JOBS) --target installed > $(BUILD)/programs.build.log || \
 	  (cat $(BUILD)/programs.build.log; exit 1)
-else ifeq ($(INSTALLED),)
-$(DEM2D) $(STAGE_PROGRAMS) $(CHECK):
-	@echo "make: $@ is missing, though the calling make built the programs" >&2; exit 1
 else
 $(DEM2D) $(STAGE_PROGRAMS) $(CHECK):
-	@echo "make: INSTALLED=$(INSTALLED) has no $@: run make install PREFIX=$(INSTALLED) first" >&2; exit 1
+	@echo "make: $(if $(INSTALLED),INSTALLED=$(INSTALLED) has no $@: run make install PREFIX=$(INSTALLED) first,$@ is missing (the calling make built the programs))" >&2; exit 1
 endif
 
 # $(call timed,COMMAND): runs COMMAND (one program and its words, parsed by the
@@ -416,7 +413,7 @@ $(ENSEMBLE)/member_%/member.toml: $(FILL_SCENE) $(OVERLAY_FILES) pipeline/ensemb
 # it is shown, not run: it would stop for want of member.toml)
 $(ENSEMBLE)/member_%/metrics.json: $(ENSEMBLE)/member_%/member.toml $(DEM2D) $(STAGE_PROGRAMS) $(CHECK) FORCE
 	+@if [ -e $< ]; then $(MAKE) --no-print-directory metrics PRESET=$(PRESET) RESULTS=$(@D) FILL_OVERLAY=$< THREADS=1 PROGRAMS_BUILT=1; \
-	  else echo "$(MAKE) metrics PRESET=$(PRESET) RESULTS=$(@D) FILL_OVERLAY=$< THREADS=1"; fi
+	  else echo "$(MAKE) metrics PRESET=$(PRESET) RESULTS=$(@D) FILL_OVERLAY=$< THREADS=1 PROGRAMS_BUILT=1"; fi
 
 # the member list, rewritten only when MEMBERS changes it (then the aggregate is redone)
 $(ENSEMBLE)/members.txt: FORCE

@@ -44,7 +44,7 @@ double Kernel::volume() const {
 }
 
 double Kernel::operator()(double r) const {
-  return r <= radius() ? std::exp(-r * r / (2.0 * w * w)) / volume() : 0.0;
+  return r <= radius() ? inside(r, volume()) : 0.0;
 }
 
 Kernel make_kernel(double w, double cutoff_over_w) {

@@ -9,6 +9,7 @@
 // on a regular grid of nodes. SI units throughout.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -40,6 +41,8 @@ struct Kernel {
   double radius() const { return cutoff * w; }
   double volume() const;             // V_w (m^2)
   double operator()(double r) const;  // G(r) (1/m^2)
+  // G(r) for r <= radius(), given v_w = volume(): for loops that compute V_w once
+  double inside(double r, double v_w) const { return std::exp(-r * r / (2.0 * w * w)) / v_w; }
 };
 // CgError if w <= 0 or cutoff <= 0.
 Kernel make_kernel(double w, double cutoff_over_w);

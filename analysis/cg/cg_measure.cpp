@@ -200,7 +200,7 @@ std::vector<double> local_linear_profile(const Grid& g, const Kernel& k, const G
                                          LocalLinearExtras* extras) {
   std::vector<double> out(g.ny, kNaN);
   if (extras) extras->vx.assign(g.ny, kNaN), extras->vy = extras->vx, extras->gain = extras->vx;
-  const double R = k.radius(), two_w2 = 2.0 * k.w * k.w, volume = k.volume();
+  const double R = k.radius(), volume = k.volume();
   std::vector<std::size_t> near;  // grains within the cut-off of the column
   for (std::size_t i = 0; i < grains.position.size(); ++i)
     if (grains.active[i] && std::abs(grains.position[i].x - x) <= R) near.push_back(i);
@@ -222,8 +222,7 @@ std::vector<double> local_linear_profile(const Grid& g, const Kernel& k, const G
       if (std::abs(dy) > R) continue;  // (beyond the cut-off: the same test as r > R, without the root)
       const double dx = grains.position[i].x - x, r = std::hypot(dx, dy);
       if (r > R) continue;
-      // m_i G(r) (Kernel::operator(), its volume computed once)
-      const double w = grains.mass[i] * (std::exp(-r * r / two_w2) / volume), f[3] = {1.0, dx, dy};
+      const double w = grains.mass[i] * k.inside(r, volume), f[3] = {1.0, dx, dy};  // m_i G(r)
       terms.push_back({w, dx, dy});
       for (int a = 0; a < 3; ++a) {
         bx[a] += w * f[a] * v[i].x, by[a] += w * f[a] * v[i].y;
