@@ -177,14 +177,16 @@ $(SANITIZE_BUILD)/CMakeCache.txt: | needs
 
 # The ASan+UBSan build compiles beside the optimised build's tests (sharing
 # the cores with them, and taking what they leave idle: the cluster test's
-# waits, a test's serial part); test-sanitize then finishes it (and reports
-# its errors). At normal priority: at the lowest, beside other work that kept
+# waits, a test's serial part), once the optimised build is done (begun
+# beside it, it delayed those tests by its whole length: 559 s to the first
+# test against ~240); test-sanitize then finishes it (and reports its
+# errors). At normal priority: at the lowest, beside other work that kept
 # the cores busy, it starved (busy loops left it ~1 % of a core).
 test: needs-test $(SANITIZE_BUILD)/CMakeCache.txt
 	@$(MAKE) --no-print-directory -j2 test-release sanitize-build-beside
 	@$(MAKE) --no-print-directory test-sanitize
 
-sanitize-build-beside: $(SANITIZE_BUILD)/CMakeCache.txt
+sanitize-build-beside: build-tests $(SANITIZE_BUILD)/CMakeCache.txt
 	@echo "make: building $(SANITIZE_BUILD) meanwhile (log: $(SANITIZE_BUILD)/build_beside.log)"
 	@cmake --build $(SANITIZE_BUILD) -j $(JOBS) >$(SANITIZE_BUILD)/build_beside.log 2>&1 || true
 
