@@ -3,55 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <sstream>
 
 #include "common/units.hpp"
 #include "core/hot_loop.hpp"
-#include "core/number_text.hpp"
 
 namespace dem2d::analysis {
-
-namespace {
-
-std::string mm(double metres) {
-  std::ostringstream s;
-  s << metres * 1e3 << " mm";
-  return s.str();
-}
-
-}  // namespace
-
-Grid make_grid(double xmin, double xmax, double ymin, double ymax, double dx) {
-  if (!(dx > 0.0)) throw CgError("grid spacing " + mm(dx) + ": must be > 0");
-  const double width = xmax - xmin, height = ymax - ymin;
-  // (a whole number of spacings within rounding counts as whole)
-  const double nx = std::floor(width / dx * (1.0 + 1e-12)), ny = std::floor(height / dx * (1.0 + 1e-12));
-  if (nx < 1.0 || ny < 1.0)
-    throw CgError("grid spacing " + mm(dx) + " is larger than the domain (" + mm(width) + " x " + mm(height) +
-                  "): no node");
-  if (nx * ny > 1e8) throw CgError("grid of " + sig3(nx * ny) + " nodes: more than 1e8 (spacing " + mm(dx) + ")");
-  Grid g;
-  g.dx = dx;
-  g.nx = static_cast<std::size_t>(nx);
-  g.ny = static_cast<std::size_t>(ny);
-  g.x0 = xmin + 0.5 * (width - (nx - 1.0) * dx);
-  g.y0 = ymin + 0.5 * (height - (ny - 1.0) * dx);
-  return g;
-}
-
-double Kernel::volume() const {
-  return 2.0 * std::numbers::pi * w * w * (1.0 - std::exp(-0.5 * cutoff * cutoff));
-}
-
-double Kernel::operator()(double r) const {
-  return r <= radius() ? inside(r, volume()) : 0.0;
-}
-
-Kernel make_kernel(double w, double cutoff_over_w) {
-  if (!(w > 0.0)) throw CgError("kernel width w = " + mm(w) + ": must be > 0");
-  if (!(cutoff_over_w > 0.0)) throw CgError("kernel cut-off " + shortest(cutoff_over_w) + " w: must be > 0");
-  return {w, cutoff_over_w};
-}
 
 DEM2D_HOT Fields coarse_grain(const Grid& g, const Kernel& kernel, const Grains& grains) {
   const std::size_t nodes = g.size(), sets = grains.velocities.size();

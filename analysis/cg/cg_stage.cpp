@@ -103,7 +103,7 @@ void kernel_and_grid(const CgInput& in, const std::string& path, const Snapshot&
     const double height =
         c.height_mm > 0.0 ? c.height_mm / kMm : std::ceil((top - su.cell.floor + su.kernel.radius()) / dx) * dx;
     su.grid = make_grid(su.cell.left, su.cell.right, su.cell.floor, su.cell.floor + height, dx);
-  } catch (const CgError& e) {
+  } catch (const StageError& e) {  // common/cg_kernel.hpp's
     throw CgError((in.config_path.empty() ? std::string("config") : in.config_path) + " with " + path + ": " + e.what());
   }
 }

@@ -2,7 +2,7 @@
 
     /usr/bin/python3 pipeline/report/figures.py RESULTS_DIR      (e.g. results/default)
 
-Reads the stage outputs RESULTS_DIR/{fill,pulloff,spectrum,cg,network,friction}/,
+Reads the stage outputs RESULTS_DIR/{fill,pulloff,spectrum,cg,network,friction,stress}/,
 writes RESULTS_DIR/figures/*.png and, last, RESULTS_DIR/figures/index.json
 (file, figure, title, caption per PNG); every file is written under a
 temporary name and renamed. Exit status: 0 done; 2 an input is missing or
@@ -25,6 +25,7 @@ import fig_friction  # noqa: E402
 import fig_network  # noqa: E402
 import fig_percolation  # noqa: E402
 import fig_spectrum  # noqa: E402
+import fig_stress  # noqa: E402
 import fig_velocity  # noqa: E402
 from bed import Run  # noqa: E402
 from cgdata import CG  # noqa: E402
@@ -52,6 +53,10 @@ FIGURES = [
      lambda c: fig_friction.mean_mu_star(c.inp)),
     ("drag_spectrum.png", "Drag spectrum (R3, no paper figure)", "Drag spectrum per height band",
      lambda c: fig_spectrum.drag_spectrum(c.inp)),
+    ("stress_maps.png", "Fig. 5 (stress)", "Coarse-grained pressure and shear at four instants",
+     lambda c: fig_stress.maps(c.inp)),
+    ("stress_drag.png", "Stress balance (no paper figure)", "The force on the intruder from the stress around it",
+     lambda c: fig_stress.drag(c.inp)),
     ("percolation_fabric.png", "Percolation and fabric (R4, R10, no paper figure)",
      "Force-network percolation and fabric anisotropy against height",
      lambda c: fig_percolation.percolation(c.inp)),
