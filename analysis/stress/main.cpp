@@ -11,8 +11,8 @@ int main(int argc, char** argv) {
   using namespace dem2d::analysis;
   StageCommand cmd("stress",
                    "coarse-grained stress (contact + kinetic, Weinhart's branch-integrated kernel) of a dem2d run: "
-                   "pressure and shear maps, the bed's stress at rest, and the force the stress carries onto the "
-                   "intruder against the recorded drag",
+                   "pressure and shear maps, the bed's stress at rest, and the force the stress carries onto a "
+                   "body (the intruder by default) against the recorded one",
                    "Run file (HDF5) written by dem2d", "Output directory (metrics.json, stress.h5)");
   cmd.add_config("stress.toml");
   cmd.add_study();
@@ -24,9 +24,10 @@ int main(int argc, char** argv) {
       [&](const StressResult& r) {
         r.h5.write(cmd.out + "/stress.h5");
         write_file_atomic(cmd.out + "/metrics.json", r.metrics.dump(2) + "\n");
-        const auto& c = r.metrics["stress"]["drag_check"];
-        return "drag from the stress: " + c["verdict"].get<std::string>() + " (mean " + show_metric(c["mean_stress_n"]) +
-               " against " + show_metric(c["mean_recorded_n"]) + " N/m recorded, inertia share " +
-               show_metric(c["inertia_share"]) + ")";
+        const auto& m = r.metrics["stress"];
+        const auto& c = m["force_check"];
+        return "force on the " + m["body_role"].get<std::string>() + " from the stress: " +
+               c["verdict"].get<std::string>() + " (mean " + show_metric(c["mean_stress_n"]) + " against " +
+               show_metric(c["mean_recorded_n"]) + " N/m recorded, inertia share " + show_metric(c["inertia_share"]) + ")";
       });
 }

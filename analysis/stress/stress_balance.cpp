@@ -1,8 +1,11 @@
 #include "stress/stress_balance.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "common/stage_error.hpp"
+#include "frame/pulloff_frame.hpp"
 
 namespace dem2d::analysis {
 
@@ -64,6 +67,44 @@ BodyForce body_force(const Grid& g, const StressFields& f, const NodeBox& box, V
   r.exact = {-contact.x - net.x, -contact.y - net.y};
   r.quasi_static = {-flux.x + mass * gravity.x, -flux.y + mass * gravity.y};
   r.inertia = {net.x + mass * gravity.x, net.y + mass * gravity.y};
+  return r;
+}
+
+double kernel_in_box(const Grid& g, const Kernel& k, double v_w, const NodeBox& b, Vec2 c) {
+  const double R = k.radius();
+  const Grid::Range cols = g.columns(c.x - R, c.x + R), rows = g.rows(c.y - R, c.y + R);
+  double sum = 0.0;
+  for (std::size_t j = std::max(rows.first, b.j0); j < std::min(rows.last, b.j1 + 1); ++j)
+    for (std::size_t i = std::max(cols.first, b.i0); i < std::min(cols.last, b.i1 + 1); ++i) {
+      const double r = std::hypot(g.x(i) - c.x, g.y(j) - c.y);
+      if (r <= R) sum += weight(i, b.i0, b.i1) * weight(j, b.j0, b.j1) * k.inside(r, v_w);
+    }
+  return sum * g.dx * g.dx;
+}
+
+BodyBalance body_balance(const Grid& g, const Kernel& k, const StressFields& f, const Snapshot& s, int b,
+                         double margin, Vec2 gravity) {
+  const Body& body = s.bodies.at(static_cast<std::size_t>(b));
+  const double reach = k.radius() + margin;
+  const NodeBox box = node_box(g, body.xmin() - reach, body.xmax() + reach, body.ymin() - reach, body.ymax() + reach);
+  const BodyForce F = body_force(g, f, box, gravity);
+  Vec2 others{0.0, 0.0}, rec{0.0, 0.0};
+  const double v_w = k.volume();
+  for (std::size_t c = 0; c < s.contacts.size(); ++c) {
+    if (s.contacts.j[c] >= 0) continue;
+    const Vec2 Fc = contact_force(s.contacts, c);
+    if (-1 - s.contacts.j[c] == b) {
+      rec.x -= Fc.x, rec.y -= Fc.y;
+      continue;
+    }
+    const double share = kernel_in_box(g, k, v_w, box, contact_point(s, c));
+    others.x += share * Fc.x, others.y += share * Fc.y;
+  }
+  BodyBalance r;
+  r.recorded = rec;
+  r.exact = {F.exact.x + others.x, F.exact.y + others.y};
+  r.quasi_static = {F.quasi_static.x + others.x, F.quasi_static.y + others.y};
+  r.inertia = F.inertia;
   return r;
 }
 

@@ -38,4 +38,17 @@ struct BodyForce {
 };
 BodyForce body_force(const Grid& g, const StressFields& f, const NodeBox& box, Vec2 gravity);
 
+// int_box G(r - c) dA for a point c (the trapezoid rule of box_integral), given v_w = k.volume().
+double kernel_in_box(const Grid& g, const Kernel& k, double v_w, const NodeBox& box, Vec2 c);
+
+// Body b of snapshot s: the force the run records on it (the sum of its contacts', as the engine's
+// body_force) and the fields' account of it over the box around its outline, the kernel's cut-off plus
+// `margin` out, with the other bodies' push on the grains inside (their contacts' forces times the part
+// of their kernels the box holds) added back: -int b over the box is the body's force less that push.
+struct BodyBalance {
+  Vec2 recorded, exact, quasi_static, inertia;  // N/m
+};
+BodyBalance body_balance(const Grid& g, const Kernel& k, const StressFields& f, const Snapshot& s, int b,
+                         double margin, Vec2 gravity);
+
 }  // namespace dem2d::analysis

@@ -14,11 +14,11 @@ StressConfig load_stress_config(const std::string& path) {
   StageConfig g = f.table("grid");
   g.number("spacing_mm", c.spacing_mm, 0.0, 1000.0, "grid spacing, mm", StageConfig::Ends::open_low);
   g.reject_unknown();
-  StageConfig b = f.table("intruder");
-  b.number("box_margin_mm", c.box_margin_mm, 0.0, 1000.0, "the box around the intruder: its outline + the cut-off + this, mm");
-  b.number("min_load_n", c.min_load_n, 0.0, 1e9, "the drag check's snapshots: recorded |F_y| at least this, N per m depth");
-  b.number("drag_tolerance", c.drag_tolerance, 0.0, 1.0, "the drag check's relative tolerance",
-           StageConfig::Ends::open_low);
+  StageConfig b = f.table("body");
+  b.text("role", c.body_role, "the role of the body whose force the stress is checked against");
+  b.number("box_margin_mm", c.box_margin_mm, 0.0, 1000.0, "the box around the body: its outline + the cut-off + this, mm");
+  b.number("min_load_n", c.min_load_n, 0.0, 1e9, "the force check's snapshots: recorded |F_y| at least this, N per m depth");
+  b.number("tolerance", c.tolerance, 0.0, 1.0, "the force check's relative tolerance", StageConfig::Ends::open_low);
   b.reject_unknown();
   f.integer("every", c.every, 1, 1000000000, "every k-th snapshot (and the last)");
   f.integer("maps", c.maps, 0, 1000, "snapshots whose stress maps stress.h5 keeps");
@@ -29,7 +29,7 @@ StressConfig load_stress_config(const std::string& path) {
 nlohmann::ordered_json to_json(const StressConfig& c) {
   return {{"kernel", {{"w_over_d", c.w_over_d}, {"cutoff_over_w", c.cutoff_over_w}}},
           {"grid", {{"spacing_mm", c.spacing_mm}}},
-          {"intruder", {{"box_margin_mm", c.box_margin_mm}, {"min_load_n", c.min_load_n}, {"drag_tolerance", c.drag_tolerance}}},
+          {"body", {{"role", c.body_role}, {"box_margin_mm", c.box_margin_mm}, {"min_load_n", c.min_load_n}, {"tolerance", c.tolerance}}},
           {"every", c.every},
           {"maps", c.maps}};
 }

@@ -24,16 +24,17 @@ struct Setup {
   Grid grid;
   Kernel kernel;
   Cell cell;
-  double d = 0.0, margin = 0.0;  // mean diameter; the intruder box's margin beyond its outline (m)
+  double d = 0.0, margin = 0.0;  // mean diameter; the body's box's margin beyond its outline (m)
   Vec2 gravity;
-  int intruder = -1;  // body index, -1 none
+  int body = -1;      // the body of the force check (config body.role), -1 none
+  int intruder = -1;  // the intruder, -1 none
 };
 
 // What one snapshot gives.
 struct Measured {
-  bool box = false;              // the intruder's box was measured
-  double time = 0.0, height = kNaN;  // intruder centre above the floor (m)
-  Vec2 recorded, quasi_static, exact, inertia;  // N/m (NaN without an intruder)
+  bool box = false;                  // the body's box was measured
+  double time = 0.0, height = kNaN;  // the body's centre above the floor's face (m)
+  Vec2 recorded, quasi_static, exact, inertia;  // N/m (NaN without the body)
   std::optional<StressFields> fields;          // kept for the maps and the profile at rest
 };
 
@@ -42,52 +43,17 @@ Vec2 nan2() { return {kNaN, kNaN}; }
 // the fields' identity to quadrature, relative to the largest recorded load (a defect beyond it)
 constexpr double kExactResidualLimit = 1e-2;
 
-// int_box G(r - c) dA for a point c, on the nodes (the trapezoid rule of box_integral)
-double kernel_in_box(const Grid& g, const Kernel& k, double v_w, const NodeBox& b, Vec2 c) {
-  const double R = k.radius();
-  const Grid::Range cols = g.columns(c.x - k.radius(), c.x + k.radius()), rows = g.rows(c.y - k.radius(), c.y + k.radius());
-  double sum = 0.0;
-  for (std::size_t j = std::max(rows.first, b.j0); j < std::min(rows.last, b.j1 + 1); ++j)
-    for (std::size_t i = std::max(cols.first, b.i0); i < std::min(cols.last, b.i1 + 1); ++i) {
-      const double w = (i == b.i0 || i == b.i1 ? 0.5 : 1.0) * (j == b.j0 || j == b.j1 ? 0.5 : 1.0);
-      const double r = std::hypot(g.x(i) - c.x, g.y(j) - c.y);
-      if (r <= R) sum += w * k.inside(r, v_w);
-    }
-  return sum * g.dx * g.dx;
-}
-
 Measured measure(const Setup& su, const Snapshot& s, bool keep) {
   Measured m;
   m.time = s.time;
   StressFields f = coarse_grain_stress(su.grid, su.kernel, s);
   m.recorded = m.quasi_static = m.exact = m.inertia = nan2();
-  if (su.intruder >= 0) {
-    const Body& in = s.bodies[static_cast<std::size_t>(su.intruder)];
+  if (su.body >= 0) {
+    const Body& in = s.bodies[static_cast<std::size_t>(su.body)];
     m.height = in.centre().y - su.cell.floor;
-    const double reach = su.kernel.radius() + su.margin;
-    const NodeBox box = node_box(su.grid, in.xmin() - reach, in.xmax() + reach, in.ymin() - reach, in.ymax() + reach);
-    const BodyForce F = body_force(su.grid, f, box, su.gravity);
-    // the other bodies' push on the grains inside the box (walls, floor: the parts of their contacts' kernels
-    // the box holds), and the
-    // force the run records on the intruder, the sum of its contacts' (the engine's body_force at this step)
-    Vec2 others{0.0, 0.0}, rec{0.0, 0.0};
-    const double v_w = su.kernel.volume();
-    for (std::size_t c = 0; c < s.contacts.size(); ++c) {
-      if (s.contacts.j[c] >= 0) continue;
-      const Vec2 Fc = contact_force(s.contacts, c);
-      if (-1 - s.contacts.j[c] == su.intruder) {
-        rec.x -= Fc.x, rec.y -= Fc.y;
-        continue;
-      }
-      const double share = kernel_in_box(su.grid, su.kernel, v_w, box, contact_point(s, c));
-      others.x += share * Fc.x, others.y += share * Fc.y;
-    }
+    const BodyBalance F = body_balance(su.grid, su.kernel, f, s, su.body, su.margin, su.gravity);
     m.box = true;
-    m.recorded = rec;
-    // -int b over the box is the intruder's force less the other bodies' push on the grains inside
-    m.exact = {F.exact.x + others.x, F.exact.y + others.y};
-    m.quasi_static = {F.quasi_static.x + others.x, F.quasi_static.y + others.y};
-    m.inertia = F.inertia;
+    m.recorded = F.recorded, m.exact = F.exact, m.quasi_static = F.quasi_static, m.inertia = F.inertia;
   }
   if (keep) m.fields = std::move(f);
   return m;
@@ -99,11 +65,13 @@ Setup setup(const RunFileSource& source, const Snapshot& s0, const StressConfig&
   su.cell = find_cell(s0);
   su.d = mean_active_diameter(s0);
   su.intruder = s0.find_role("intruder");
+  su.body = s0.find_role(c.body_role);
+  if (su.body < 0 && c.body_role != "intruder") throw StageError(s0.no_body_with_role(c.body_role));
   su.gravity = {run.parameters().gx, run.parameters().gy};
   su.margin = c.box_margin_mm / kMm;
   const double dx = c.spacing_mm / kMm;
   su.kernel = make_kernel(c.w_over_d * su.d, c.cutoff_over_w);
-  // the cell widened by the kernel's reach, so that a box around the intruder holds its contacts' kernels
+  // the cell widened by the kernel's reach, so that a box around the body holds its contacts' kernels
   // even beside a wall or the floor (the fields beyond a face are the grains' kernels reaching through it)
   double top = su.cell.floor;
   for (std::size_t i = 0; i < s0.size(); ++i)
@@ -131,11 +99,11 @@ double shear(const StressFields& f, std::size_t n) {
   return std::hypot(0.5 * (f.total(kXX, n) - f.total(kYY, n)), 0.5 * (f.total(kXY, n) + f.total(kYX, n)));
 }
 
-// The stress's force on the intruder against the recorded one, over the snapshots with a load: their
+// The stress's force on the body against the recorded one, over the snapshots with a load: their
 // means (the grains' acceleration in the box averages out over a pull-off, its momentum does not grow),
 // three-valued with the difference's standard error: holds if |mean difference| + 2 SE is within the
 // tolerance, fails if |mean difference| - 2 SE is beyond it, undetermined between (more snapshots)
-json drag_check(const std::vector<Measured>& ms, const StressConfig& c, bool intruder) {
+json force_check(const std::vector<Measured>& ms, const StressConfig& c, bool has_body) {
   double peak = 0.0, exact_err = 0.0, pooled = 0.0, inertia = 0.0, load = 0.0;
   std::vector<double> diff, rec;
   for (const Measured& m : ms) {
@@ -162,7 +130,7 @@ json drag_check(const std::vector<Measured>& ms, const StressConfig& c, bool int
   json j;
   j["snapshots_used"] = n;
   j["min_load_n"] = c.min_load_n;
-  j["tolerance"] = c.drag_tolerance;
+  j["tolerance"] = c.tolerance;
   j["mean_recorded_n"] = mr;
   j["mean_stress_n"] = n > 0 ? mr + md : kNaN;
   j["mean_relative_error"] = n > 0 ? std::abs(md / mr) : kNaN;
@@ -172,9 +140,9 @@ json drag_check(const std::vector<Measured>& ms, const StressConfig& c, bool int
   // second order in the grid spacing: 1.6e-3 at 1 mm, 4.1e-4 at 0.5 mm (the quick run)
   j["exact_residual"] = peak > 0.0 ? exact_err / peak : kNaN;
   std::string verdict = "undetermined", why;
-  const double band = c.drag_tolerance * std::abs(mr);
-  if (!intruder) {
-    why = "the run has no body with role 'intruder'";
+  const double band = c.tolerance * std::abs(mr);
+  if (!has_body) {
+    why = "the run has no body with role '" + c.body_role + "'";
   } else if (n < 2) {
     why = "fewer than 2 snapshots with a recorded load of min_load_n or more";
   } else if (!(j["exact_residual"].get<double>() <= kExactResidualLimit)) {
@@ -237,7 +205,8 @@ StressResult run_stress(const std::string& run_path, const std::string& config_p
   m["kernel_w_mm"] = su.kernel.w * kMm;
   m["grid"] = {{"nx", g.nx}, {"ny", g.ny}, {"spacing_mm", g.dx * kMm}};
   m["intruder"] = su.intruder >= 0;
-  m["drag_check"] = drag_check(ms, cfg, su.intruder >= 0);
+  m["body_role"] = cfg.body_role;
+  m["force_check"] = force_check(ms, cfg, su.body >= 0);
   // the bed at rest: pressure and lateral ratio K = sigma_xx / sigma_yy at the intruder's first height, mean
   // over the middle half of the cell
   const StressFields& rest = maps.front();
@@ -249,8 +218,9 @@ StressResult run_stress(const std::string& run_path, const std::string& config_p
     for (std::size_t i = mid.first; i < mid.last; ++i) sxx[j] += rest.total(kXX, g.at(i, j)), syy[j] += rest.total(kYY, g.at(i, j));
     sxx[j] /= static_cast<double>(mid.last - mid.first), syy[j] /= static_cast<double>(mid.last - mid.first);
   }
-  if (su.intruder >= 0 && std::isfinite(ms.front().height)) {
-    const Grid::Range row = g.rows(su.cell.floor + ms.front().height, 1e300);
+  if (su.intruder >= 0) {
+    const Body& in = s0.bodies[static_cast<std::size_t>(su.intruder)];
+    const Grid::Range row = g.rows(in.centre().y, 1e300);
     const std::size_t j = std::min(row.first, g.ny - 1);
     m["rest_pressure_at_intruder_pa"] = 0.5 * (sxx[j] + syy[j]);
     m["rest_lateral_ratio_at_intruder"] = syy[j] != 0.0 ? sxx[j] / syy[j] : kNaN;
@@ -273,14 +243,15 @@ StressResult run_stress(const std::string& run_path, const std::string& config_p
   std::vector<std::int64_t> snap(ks.begin(), ks.end());
   h.add("series/snapshot", snap, "-", "snapshot index in the run file");
   h.add("series/time", column([](const Measured& x) { return x.time; }), "s", "time");
-  h.add("series/intruder_height", column([](const Measured& x) { return x.height; }), "m",
-        "intruder centre above the floor's face (NaN without an intruder)");
+  h.add("series/body_height", column([](const Measured& x) { return x.height; }), "m",
+        "the body's centre (role " + cfg.body_role + ") above the floor's face (NaN without it)");
+  h.note("body_role", cfg.body_role);
   const auto pair = [&](const char* name, Vec2 Measured::*v, const char* what) {
     std::vector<double> out;
     for (const Measured& x : ms) out.push_back((x.*v).x), out.push_back((x.*v).y);
     h.add(std::string("series/") + name, out, "N/m", what, {ms.size(), 2});
   };
-  pair("force_recorded", &Measured::recorded, "the grains' force on the intruder, the sum of its contacts' (the run's body_force at this step)");
+  pair("force_recorded", &Measured::recorded, "the grains' force on the body, the sum of its contacts' (the run's body_force at this step)");
   pair("force_stress", &Measured::quasi_static,
        "the same from the stress: - oint (sigma_c + sum m v v G) . n + int rho g - the other bodies' push, over the box");
   pair("force_exact", &Measured::exact, "- oint sigma_c . n - int net - the other bodies' push: the fields' identity");

@@ -1,7 +1,8 @@
 // Stage `stress`: the coarse-grained stress of a run (stress_field.hpp) on a
 // grid over the cell, its maps at a few snapshots, the stress profile of the
-// bed at rest, and the force the stress carries onto the intruder against the
-// force the run records (stress_balance.hpp). Definitions:
+// bed at rest, and the force the stress carries onto a body (the intruder,
+// or the body of the config's role) against the force the run records
+// (stress_balance.hpp). Definitions:
 // analysis/stress/README.md. SI units (Pa: N/m per m of depth; N/m).
 #pragma once
 

@@ -15,7 +15,7 @@ def maps(inp):
         snap = f.read("maps/snapshot")
         p, s = f.read("maps/pressure"), f.read("maps/shear")
         left, right, floor = (f.attr(k) * MM for k in ("cell_left", "cell_right", "cell_floor"))
-        series_snap, height = f.read("series/snapshot"), f.read("series/intruder_height") * MM
+        series_snap, height = f.read("series/snapshot"), f.read("series/body_height") * MM
     if len(snap) == 0:
         raise NoData("stress.h5 keeps no maps (stress.toml: maps = 0)")
     show = [q for q in np.linspace(0, len(snap) - 1, min(4, len(snap))).round().astype(int)]
@@ -26,7 +26,7 @@ def maps(inp):
     rows = y >= floor
     for col, q in enumerate(show):
         k = int(np.searchsorted(series_snap, snap[q]))
-        h = height[k] if k < len(height) else np.nan
+        h = height[k] if k < len(height) and m["body_role"] == "intruder" else np.nan
         for row, (field, vmax, label) in enumerate(((p, top, "pressure (Pa)"), (s, stop, "shear (Pa)"))):
             ax = axes[row][col]
             im = ax.imshow(field[q][np.ix_(rows, inside)], origin="lower", vmin=0, vmax=vmax, cmap="magma",
@@ -42,20 +42,20 @@ def maps(inp):
     return fig, caption
 
 
-def drag(inp):
+def force(inp):
     m = inp.metrics("stress")
-    c = m["drag_check"]
+    c, body = m["force_check"], m["body_role"]
     with inp.h5("stress", "stress.h5") as f:
-        h = f.read("series/intruder_height") * MM
+        h = f.read("series/body_height") * MM
         rec, st = f.read("series/force_recorded")[:, 1], f.read("series/force_stress")[:, 1]
-    if not m["intruder"]:
-        raise NoData("the run has no intruder")
+    if c["snapshots_used"] == 0:
+        raise NoData(f"no snapshot with a load on the body of role '{body}'")
     fig, ax = plt.subplots(figsize=(8, 4.5), constrained_layout=True)
-    ax.plot(h, -rec, ".-", ms=2, lw=0.6, color="0.3", label="recorded: the intruder's contacts")
+    ax.plot(h, -rec, ".-", ms=2, lw=0.6, color="0.3", label=f"recorded: the {body}'s contacts")
     ax.plot(h, -st, ".", ms=3, color="#d62728", alpha=0.7, label="from the stress around it (quasi-static)")
-    ax.set(xlabel="intruder height H (mm)", ylabel="downward force on the intruder (N/m)")
+    ax.set(xlabel=f"{body} height H (mm)", ylabel=f"downward force on the {body} (N/m)")
     ax.legend(loc="upper right")
-    caption = (f"The grains' vertical force on the intruder, recorded (the sum of its contacts' forces) and "
+    caption = (f"The grains' vertical force on the {body}, recorded (the sum of its contacts' forces) and "
                f"carried by the coarse-grained stress on a box around it plus the weight inside "
                f"(stress/stress.h5 /series). Means over {c['snapshots_used']} snapshots: "
                f"{c['mean_stress_n']:.3g} against {c['mean_recorded_n']:.3g} N/m "

@@ -66,9 +66,9 @@ def janssen(ctx) -> list:
     for n in ctx.config["janssen"]["grains"]:
         height = n * D_MAX * D_MAX / width * 1.3 + 0.01
         region = [[0.0, 0.0], [width, 0.0], [width, height], [0.0, height]]
-        bodies = [wall("floor", (-1e-3, -1e-3), (width + 1e-3, -1e-3), velocity=[0.0, -sink]),
-                  wall("left", (-1e-3, -0.01), (-1e-3, height + 0.01)),
-                  wall("right", (width + 1e-3, -0.01), (width + 1e-3, height + 0.01))]
+        bodies = [wall("floor", (-1e-3, -1e-3), (width + 1e-3, -1e-3), velocity=[0.0, -sink], role="floor"),
+                  wall("left", (-1e-3, -0.01), (-1e-3, height + 0.01), role="left_wall"),
+                  wall("right", (width + 1e-3, -0.01), (width + 1e-3, height + 0.01), role="right_wall")]
         s = scene("janssen", n, region, bodies, duration)
         s["effects"]["moving_bodies"] = True
         r = run(ctx.dem2d, s, ctx.out / "bulk" / f"janssen_{n}")
@@ -86,7 +86,9 @@ def janssen(ctx) -> list:
     rms = float(np.sqrt(np.mean(((m_app - fit) / m_app) ** 2)))
     rho_b = float(m[-1] / (width * top[-1]))  # the tallest column's bulk density (kg/m^3)
     k = rho_b * width ** 2 / (2 * mu_w * m_sat)
-    ctx.figures["janssen"] = {"mass": m.tolist(), "floor": m_app.tolist(), "m_sat": m_sat}
+    ctx.figures["janssen"] = {"mass": m.tolist(), "floor": m_app.tolist(), "m_sat": m_sat, "width": width, "rho_b": rho_b,
+                              "tallest_run": str(ctx.out / "bulk" / f"janssen_{ctx.config['janssen']['grains'][-1]}"),
+                              "tallest_top": float(top[-1])}
     phi = math.atan(0.5)  # grains' friction angle: Rankine's bounds of K
     ka, kp = (1 - math.sin(phi)) / (1 + math.sin(phi)), (1 + math.sin(phi)) / (1 - math.sin(phi))
     case = f"Janssen: {len(m)} fills of a {1e3 * width:.0f} mm silo (mu_w = {mu_w})"

@@ -91,7 +91,17 @@ def numerics(f: dict, path: Path) -> None:
 def bulk(f: dict, path: Path) -> None:
     if not any(k in f for k in ("janssen", "beverloo", "repose")):
         return
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
+    fig, axes = plt.subplots(1, 4, figsize=(20, 4.2))
+    if "janssen_stress" in f:
+        j, ax = f["janssen_stress"], axes[3]
+        depth = 1e3 * np.array(j["depth"])
+        ax.plot(depth, j["sigma_yy"], "o-", ms=3, label="sigma_yy, mean across the silo (stage stress)")
+        ax.plot(depth, j["janssen"], "-", label="Janssen with the floor loads' M_sat")
+        ax.set(xlabel="depth below the surface (mm)", ylabel="vertical stress (Pa)", title="the tallest column's stress")
+        k = ax.twinx()
+        k.plot(depth, j["K"], "k:", lw=1)
+        k.set_ylabel("K = sigma_xx / sigma_yy (dotted)")
+        ax.legend(fontsize=8, loc="lower right")
     if "janssen" in f:
         j, ax = f["janssen"], axes[0]
         m = np.linspace(0, max(j["mass"]), 100)

@@ -94,6 +94,18 @@ def run(dem2d: str, scene: dict, out: Path, extra_args=()) -> Run:
     return Run(out)
 
 
+def run_stage(dem2d: str, name: str, run_file: Path, out: Path, config: Path) -> None:
+    """The analysis stage `name` of dem2d's build tree (build/<tree>/analysis/<name>) on run_file, into
+    out/; raises on failure."""
+    program = Path(dem2d).resolve().parents[1] / "analysis" / name
+    if not program.is_file():
+        raise FileNotFoundError(f"{program}: build the tree first (make build)")
+    cmd = [str(program), str(run_file), "--out", str(out), "--config", str(config), "--threads", "1"]
+    done = subprocess.run(cmd, capture_output=True, text=True)
+    if done.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} failed ({done.returncode}):\n{done.stderr[-2000:]}")
+
+
 def check(dem2d: str, scene: dict, out: Path) -> dict:
     """`dem2d check --json` of a scene (its stability limit, damping ratio ...)."""
     out.mkdir(parents=True, exist_ok=True)

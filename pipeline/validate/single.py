@@ -95,9 +95,11 @@ def static_pile(ctx) -> list:
              "output": {"series_interval": 0.01},
              "generator": [{"kind": "triangular_lattice", "count": n, "seed": 3, "diameter": {"min": 2e-3, "max": 4e-3},
                             "region": [[0.0, 0.0], [width, 0.0], [width, 0.25], [0.0, 0.25]], "spacing": pitch}],
-             "body": [{"name": "floor", "a": [-1e-3, -1e-3], "b": [width + 1e-3, -1e-3], "thickness": 2e-3},
-                      {"name": "left", "a": [-1e-3, -1e-3], "b": [-1e-3, 0.3], "thickness": 2e-3},
-                      {"name": "right", "a": [width + 1e-3, -1e-3], "b": [width + 1e-3, 0.3], "thickness": 2e-3}]}
+             "body": [{"name": "floor", "a": [-1e-3, -1e-3], "b": [width + 1e-3, -1e-3], "thickness": 2e-3,
+                       "role": "floor"},
+                      {"name": "left", "a": [-1e-3, -1e-3], "b": [-1e-3, 0.3], "thickness": 2e-3, "role": "left_wall"},
+                      {"name": "right", "a": [width + 1e-3, -1e-3], "b": [width + 1e-3, 0.3], "thickness": 2e-3,
+                       "role": "right_wall"}]}
     r = run(ctx.dem2d, scene, ctx.out / "single" / "pile")
     weight = float(r.read("particles/mass").sum()) * G
     force = r.read("series/body_force")[-1]  # [body, 2]: what the grains exert on each body (N/m)

@@ -24,6 +24,7 @@ import impacts  # noqa: E402
 import numerics  # noqa: E402
 import plots  # noqa: E402
 import single  # noqa: E402
+import stress  # noqa: E402
 from checks import Check  # noqa: E402
 from files import fail, read_toml, write_atomic  # noqa: E402
 
@@ -32,10 +33,10 @@ from files import fail, read_toml, write_atomic  # noqa: E402
 CASES = {
     "impacts_normal": ("Chung & Ooi 1-3: normal impacts", [impacts.normal]),
     "impacts_oblique": ("Chung & Ooi 4-8: oblique impacts with spin", [impacts.oblique_wall, impacts.oblique_pair]),
-    "single": ("single grains and a pile at rest", [single.slide_to_roll, single.incline, single.static_pile]),
+    "single": ("single grains and a pile at rest", [single.slide_to_roll, single.incline, single.static_pile, stress.pile]),
     "numerics_gas": ("integrator: energy error order, ledger closure", [numerics.elastic_gas]),
     "numerics_stability": ("integrator: dense-packing stability limit", [numerics.stability_limit]),
-    "janssen": ("bulk: Janssen saturation in a 2D silo", [bulk.janssen]),
+    "janssen": ("bulk: Janssen saturation in a 2D silo, and its stress", [bulk.janssen, stress.janssen]),
     "beverloo": ("bulk: Beverloo's 2D discharge law", [bulk.beverloo]),
     "repose": ("bulk: angle of repose against mu and mu_r", [bulk.repose]),
     "detectors": ("planted truth: the analyses' detectors", [detectors.planted]),

@@ -123,6 +123,7 @@ Settings load_settings(const std::string& path, bool quick) {
     t.numbers("percolation_lapse", s.percolation_lapse, 0.0, 1.0, "fraction of snapshots", analysis::StageConfig::Ends::open_high);
     t.numbers("spurious_strong", s.spurious_strong, 0.0, 1.0, "fraction of contacts");
     t.numbers("keystone_fractions", s.keystone_fractions, 0.0, 1.0, "fraction of ruptures");
+    t.numbers("stress_force_scatter", s.stress_force_scatter, 0.0, 10.0, "rms, x each contact's force");
     t.reject_unknown();
   };
   read(file.table("full"));

@@ -1,7 +1,7 @@
 // The planted-truth suite: each detector of the analysis stages is run,
 // unchanged, on synthetic input whose answer is known (a planted rupture
 // spacing, size distribution, top layer, cone angle, wall-mobility length,
-// dilatancy, percolation loss, keystone ejections), over replicas and noise
+// dilatancy, percolation loss, keystone ejections, stress), over replicas and noise
 // levels; every case states its tolerance here, next to what it checks, and
 // cases with nothing planted must come back "none". What is swept (noise
 // levels, planted values, replicas): data/planted.toml.
@@ -109,6 +109,7 @@ struct Settings {
   std::vector<double> percolation_lapse{0.3, 0.5};  // percolation loss's power: fraction of snapshots without arches
   std::vector<double> spurious_strong{0.0, 0.05, 0.1};  // fraction of contacts made strong at random
   std::vector<double> keystone_fractions{0.0, 0.5, 1.0};
+  std::vector<double> stress_force_scatter{0.0, 0.2, 0.5};  // each contact's force scattered, rms x its value
 };
 Settings load_settings(const std::string& path, bool quick);
 
@@ -117,5 +118,6 @@ Settings load_settings(const std::string& path, bool quick);
 std::vector<Row> drag_cases(const Settings& s, const std::string& data_dir);
 std::vector<Row> cg_cases(const Settings& s, const std::string& data_dir);
 std::vector<Row> network_cases(const Settings& s, const std::string& data_dir);
+std::vector<Row> stress_cases(const Settings& s, const std::string& data_dir);
 
 }  // namespace dem2d::planted
