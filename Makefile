@@ -114,7 +114,7 @@ $(call check_count,PROGRESS,1,86400)
 
 # Debian's packages for building and running the study; the tests' own (pytest, ParaView's Python)
 DEBIAN_PACKAGES := g++ cmake make pkg-config git \
-  libeigen3-dev libboost-graph-dev libfftw3-dev libhdf5-dev \
+  libeigen3-dev libboost-graph-dev libfftw3-dev libhdf5-dev libcairo2-dev \
   libgtest-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev \
   python3-h5py python3-numpy python3-matplotlib python3-markdown
 TEST_PACKAGES := python3-pytest python3-paraview xvfb

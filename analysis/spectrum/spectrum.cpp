@@ -1,5 +1,6 @@
 #include "spectrum/spectrum.hpp"
 
+#include "common/fftw_lock.hpp"
 #include "common/normal.hpp"
 
 #include <fftw3.h>
@@ -38,26 +39,19 @@ std::string num(double v, const char* unit = "") {
 }
 std::string mm(double m) { return num(1e3 * m, " mm"); }
 
-// FFTW's planner is not thread-safe (fftw_execute is): plans are made and
-// destroyed one at a time, so that analyses may run side by side.
-std::mutex& fftw_planner() {
-  static std::mutex m;
-  return m;
-}
-
 // A real-to-complex FFTW plan of size n with its own aligned buffers.
 class RealFft {
  public:
   explicit RealFft(std::size_t n) : n_(n), in_(fftw_alloc_real(n)), out_(fftw_alloc_complex(n / 2 + 1)) {
     {
-      const std::lock_guard<std::mutex> lock(fftw_planner());
+      const std::lock_guard<std::mutex> lock(fftw_planner_lock());
       plan_ = fftw_plan_dft_r2c_1d(static_cast<int>(n), in_, out_, FFTW_ESTIMATE);
     }
     if (!in_ || !out_ || !plan_) throw std::runtime_error("FFTW: cannot plan a transform of size " + std::to_string(n));
   }
   ~RealFft() {
     {
-      const std::lock_guard<std::mutex> lock(fftw_planner());
+      const std::lock_guard<std::mutex> lock(fftw_planner_lock());
       fftw_destroy_plan(plan_);
     }
     fftw_free(in_);
