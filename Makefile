@@ -175,24 +175,16 @@ $(SANITIZE_BUILD)/CMakeCache.txt: | needs
 	cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1" \
 	  -DDEM2D_SANITIZE=ON -DDEM2D_KERNEL_SETS=$(abspath tests/sanitize_kernel_sets.inc) -DDEM2D_PYTHON=$(PYTHON)
 
-# The ASan+UBSan build compiles beside the optimised build's tests at the
-# lowest priority, taking what they leave idle (the cluster test's waits, a
-# test's serial part), from when the optimised build is done. At normal
-# priority it stretched those tests from 449 to 957 s in a clean clone: their
-# multi-threaded runs wait at every step for the threads a compiler holds.
-# When the tests end it is stopped (make removes a half-written object) and
-# test-sanitize finishes it at normal priority: at the lowest, beside other
-# work that kept the cores busy, it starved (~1 % of a core). Its own process
-# group (set -m: job control) to stop it by, not its own session: Linux gives
-# each session a fair share of the cores whatever its priority (autogroups),
-# and with setsid it took half of them from the tests (planted cg 245 -> 540 s).
+# The optimised build and its tests, then the ASan+UBSan build and its tests,
+# one after the other, each at the full -j. Every phase keeps both cores busy
+# (the optimised tests: 0.7 % idle), so nothing runs beside another: the
+# ASan+UBSan build compiling beside the optimised tests, even at the lowest
+# priority, stretched them from 400 to 486 s in a clean clone and itself got
+# ~40 processor-s done; at normal priority, 449 -> 957 s (their multi-threaded
+# runs wait at every step for the threads a compiler holds).
 test: needs-test build-tests $(SANITIZE_BUILD)/CMakeCache.txt
-	@echo "make: building $(SANITIZE_BUILD) meanwhile at the lowest priority (log: $(SANITIZE_BUILD)/build_beside.log)"
-	@set -m; nice -n 19 cmake --build $(SANITIZE_BUILD) -j $(JOBS) >$(SANITIZE_BUILD)/build_beside.log 2>&1 & beside=$$!; set +m; \
-	  trap 'kill -TERM -- -$$beside 2>/dev/null' EXIT INT TERM; \
-	  $(MAKE) --no-print-directory test-release || exit $$?; \
-	  kill -TERM -- -$$beside 2>/dev/null; wait $$beside; \
-	  $(MAKE) --no-print-directory test-sanitize
+	@$(MAKE) --no-print-directory test-release
+	@$(MAKE) --no-print-directory test-sanitize
 
 # ctest's output kept beside the build; tests/ctest_summary.sh prints the
 # counts and fails on a failed, skipped or not-run test (a skip proves nothing).
