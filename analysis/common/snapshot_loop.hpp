@@ -78,6 +78,8 @@ std::vector<T> column_of(const std::vector<Result>& results, Get get) {
 
 // Snapshot indices 0, every, 2 every, ... and the last one (every >= 1).
 std::vector<std::size_t> every_kth(std::size_t snapshots, std::size_t every);
+// `count` of the snapshot indices ks, evenly spread, the first and last included.
+std::vector<std::size_t> spread_over(const std::vector<std::size_t>& ks, std::size_t count);
 
 // Every snapshot of the run: 0, 1, ..., S - 1.
 inline std::vector<std::size_t> all_snapshots(const SnapshotSource& run) {

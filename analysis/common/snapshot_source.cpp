@@ -45,6 +45,16 @@ std::vector<Body> MemorySource::body_track(std::size_t b) const {
   return out;
 }
 
+std::vector<std::size_t> spread_over(const std::vector<std::size_t>& ks, std::size_t count) {
+  std::vector<std::size_t> out;
+  if (count == 0 || ks.empty()) return out;
+  for (std::size_t q = 0; q < count; ++q) {
+    const std::size_t at = count == 1 ? 0 : q * (ks.size() - 1) / (count - 1);
+    if (out.empty() || out.back() != ks[at]) out.push_back(ks[at]);
+  }
+  return out;
+}
+
 std::vector<std::size_t> every_kth(std::size_t snapshots, std::size_t every) {
   std::vector<std::size_t> out;
   if (snapshots == 0) return out;

@@ -143,11 +143,24 @@ void Predictor::at(double x, double y, double& u, double& v) const {
   u = lerp(g.u), v = lerp(g.v);
 }
 
-VectorField piv(const Image& a, const Image& b, const Mask& mask, const PivSettings& s, int threads, int* passes) {
-  if (a.width != b.width || a.height != b.height)
-    throw std::invalid_argument("PIV: images of " + std::to_string(a.width) + " x " + std::to_string(a.height) + " and " +
-                                std::to_string(b.width) + " x " + std::to_string(b.height) + " px");
+VectorField piv(const Image& raw_a, const Image& raw_b, const Mask& mask, const PivSettings& s, int threads, int* passes) {
+  if (raw_a.width != raw_b.width || raw_a.height != raw_b.height)
+    throw std::invalid_argument("PIV: images of " + std::to_string(raw_a.width) + " x " + std::to_string(raw_a.height) + " and " +
+                                std::to_string(raw_b.width) + " x " + std::to_string(raw_b.height) + " px");
+  const Image a = highpass(raw_a, s.highpass_px), b = highpass(raw_b, s.highpass_px);
   if (s.windows.empty()) throw std::invalid_argument("PIV: no pass");
+  // the deformation is needed only where a window can be measured: within the largest window of an
+  // unmasked pixel (a window more than half masked gives no vector)
+  std::size_t c0 = 0, c1 = a.width, r0 = 0, r1 = a.height;
+  if (!mask.px.empty()) {
+    c0 = a.width, c1 = 0, r0 = a.height, r1 = 0;
+    for (std::size_t j = 0; j < a.height; ++j)
+      for (std::size_t i = 0; i < a.width; ++i)
+        if (!mask.at(i, j)) c0 = std::min(c0, i), c1 = std::max(c1, i + 1), r0 = std::min(r0, j), r1 = std::max(r1, j + 1);
+    const auto reach = static_cast<std::size_t>(*std::max_element(s.windows.begin(), s.windows.end()));
+    c0 = c0 > reach ? c0 - reach : 0, r0 = r0 > reach ? r0 - reach : 0;
+    c1 = std::min(a.width, c1 + reach), r1 = std::min(a.height, r1 + reach);
+  }
   std::unique_ptr<Predictor> predictor;
   VectorField f;
   Image da, db;  // the images deformed by the predictor
@@ -161,10 +174,10 @@ VectorField piv(const Image& a, const Image& b, const Mask& mask, const PivSetti
     const Image* ia = &a;
     const Image* ib = &b;
     if (predictor) {
-      da = Image(a.width, a.height), db = Image(a.width, a.height);
+      da = a, db = b;
 #pragma omp parallel for schedule(static) num_threads(threads)
-      for (std::size_t j = 0; j < a.height; ++j)
-        for (std::size_t i = 0; i < a.width; ++i) {
+      for (std::size_t j = r0; j < r1; ++j)
+        for (std::size_t i = c0; i < c1; ++i) {
           const double x = static_cast<double>(i), y = static_cast<double>(j);
           double u, v;
           predictor->at(x, y, u, v);

@@ -19,6 +19,12 @@ struct Image {
   double sample(double x, double y) const;
 };
 
+// The image convolved with a Gaussian of sigma px (separable, the edge pixels repeated beyond it).
+Image gaussian_blur(const Image& im, double sigma);
+// The image less its Gaussian blur of sigma px: the beads' slow shading removed, their edges and
+// highlights kept (PIVlab's high-pass pre-processing). sigma <= 0: the image unchanged.
+Image highpass(const Image& im, double sigma);
+
 // Pixels excluded from PIV (the intruder and what is not granular): 1 excluded.
 struct Mask {
   std::size_t width = 0, height = 0;

@@ -10,32 +10,6 @@
 
 namespace dem2d::analysis {
 
-namespace {
-
-// Gaussian blur of sigma px, separable, edges repeated
-void blur(Image& im, double sigma) {
-  const int r = static_cast<int>(std::ceil(3.0 * sigma));
-  std::vector<double> k(2 * r + 1);
-  double sum = 0.0;
-  for (int i = -r; i <= r; ++i) sum += k[i + r] = std::exp(-0.5 * i * i / (sigma * sigma));
-  for (double& v : k) v /= sum;
-  const long W = static_cast<long>(im.width), H = static_cast<long>(im.height);
-  Image tmp(im.width, im.height);
-  for (long j = 0; j < H; ++j)
-    for (long i = 0; i < W; ++i) {
-      double s = 0.0;
-      for (int q = -r; q <= r; ++q) s += k[q + r] * im.at(static_cast<std::size_t>(std::clamp(i + q, 0L, W - 1)), static_cast<std::size_t>(j));
-      tmp.at(static_cast<std::size_t>(i), static_cast<std::size_t>(j)) = static_cast<float>(s);
-    }
-  for (long j = 0; j < H; ++j)
-    for (long i = 0; i < W; ++i) {
-      double s = 0.0;
-      for (int q = -r; q <= r; ++q) s += k[q + r] * tmp.at(static_cast<std::size_t>(i), static_cast<std::size_t>(std::clamp(j + q, 0L, H - 1)));
-      im.at(static_cast<std::size_t>(i), static_cast<std::size_t>(j)) = static_cast<float>(s);
-    }
-}
-
-}  // namespace
 
 Image render(const View& view, const CameraSettings& c, std::span<const Vec2> position, std::span<const double> diameter,
              std::span<const std::uint8_t> active, unsigned seed) {
@@ -75,7 +49,7 @@ Image render(const View& view, const CameraSettings& c, std::span<const Vec2> po
   }
   cairo_destroy(cr);
   cairo_surface_destroy(surface);
-  if (c.blur_px > 0.0) blur(im, c.blur_px);
+  if (c.blur_px > 0.0) im = gaussian_blur(im, c.blur_px);
   if (c.light_falloff != 0.0 || c.noise > 0.0) {
     std::mt19937 rng(seed);
     std::normal_distribution<double> n(0.0, c.noise > 0.0 ? c.noise : 1.0);

@@ -81,17 +81,6 @@ Setup setup(const RunFileSource& source, const Snapshot& s0, const StressConfig&
   return su;
 }
 
-// `count` of the snapshot indices ks, evenly spread, the first and last included
-std::vector<std::size_t> spread_over(const std::vector<std::size_t>& ks, std::size_t count) {
-  std::vector<std::size_t> out;
-  if (count == 0 || ks.empty()) return out;
-  for (std::size_t q = 0; q < count; ++q) {
-    const std::size_t at = count == 1 ? 0 : q * (ks.size() - 1) / (count - 1);
-    if (out.empty() || out.back() != ks[at]) out.push_back(ks[at]);
-  }
-  return out;
-}
-
 // pressure (sigma_xx + sigma_yy)/2 and shear, the symmetric deviator's magnitude
 // sqrt(((sigma_xx - sigma_yy)/2)^2 + ((sigma_xy + sigma_yx)/2)^2), of the whole stress
 double pressure(const StressFields& f, std::size_t n) { return 0.5 * (f.total(kXX, n) + f.total(kYY, n)); }

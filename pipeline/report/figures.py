@@ -2,7 +2,7 @@
 
     /usr/bin/python3 pipeline/report/figures.py RESULTS_DIR      (e.g. results/default)
 
-Reads the stage outputs RESULTS_DIR/{fill,pulloff,spectrum,cg,network,friction,stress}/,
+Reads the stage outputs RESULTS_DIR/{fill,pulloff,spectrum,cg,network,friction,stress,piv}/,
 writes RESULTS_DIR/figures/*.png and, last, RESULTS_DIR/figures/index.json
 (file, figure, title, caption per PNG); every file is written under a
 temporary name and renamed. Exit status: 0 done; 2 an input is missing or
@@ -24,6 +24,7 @@ import fig_drag  # noqa: E402
 import fig_friction  # noqa: E402
 import fig_network  # noqa: E402
 import fig_percolation  # noqa: E402
+import fig_piv  # noqa: E402
 import fig_spectrum  # noqa: E402
 import fig_stress  # noqa: E402
 import fig_velocity  # noqa: E402
@@ -57,6 +58,10 @@ FIGURES = [
      lambda c: fig_stress.maps(c.inp)),
     ("stress_force.png", "Stress balance (no paper figure)", "The force on the intruder from the stress around it",
      lambda c: fig_stress.force(c.inp)),
+    ("piv_maps.png", "Fig. 10a/10b", "Synthetic PIV beside coarse-graining, the intruder's frame",
+     lambda c: fig_piv.maps(c.inp)),
+    ("piv_frame.png", "Fig. 1c (camera)", "A rendered frame the PIV reads",
+     lambda c: fig_piv.frame(c.inp)),
     ("percolation_fabric.png", "Percolation and fabric (R4, R10, no paper figure)",
      "Force-network percolation and fabric anisotropy against height",
      lambda c: fig_percolation.percolation(c.inp)),

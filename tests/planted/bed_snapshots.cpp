@@ -266,6 +266,13 @@ analysis::MemorySource cone_run(const Bed& bed, const ConeScenario& c) {
         vstar = c.graded ? std::clamp(1.0 - 0.75 * beyond / reach, 0.0, 1.0) : beyond <= reach ? 1.0 : 0.0;
       const double nx = n.empty() ? gauss(rng) : n[i].x, ny = n.empty() ? gauss(rng) : n[i].y;
       v[i] = {c.noise * g.speed * nx, vstar * g.speed + c.noise * g.speed * ny};
+      if (moving && c.swirl > 0.0) {
+        const double R = c.swirl_radius_d * d, omega = c.swirl * g.speed / d;
+        for (const double side : {-1.0, 1.0}) {
+          const double cx = b.xc + side * (b.half + R), rx = p[i].x - cx, ry = p[i].y - b.yc;
+          if (std::hypot(rx, ry) < R) v[i].x += -side * omega * -ry, v[i].y += -side * omega * rx;
+        }
+      }
       disp[i] = {v[i].x * c.window, v[i].y * c.window};
     }
     Snapshot s = bed_snapshot(bed, p, t, k);

@@ -76,6 +76,9 @@ struct ConeScenario {
   double at_rest = 0.0;        // fraction of the snapshots (drawn at random) in which nothing moves
   bool moving = true;  // false: no cone, every grain at rest (but for the noise)
   bool graded = true;  // v* falling linearly across the cone's edge (else a step there)
+  // vortices beside the tips: the grains within swirl_radius_d mean diameters of a point that far outside
+  // each tip (at the intruder's centre height) turn about it at swirl x V / d, the two sides opposite ways
+  double swirl = 0.0, swirl_radius_d = 2.0;
   std::uint64_t seed = 1;
 };
 analysis::MemorySource cone_run(const Bed& bed, const ConeScenario& c);

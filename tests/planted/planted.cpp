@@ -124,6 +124,8 @@ Settings load_settings(const std::string& path, bool quick) {
     t.numbers("spurious_strong", s.spurious_strong, 0.0, 1.0, "fraction of contacts");
     t.numbers("keystone_fractions", s.keystone_fractions, 0.0, 1.0, "fraction of ruptures");
     t.numbers("stress_force_scatter", s.stress_force_scatter, 0.0, 10.0, "rms, x each contact's force");
+    t.number("piv_travel_mm", s.piv_travel_mm, 0.0, 1e3, "mm", analysis::StageConfig::Ends::open_low);
+    t.numbers("piv_swirl", s.piv_swirl, 0.0, 100.0, "x V / d", analysis::StageConfig::Ends::open_low);
     t.reject_unknown();
   };
   read(file.table("full"));

@@ -1,7 +1,7 @@
 // The planted-truth suite: each detector of the analysis stages is run,
 // unchanged, on synthetic input whose answer is known (a planted rupture
 // spacing, size distribution, top layer, cone angle, wall-mobility length,
-// dilatancy, percolation loss, keystone ejections, stress), over replicas and noise
+// dilatancy, percolation loss, keystone ejections, stress, the synthetic PIV's), over replicas and noise
 // levels; every case states its tolerance here, next to what it checks, and
 // cases with nothing planted must come back "none". What is swept (noise
 // levels, planted values, replicas): data/planted.toml.
@@ -110,6 +110,8 @@ struct Settings {
   std::vector<double> spurious_strong{0.0, 0.05, 0.1};  // fraction of contacts made strong at random
   std::vector<double> keystone_fractions{0.0, 0.5, 1.0};
   std::vector<double> stress_force_scatter{0.0, 0.2, 0.5};  // each contact's force scattered, rms x its value
+  double piv_travel_mm = 5.0;                // the piv family's frame pairs, one every this much travel
+  std::vector<double> piv_swirl{0.25, 1.0};  // planted vortices beside the tips, angular velocity x V / d
 };
 Settings load_settings(const std::string& path, bool quick);
 
@@ -119,5 +121,6 @@ std::vector<Row> drag_cases(const Settings& s, const std::string& data_dir);
 std::vector<Row> cg_cases(const Settings& s, const std::string& data_dir);
 std::vector<Row> network_cases(const Settings& s, const std::string& data_dir);
 std::vector<Row> stress_cases(const Settings& s, const std::string& data_dir);
+std::vector<Row> piv_cases(const Settings& s, const std::string& data_dir);
 
 }  // namespace dem2d::planted

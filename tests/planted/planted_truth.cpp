@@ -23,7 +23,8 @@ using Family = std::vector<dem2d::planted::Row> (*)(const dem2d::planted::Settin
 const std::pair<const char*, Family> kFamilies[] = {{"drag", dem2d::planted::drag_cases},
                                                     {"cg", dem2d::planted::cg_cases},
                                                     {"network", dem2d::planted::network_cases},
-                                                    {"stress", dem2d::planted::stress_cases}};
+                                                    {"stress", dem2d::planted::stress_cases},
+                                                    {"piv", dem2d::planted::piv_cases}};
 
 int usage(const char* argv0) {
   std::string names;
