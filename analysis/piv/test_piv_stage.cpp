@@ -101,7 +101,7 @@ TEST(PivStage, QuickRun) {
   EXPECT_EQ(a.dump(), b.dump());
 }
 
-TEST(PivStage, RefusesRunsItCannotMeasure) {
+TEST(PivStage, QuickStudyRunsItCannotMeasureAreRefused) {
   PivInput in = quick_input();
   in.run_path = test::quick_study_run("fill");
   ASSERT_TRUE(std::filesystem::exists(in.run_path)) << test::quick_study_missing(in.run_path);
