@@ -24,7 +24,7 @@ struct Setup {
   Grid grid;
   Kernel kernel;
   Cell cell;
-  double d = 0.0, margin = 0.0;  // mean diameter; the body's box's margin beyond its outline (m)
+  double margin = 0.0;  // the body's box's margin beyond its outline (m)
   Vec2 gravity;
   int body = -1;      // the body of the force check (config body.role), -1 none
   int intruder = -1;  // the intruder, -1 none
@@ -32,7 +32,6 @@ struct Setup {
 
 // What one snapshot gives.
 struct Measured {
-  bool box = false;                  // the body's box was measured
   double time = 0.0, height = kNaN;  // the body's centre above the floor's face (m)
   Vec2 recorded, quasi_static, exact, inertia;  // N/m (NaN without the body)
   std::optional<StressFields> fields;          // kept for the maps and the profile at rest
@@ -52,7 +51,6 @@ Measured measure(const Setup& su, const Snapshot& s, bool keep) {
     const Body& in = s.bodies[static_cast<std::size_t>(su.body)];
     m.height = in.centre().y - su.cell.floor;
     const BodyBalance F = body_balance(su.grid, su.kernel, f, s, su.body, su.margin, su.gravity);
-    m.box = true;
     m.recorded = F.recorded, m.exact = F.exact, m.quasi_static = F.quasi_static, m.inertia = F.inertia;
   }
   if (keep) m.fields = std::move(f);
@@ -63,14 +61,13 @@ Setup setup(const RunFileSource& source, const Snapshot& s0, const StressConfig&
   const RunReader& run = source.run();
   Setup su;
   su.cell = find_cell(s0);
-  su.d = mean_active_diameter(s0);
   su.intruder = s0.find_role("intruder");
   su.body = s0.find_role(c.body_role);
   if (su.body < 0 && c.body_role != "intruder") throw StageError(s0.no_body_with_role(c.body_role));
   su.gravity = {run.parameters().gx, run.parameters().gy};
   su.margin = c.box_margin_mm / kMm;
   const double dx = c.spacing_mm / kMm;
-  su.kernel = make_kernel(c.w_over_d * su.d, c.cutoff_over_w);
+  su.kernel = make_kernel(c.w_over_d * mean_active_diameter(s0), c.cutoff_over_w);
   // the cell widened by the kernel's reach, so that a box around the body holds its contacts' kernels
   // even beside a wall or the floor (the fields beyond a face are the grains' kernels reaching through it)
   double top = su.cell.floor;
@@ -96,7 +93,7 @@ json force_check(const std::vector<Measured>& ms, const StressConfig& c, bool ha
   double peak = 0.0, exact_err = 0.0, pooled = 0.0, inertia = 0.0, load = 0.0;
   std::vector<double> diff, rec;
   for (const Measured& m : ms) {
-    if (!m.box) continue;
+    if (!has_body) break;  // no box was measured
     peak = std::max(peak, std::abs(m.recorded.y));
     exact_err = std::max(exact_err, std::hypot(m.exact.x - m.recorded.x, m.exact.y - m.recorded.y));
     if (std::abs(m.recorded.y) < c.min_load_n) continue;
