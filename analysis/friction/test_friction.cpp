@@ -10,6 +10,7 @@
 #include "friction/friction.hpp"
 #include "io/h5.hpp"
 #include "quick_study.hpp"
+#include "stage_command.hpp"
 #include "temp_dir.hpp"
 
 namespace dem2d::analysis {
@@ -178,21 +179,9 @@ TEST(FrictionStage, QuickRun) {
 }
 
 TEST(FrictionCommand, ExitCodes) {
-  const auto command = [](const std::string& args) {
-    const int status = std::system((std::string(DEM2D_FRICTION_EXE) + " " + args + " 2>/dev/null").c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  };
-  const test::TempDir dir;
-  const std::string out = (dir.path() / "out").string();
-  EXPECT_EQ(command((dir.path() / "missing.h5").string() + " --out " + out), 2);
-  EXPECT_FALSE(std::filesystem::exists(out + "/metrics.json"));
   const std::string run = test::quick_study_run("pulloff");
   ASSERT_TRUE(std::filesystem::exists(run)) << test::quick_study_missing(run);
-  EXPECT_EQ(command(run + " --out " + out + " --config " + dir.file("bad.toml", "x = 1\n")), 2);
-  EXPECT_EQ(command(run + " --out " + dir.file("file", "x")), 1);
-  EXPECT_EQ(command(run + " --out " + out), 0);
-  EXPECT_TRUE(std::filesystem::exists(out + "/friction.h5"));
-  EXPECT_TRUE(std::filesystem::exists(out + "/metrics.json"));
+  test::expect_stage_command_contract(DEM2D_FRICTION_EXE, run, "x = 1\n", {"friction.h5", "metrics.json"});
 }
 
 }  // namespace

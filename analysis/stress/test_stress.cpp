@@ -22,6 +22,7 @@
 #include "stress/stress_balance.hpp"
 #include "stress/stress_field.hpp"
 #include "stress/stress_stage.hpp"
+#include "stage_command.hpp"
 #include "temp_dir.hpp"
 
 namespace dem2d::analysis {
@@ -188,21 +189,9 @@ TEST(StressStage, QuickRun) {
 }
 
 TEST(StressCommand, ExitCodes) {
-  const auto command = [](const std::string& args) {
-    const int status = std::system((std::string(DEM2D_STRESS_EXE) + " " + args + " 2>/dev/null").c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  };
-  const test::TempDir dir;
-  const std::string out = (dir.path() / "out").string(), cfg = (dir.path() / "bad.toml").string();
-  {
-    std::ofstream f(cfg);
-    f << "[grid]\nspacing_mm = 0\n";
-  }
   const std::string run = test::quick_study_run("pulloff");
   ASSERT_TRUE(std::filesystem::exists(run)) << test::quick_study_missing(run);
-  EXPECT_EQ(command(run + " --out " + out + " --config " + cfg), 2);
-  EXPECT_FALSE(std::filesystem::exists(out + "/metrics.json"));
-  EXPECT_EQ(command(dir.path().string() + "/none.h5 --out " + out), 2);
+  test::expect_stage_command_contract(DEM2D_STRESS_EXE, run, "[grid]\nspacing_mm = 0\n");
 }
 
 }  // namespace
