@@ -110,6 +110,22 @@ TEST_F(RunReaderChecks, ValidRunIsReadWhole) {
   EXPECT_GT(contacts, 10u);
 }
 
+// The bodies' outlines have one row per /series/time (and per snapshot): a dataset a row short is refused
+// by the reader, naming it, not read at its own length (a stage indexing it by time crashed)
+TEST_F(RunReaderChecks, BodyOutlinesARowShortAreRefused) {
+  const RunReader valid(valid_);
+  std::vector<hsize_t> dims;
+  std::vector<double> v = h5::read<double>(h5::File::open_read(valid_), "series/body_vertices", &dims);
+  ASSERT_EQ(dims[0], valid.series_rows());
+  EXPECT_EQ(valid.body_rows("series", 0).size(), valid.series_rows());
+  dims[0] -= 1;
+  v.resize(v.size() / (dims[0] + 1) * dims[0]);
+  const std::string short_series = with_dataset(*dir_, valid_, "short_outlines", "series/body_vertices", v, dims);
+  const RunReader run(short_series);
+  EXPECT_ERROR(run.body_rows("series", 0), short_series, "series/body_vertices");
+  EXPECT_ERROR(run.body_rows("elsewhere", 0), short_series, "elsewhere");
+}
+
 // /parameters hands back what the run ran with; a file without it is
 // refused (naming the version that wrote it), a value out of the scene's
 // range is named.

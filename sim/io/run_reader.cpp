@@ -358,8 +358,10 @@ std::size_t RunReader::body_with_role(std::string_view role) const {
 std::vector<Body> RunReader::body_rows(const std::string& group, std::size_t b) const {
   const std::string name = vertices_dataset(group);
   if (!h5::exists(file_, name)) fail("dataset /" + name + " is missing");
-  const std::vector<hsize_t> dims = h5::shape(file_, name);
-  const hsize_t rows = dims.empty() ? 0 : dims[0];
+  // one row per /series/time or per snapshot: a stage indexes the outlines by those rows, so a dataset
+  // of any other length is refused here (it was taken at its own length, and a row short crashed a stage)
+  if (group != "series" && group != "snapshots") fail("no body outlines under /" + group);
+  const hsize_t rows = group == "series" ? series_rows() : snapshots();
   const std::vector<hsize_t> want = vertices_dims(rows);
   const std::vector<double> flat = checked<double>(name, want);
   std::vector<Body> out;
