@@ -34,6 +34,10 @@ expect 2 "threads: 65536: must be an integer from 0 (all processors) to" -- \
   "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/many" --threads 65536
 [ -e "$WORK/many" ] && fail "a rejected --threads left an output folder"
 expect 2 "threads: -1: must be an integer" -- "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/many" --threads -1
+# parallel regions made inactive by the environment: the run takes the one thread OpenMP gives and says so
+# (it waited at its barriers for a second thread, at 0 % CPU, deaf to SIGTERM)
+expect 0 "1 thread, of 2 asked: OpenMP runs parallel regions with fewer" -- \
+  env OMP_MAX_ACTIVE_LEVELS=0 timeout 120 "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/levels" --threads 2
 expect 2 "unknown command 'rnu' (commands: run, check, bench, inspect); did you mean 'run'?" -- "$DEM2D" rnu "$TESTS/scenes/valid_minimal.toml"
 "$DEM2D" run --help | grep -q -- "--interrupt-at-step" && fail "the test-only --interrupt-at-step shows in run --help"
 

@@ -3,6 +3,7 @@
 // rebuilt never changes the result; runs are bitwise reproducible, also
 // across thread counts.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -169,6 +170,25 @@ TEST(Determinism, OneTwoAndThreeThreadsAreBitwiseIdentical) {
     EXPECT_TRUE(bitwise_equal(state_of(a), state_of(b))) << threads << " threads";
     EXPECT_EQ(kinetic_energy(a), kinetic_energy(b));
   }
+}
+
+// Where OpenMP makes parallel regions inactive (OMP_MAX_ACTIVE_LEVELS=0, or a System made inside a parallel
+// region) a team has one thread: the System splits the work for it instead of waiting at its barriers for
+// a second thread that never comes (it hung there), and the results are the same
+TEST(Determinism, InactiveParallelRegionsRunOnTheTeamThereIs) {
+  Scene s = boxed_bed(kFull, 200, 0.03);
+  System a(s);
+  run_for(a, 0.05);
+  const int levels = omp_get_max_active_levels();
+  omp_set_max_active_levels(0);
+  s.threads = 2;
+  System b(s);
+  omp_set_max_active_levels(levels);
+  EXPECT_EQ(b.config.threads, 1);
+  omp_set_max_active_levels(0);
+  run_for(b, 0.05);
+  omp_set_max_active_levels(levels);
+  EXPECT_TRUE(bitwise_equal(state_of(a), state_of(b)));
 }
 
 }  // namespace

@@ -23,6 +23,16 @@ SystemConfig config_of(const Scene& scene) {
   if (c.threads > omp_get_thread_limit())  // the kernels need every thread they split the work for
     throw std::invalid_argument("threads = " + std::to_string(c.threads) + " exceeds OpenMP's thread limit " +
                                 std::to_string(omp_get_thread_limit()) + " (OMP_THREAD_LIMIT)");
+  // The team OpenMP really gives: fewer threads where parallel regions are inactive (OMP_MAX_ACTIVE_LEVELS=0,
+  // or a System made inside a parallel region). The step's barriers wait for config.threads threads, so
+  // the work is split for the team there is (the results do not depend on it); else a deadlock.
+  int team = 1;
+#pragma omp parallel num_threads(c.threads)
+  {
+#pragma omp single
+    team = omp_get_num_threads();
+  }
+  c.threads = std::min(c.threads, team);
   c.gx = scene.gx;
   c.gy = scene.gy;
   c.law_pp = scene.particle_particle;

@@ -98,7 +98,10 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   const std::int64_t first_rebuild = sys.state.lists.rebuild_count;
   const std::int64_t total = duration.last_step();
   Progress progress(opt.progress, out_dir / "run.log", scene.dt, sys.size(), first_step);
-  const std::string threads = opt.threads_why.empty() ? threads_text(sys.config.threads) : opt.threads_why;
+  std::string threads = opt.threads_why.empty() ? threads_text(sys.config.threads) : opt.threads_why;
+  if (sys.config.threads < scene.threads)  // OpenMP gave a smaller team (system.cpp: config_of)
+    threads = threads_text(sys.config.threads) + ", of " + std::to_string(scene.threads) +
+              " asked: OpenMP runs parallel regions with fewer (OMP_MAX_ACTIVE_LEVELS, OMP_THREAD_LIMIT)";
   progress.announce(std::string(report.resumed ? "resumed" : "started") + " '" + scene.name + "' at step " +
                     std::to_string(first_step) + " of " + std::to_string(total) + ", " + threads + ", " +
                     kernel_description(scene.effects, scene.generic_kernel) +
