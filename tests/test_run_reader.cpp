@@ -126,6 +126,19 @@ TEST_F(RunReaderChecks, BodyOutlinesARowShortAreRefused) {
   EXPECT_ERROR(run.body_rows("elsewhere", 0), short_series, "elsewhere");
 }
 
+// A damaged displacement window is refused, not read as "none" (a stage then measured other velocities
+// without a word): NaN, negative, infinite
+TEST_F(RunReaderChecks, ADamagedDisplacementWindowIsRefused) {
+  EXPECT_EQ(RunReader(valid_).displacement_window(), 0.0);  // written without displacements
+  for (const double w : {kNaN, -1.0, std::numeric_limits<double>::infinity()}) {
+    const std::string path = dir_->file("window.h5");
+    fs::copy_file(valid_, path, fs::copy_options::overwrite_existing);
+    h5::write_attr(h5::File::open_write(path), "/", "displacement_window", w);
+    const RunReader run(path);
+    EXPECT_ERROR(run.displacement_window(), path, "displacement_window");
+  }
+}
+
 // /parameters hands back what the run ran with; a file without it is
 // refused (naming the version that wrote it), a value out of the scene's
 // range is named.

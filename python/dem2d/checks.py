@@ -157,6 +157,10 @@ def check_records(c: Checker, N, B, S, C):
         inertia = c.dataset("particles/inertia", (N,), "f8")[...]
         for v in inertia[~(inertia > 0)][:1]:
             c.fail(f"dataset /particles/inertia holds {v:g}: moments of inertia are > 0")
+    # the displacement window (C++: RunReader::displacement_window): a finite number of seconds >= 0
+    w = float(np.asarray(f.attrs.get("displacement_window", 0.0)).reshape(-1)[0])
+    if not (np.isfinite(w) and w >= 0.0):
+        c.fail(f"root attribute displacement_window = {w:g}: must be a finite number of seconds >= 0 (0: none)")
     for name, shape in (("snapshots/theta", (S, N)), ("bodies/velocity", (B, 2)), ("snapshots/displacement", (S, N, 2)),
                         ("contacts/mu_star", (C,)), ("contacts/line", (C, 2, 2))):
         if name in f:

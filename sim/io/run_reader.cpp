@@ -306,6 +306,7 @@ std::vector<double> RunReader::series(const std::string& name, const std::vector
 
 void RunReader::check_rest() const {
   if (h5::exists(file_, "bodies/velocity")) body_velocities();
+  displacement_window();
   if (h5::exists(file_, "contacts/line"))  // (its shape: checked on opening)
     check_finite("contacts/line", h5::read<double>(file_, "contacts/line"), 4, "row", 0);
   if (!h5::exists(file_, "series")) return;
@@ -431,8 +432,12 @@ Snapshot RunReader::snapshot(std::size_t k) const {
 }
 
 double RunReader::displacement_window() const {
-  return h5::has_attr(file_, "/", "displacement_window") ? h5::read_attr_double(file_, "/", "displacement_window")
-                                                          : 0.0;
+  const double w = h5::has_attr(file_, "/", "displacement_window") ? h5::read_attr_double(file_, "/", "displacement_window")
+                                                                  : 0.0;
+  // a damaged window must not pass for "none": a stage would measure other velocities without a word
+  if (!(std::isfinite(w) && w >= 0.0))
+    fail("root attribute displacement_window = " + shortest(w) + ": must be a finite number of seconds >= 0 (0: none)");
+  return w;
 }
 
 std::vector<Vec2> RunReader::displacement(std::size_t k) const {
