@@ -73,23 +73,14 @@ WindowCorrelation::Peak WindowCorrelation::correlate() {
   }
   fftw_execute(static_cast<fftw_plan>(plan_r_));
   const auto at = [&](int i, int j) { return r_[static_cast<std::size_t>((j + n_) % n_) * n_ + (i + n_) % n_]; };
-  int bi = 0, bj = 0;
+  std::size_t bk = 0;
   double best = -1.0;
-  for (int j = 0; j < n_; ++j)
-    for (int i = 0; i < n_; ++i)
-      if (at(i, j) > best) best = at(i, j), bi = i, bj = j;
+  for (std::size_t k = 0; k < N; ++k)
+    if (r_[k] > best) best = r_[k], bk = k;
   Peak p;
   if (!(best > 0.0) || !std::isfinite(best)) return p;
-  // the second-highest local maximum, for the peak-to-peak ratio
-  double second = 0.0;
-  for (int j = 0; j < n_; ++j)
-    for (int i = 0; i < n_; ++i) {
-      if (i == bi && j == bj) continue;
-      const double v = at(i, j);
-      if (v > second && v >= at(i - 1, j) && v >= at(i + 1, j) && v >= at(i, j - 1) && v >= at(i, j + 1)) second = v;
-    }
+  const int bi = static_cast<int>(bk % static_cast<std::size_t>(n_)), bj = static_cast<int>(bk / static_cast<std::size_t>(n_));
   p.found = true;
-  p.ratio = second > 0.0 ? best / second : 1e9;
   const int si = bi >= n_ / 2 ? bi - n_ : bi, sj = bj >= n_ / 2 ? bj - n_ : bj;
   p.dx = si + subpixel(at(bi - 1, bj), best, at(bi + 1, bj));
   p.dy = sj + subpixel(at(bi, bj - 1), best, at(bi, bj + 1));

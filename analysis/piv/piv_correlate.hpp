@@ -29,7 +29,6 @@ class WindowCorrelation {
   struct Peak {
     bool found = false;     // false: a blank window (no contrast) or a flat correlation
     double dx = 0.0, dy = 0.0;  // px, b against a (dy down, as image rows)
-    double ratio = 0.0;     // highest over second-highest local maximum (peak-to-peak ratio)
   };
   Peak correlate();
 

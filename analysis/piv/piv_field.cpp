@@ -127,40 +127,49 @@ Predictor::Predictor(const VectorField& f) : field(f) {
   }
 }
 
-void Predictor::at(double x, double y, double& u, double& v) const {
+Predictor::Cell Predictor::cell(double x, std::size_t n, double x0, double step) {
+  const double f = std::clamp((x - x0) / step, 0.0, static_cast<double>(n - 1));
+  Cell c;
+  c.i = std::min(static_cast<std::size_t>(f), n > 1 ? n - 2 : 0);
+  c.t = n > 1 ? f - static_cast<double>(c.i) : 0.0;
+  c.i1 = std::min(c.i + 1, n - 1);
+  return c;
+}
+
+void Predictor::at(const Cell& cx, const Cell& cy, double& u, double& v) const {
   const VectorField& g = field;
-  const double fx = std::clamp((x - g.x0) / g.step, 0.0, static_cast<double>(g.nx - 1));
-  const double fy = std::clamp((y - g.y0) / g.step, 0.0, static_cast<double>(g.ny - 1));
-  const std::size_t i = std::min(static_cast<std::size_t>(fx), g.nx > 1 ? g.nx - 2 : 0);
-  const std::size_t j = std::min(static_cast<std::size_t>(fy), g.ny > 1 ? g.ny - 2 : 0);
-  const double tx = g.nx > 1 ? fx - static_cast<double>(i) : 0.0, ty = g.ny > 1 ? fy - static_cast<double>(j) : 0.0;
-  const std::size_t i1 = std::min(i + 1, g.nx - 1), j1 = std::min(j + 1, g.ny - 1);
   const auto lerp = [&](const std::vector<double>& q) {
-    const double a = q[j * g.nx + i] * (1 - tx) + q[j * g.nx + i1] * tx;
-    const double b = q[j1 * g.nx + i] * (1 - tx) + q[j1 * g.nx + i1] * tx;
-    return a * (1 - ty) + b * ty;
+    const double a = q[cy.i * g.nx + cx.i] * (1 - cx.t) + q[cy.i * g.nx + cx.i1] * cx.t;
+    const double b = q[cy.i1 * g.nx + cx.i] * (1 - cx.t) + q[cy.i1 * g.nx + cx.i1] * cx.t;
+    return a * (1 - cy.t) + b * cy.t;
   };
   u = lerp(g.u), v = lerp(g.v);
+}
+
+void Predictor::at(double x, double y, double& u, double& v) const {
+  at(column(x), row(y), u, v);
 }
 
 VectorField piv(const Image& raw_a, const Image& raw_b, const Mask& mask, const PivSettings& s, int threads, int* passes) {
   if (raw_a.width != raw_b.width || raw_a.height != raw_b.height)
     throw std::invalid_argument("PIV: images of " + std::to_string(raw_a.width) + " x " + std::to_string(raw_a.height) + " and " +
                                 std::to_string(raw_b.width) + " x " + std::to_string(raw_b.height) + " px");
-  const Image a = highpass(raw_a, s.highpass_px), b = highpass(raw_b, s.highpass_px);
   if (s.windows.empty()) throw std::invalid_argument("PIV: no pass");
-  // the deformation is needed only where a window can be measured: within the largest window of an
-  // unmasked pixel (a window more than half masked gives no vector)
-  std::size_t c0 = 0, c1 = a.width, r0 = 0, r1 = a.height;
+  // a window is measured only within the largest window of an unmasked pixel (a window more than half
+  // masked gives no vector): the images are deformed there, and high-passed within twice that reach
+  // (the deformation samples them up to a displacement away; PIV finds none beyond half a window)
+  const auto reach = static_cast<std::size_t>(*std::max_element(s.windows.begin(), s.windows.end()));
+  std::size_t c0 = 0, c1 = raw_a.width, r0 = 0, r1 = raw_a.height;
   if (!mask.px.empty()) {
-    c0 = a.width, c1 = 0, r0 = a.height, r1 = 0;
-    for (std::size_t j = 0; j < a.height; ++j)
-      for (std::size_t i = 0; i < a.width; ++i)
+    c0 = raw_a.width, c1 = 0, r0 = raw_a.height, r1 = 0;
+    for (std::size_t j = 0; j < raw_a.height; ++j)
+      for (std::size_t i = 0; i < raw_a.width; ++i)
         if (!mask.at(i, j)) c0 = std::min(c0, i), c1 = std::max(c1, i + 1), r0 = std::min(r0, j), r1 = std::max(r1, j + 1);
-    const auto reach = static_cast<std::size_t>(*std::max_element(s.windows.begin(), s.windows.end()));
     c0 = c0 > reach ? c0 - reach : 0, r0 = r0 > reach ? r0 - reach : 0;
-    c1 = std::min(a.width, c1 + reach), r1 = std::min(a.height, r1 + reach);
+    c1 = std::min(raw_a.width, c1 + reach), r1 = std::min(raw_a.height, r1 + reach);
   }
+  const PixelBox filtered{c0 > reach ? c0 - reach : 0, c1 + reach, r0 > reach ? r0 - reach : 0, r1 + reach};
+  const Image a = highpass(raw_a, s.highpass_px, filtered), b = highpass(raw_b, s.highpass_px, filtered);
   std::unique_ptr<Predictor> predictor;
   VectorField f;
   Image da, db;  // the images deformed by the predictor
@@ -175,15 +184,20 @@ VectorField piv(const Image& raw_a, const Image& raw_b, const Mask& mask, const 
     const Image* ib = &b;
     if (predictor) {
       da = a, db = b;
+      std::vector<Predictor::Cell> columns(c1 > c0 ? c1 - c0 : 0);
+      for (std::size_t i = c0; i < c1; ++i) columns[i - c0] = predictor->column(static_cast<double>(i));
 #pragma omp parallel for schedule(static) num_threads(threads)
-      for (std::size_t j = r0; j < r1; ++j)
+      for (std::size_t j = r0; j < r1; ++j) {
+        const double y = static_cast<double>(j);
+        const Predictor::Cell cy = predictor->row(y);
         for (std::size_t i = c0; i < c1; ++i) {
-          const double x = static_cast<double>(i), y = static_cast<double>(j);
+          const double x = static_cast<double>(i);
           double u, v;
-          predictor->at(x, y, u, v);
+          predictor->at(columns[i - c0], cy, u, v);
           da.at(i, j) = static_cast<float>(a.sample(x - 0.5 * u, y - 0.5 * v));
           db.at(i, j) = static_cast<float>(b.sample(x + 0.5 * u, y + 0.5 * v));
         }
+      }
       ia = &da, ib = &db;
     }
     const auto N = static_cast<std::size_t>(n);

@@ -57,7 +57,18 @@ std::size_t replace_outliers(VectorField& f, double threshold, double epsilon);
 struct Predictor {
   explicit Predictor(const VectorField& f);
   void at(double x, double y, double& u, double& v) const;
+  // the same from the bilinear cells of x and of y, each made once for a column or a row of pixels
+  struct Cell {
+    std::size_t i = 0, i1 = 0;  // the window centres either side
+    double t = 0.0;             // the weight of i1
+  };
+  Cell column(double x) const { return cell(x, field.nx, field.x0, field.step); }
+  Cell row(double y) const { return cell(y, field.ny, field.y0, field.step); }
+  void at(const Cell& cx, const Cell& cy, double& u, double& v) const;
   VectorField field;
+
+ private:
+  static Cell cell(double x, std::size_t n, double x0, double step);
 };
 
 // a and b the same size (and the mask, if given); threads: OpenMP threads over window rows (the result

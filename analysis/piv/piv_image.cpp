@@ -26,6 +26,11 @@ double Image::sample(double x, double y) const {
   const long ix = static_cast<long>(fx), iy = static_cast<long>(fy);
   const long W = static_cast<long>(width) - 1, H = static_cast<long>(height) - 1;
   double sum = 0.0;
+  if (ix >= 1 && ix + 2 <= W && iy >= 1 && iy + 2 <= H) {  // inside: no pixel repeated (the same sums)
+    const float* p = &px[static_cast<std::size_t>(iy - 1) * width + static_cast<std::size_t>(ix - 1)];
+    for (int b = 0; b < 4; ++b, p += width) sum += wy[b] * ((((0.0 + wx[0] * p[0]) + wx[1] * p[1]) + wx[2] * p[2]) + wx[3] * p[3]);
+    return sum;
+  }
   for (int b = 0; b < 4; ++b) {
     const std::size_t row = static_cast<std::size_t>(std::clamp(iy - 1 + b, 0L, H)) * width;
     double line = 0.0;
@@ -35,53 +40,56 @@ double Image::sample(double x, double y) const {
   return sum;
 }
 
-namespace {
-
-// out(i) = sum_q k[q + r] in(clamp(i + q)) along a row of n values
-void convolve_row(const float* in, float* out, std::size_t n, const std::vector<double>& k, long r) {
-  const long N = static_cast<long>(n);
-  for (long i = 0; i < N; ++i) {
-    double s = 0.0;
-    if (i >= r && i + r < N) {  // inside: no clamp
-      const float* p = in + (i - r);
-      for (std::size_t q = 0; q < k.size(); ++q) s += k[q] * p[q];
-    } else {
-      for (long q = -r; q <= r; ++q) s += k[static_cast<std::size_t>(q + r)] * in[std::clamp(i + q, 0L, N - 1)];
-    }
-    out[i] = static_cast<float>(s);
-  }
-}
-
-}  // namespace
-
-Image gaussian_blur(const Image& im, double sigma) {
+Image gaussian_blur(const Image& im, double sigma, PixelBox box) {
   const long r = static_cast<long>(std::ceil(3.0 * sigma));
   std::vector<double> k(2 * static_cast<std::size_t>(r) + 1);
   double sum = 0.0;
   for (long i = -r; i <= r; ++i) sum += k[static_cast<std::size_t>(i + r)] = std::exp(-0.5 * static_cast<double>(i * i) / (sigma * sigma));
   for (double& v : k) v /= sum;
-  Image tmp(im.width, im.height), out(im.width, im.height);
-  for (std::size_t j = 0; j < im.height; ++j) convolve_row(&im.px[j * im.width], &tmp.px[j * im.width], im.width, k, r);
+  box.c1 = std::min(box.c1, im.width), box.r1 = std::min(box.r1, im.height);
+  Image out(im.width, im.height);
+  if (box.c0 >= box.c1 || box.r0 >= box.r1) return out;
+  const std::size_t n = box.c1 - box.c0, R = static_cast<std::size_t>(r);
+  const long W = static_cast<long>(im.width), H = static_cast<long>(im.height);
+  // along the rows the box's columns need, the edge pixels repeated beyond the image: each pixel's sum
+  // over q = -r..r in that order, vectorised across the row's pixels
+  const long t0 = std::max(0L, static_cast<long>(box.r0) - r), t1 = std::min(H, static_cast<long>(box.r1) + r);
+  Image tmp(n, static_cast<std::size_t>(t1 - t0));
+  std::vector<float> padded(n + 2 * R);
+  std::vector<double> acc(n);
+  for (long j = t0; j < t1; ++j) {
+    const float* row = &im.px[static_cast<std::size_t>(j) * im.width];
+    for (std::size_t p = 0; p < padded.size(); ++p)
+      padded[p] = row[std::clamp(static_cast<long>(box.c0 + p) - r, 0L, W - 1)];
+    std::fill(acc.begin(), acc.end(), 0.0);
+    for (std::size_t q = 0; q < k.size(); ++q) {
+      const double w = k[q];
+      const float* in = &padded[q];
+      for (std::size_t i = 0; i < n; ++i) acc[i] += w * in[i];
+    }
+    float* o = &tmp.px[static_cast<std::size_t>(j - t0) * n];
+    for (std::size_t i = 0; i < n; ++i) o[i] = static_cast<float>(acc[i]);
+  }
   // down the columns a row at a time (the rows are contiguous)
-  const long H = static_cast<long>(im.height);
-  std::vector<double> acc(im.width);
-  for (long j = 0; j < H; ++j) {
+  for (long j = static_cast<long>(box.r0); j < static_cast<long>(box.r1); ++j) {
     std::fill(acc.begin(), acc.end(), 0.0);
     for (long q = -r; q <= r; ++q) {
-      const float* row = &tmp.px[static_cast<std::size_t>(std::clamp(j + q, 0L, H - 1)) * im.width];
+      const float* row = &tmp.px[static_cast<std::size_t>(std::clamp(j + q, 0L, H - 1) - t0) * n];
       const double w = k[static_cast<std::size_t>(q + r)];
-      for (std::size_t i = 0; i < im.width; ++i) acc[i] += w * row[i];
+      for (std::size_t i = 0; i < n; ++i) acc[i] += w * row[i];
     }
-    float* o = &out.px[static_cast<std::size_t>(j) * im.width];
-    for (std::size_t i = 0; i < im.width; ++i) o[i] = static_cast<float>(acc[i]);
+    float* o = &out.px[static_cast<std::size_t>(j) * im.width + box.c0];
+    for (std::size_t i = 0; i < n; ++i) o[i] = static_cast<float>(acc[i]);
   }
   return out;
 }
 
-Image highpass(const Image& im, double sigma) {
+Image highpass(const Image& im, double sigma, PixelBox box) {
   if (!(sigma > 0.0)) return im;
-  Image out = gaussian_blur(im, sigma);
-  for (std::size_t q = 0; q < out.px.size(); ++q) out.px[q] = im.px[q] - out.px[q];
+  Image out = gaussian_blur(im, sigma, box);
+  box.c1 = std::min(box.c1, im.width), box.r1 = std::min(box.r1, im.height);
+  for (std::size_t j = box.r0; j < box.r1; ++j)
+    for (std::size_t i = box.c0; i < box.c1; ++i) out.at(i, j) = im.at(i, j) - out.at(i, j);
   return out;
 }
 

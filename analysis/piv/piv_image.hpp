@@ -19,11 +19,19 @@ struct Image {
   double sample(double x, double y) const;
 };
 
-// The image convolved with a Gaussian of sigma px (separable, the edge pixels repeated beyond it).
-Image gaussian_blur(const Image& im, double sigma);
+// A rectangle of pixels: columns [c0, c1), rows [r0, r1), cut to the image it is used on (by default
+// the whole image).
+struct PixelBox {
+  std::size_t c0 = 0, c1 = SIZE_MAX, r0 = 0, r1 = SIZE_MAX;
+};
+
+// The image convolved with a Gaussian of sigma px (separable, the edge pixels repeated beyond it); with
+// a box, only the pixels in it (the rest 0), each bitwise what the whole image's blur has there.
+Image gaussian_blur(const Image& im, double sigma, PixelBox box = {});
 // The image less its Gaussian blur of sigma px: the beads' slow shading removed, their edges and
-// highlights kept (PIVlab's high-pass pre-processing). sigma <= 0: the image unchanged.
-Image highpass(const Image& im, double sigma);
+// highlights kept (PIVlab's high-pass pre-processing). sigma <= 0: the image unchanged. With a box, only
+// the pixels in it (the rest 0).
+Image highpass(const Image& im, double sigma, PixelBox box = {});
 
 // Pixels excluded from PIV (the intruder and what is not granular): 1 excluded.
 struct Mask {
