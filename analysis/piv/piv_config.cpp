@@ -54,6 +54,8 @@ PivConfig load_piv_config(const std::string& path) {
   r.reject_unknown();
   StageConfig s = f.table("snapshots");
   s.integer("every", c.every, 1, 1000000000, "every k-th snapshot (and the last)");
+  s.number("frame_interval_s", c.frame_interval_s, 0.0, 1e6,
+           "the frames' interval, s (0: the run's displacement_window; else it, or a whole number of snapshot intervals)");
   s.integer("maps", c.maps, 0, 1000, "snapshots whose maps piv.h5 keeps");
   s.integer("png_frames", c.png_frames, 0, 1000, "of those, this many written as PNG frame pairs");
   s.reject_unknown();
@@ -81,7 +83,7 @@ nlohmann::ordered_json to_json(const PivConfig& c) {
                    {"median_epsilon_px", c.piv.median_epsilon}, {"max_excluded", c.piv.max_excluded},
                    {"converged_px", c.piv.converged_px}, {"max_repeats", c.piv.max_repeats}}},
           {"roi", {{"wall_margin_d", c.wall_margin_d}, {"surface_margin_d", c.surface_margin_d}, {"mask_margin_d", c.mask_margin_d}}},
-          {"snapshots", {{"every", c.every}, {"maps", c.maps}, {"png_frames", c.png_frames}}},
+          {"snapshots", {{"every", c.every}, {"frame_interval_s", c.frame_interval_s}, {"maps", c.maps}, {"png_frames", c.png_frames}}},
           {"compare", {{"cg_config", c.cg_config}}},
           {"vortex", {{"tip_radius_d", c.tip_radius_d}, {"min_swirl_share", c.min_swirl_share}, {"rest_quantile", c.rest_quantile}, {"min_nodes", c.min_nodes}}}};
 }

@@ -24,6 +24,8 @@ struct PivConfig {
   double mask_margin_d = 0.25;    // the intruder's outline widened by this many d
   // [snapshots]
   std::int64_t every = 1;         // every k-th snapshot (and the last)
+  double frame_interval_s = 0.0;  // the frames' interval, s: 0 the run's displacement_window, else that or a whole
+                                  // number of the run's snapshot intervals
   std::int64_t maps = 6;          // snapshots whose maps piv.h5 keeps, spread over the measured ones
   std::int64_t png_frames = 1;    // of those, the first this many written as PNG frame pairs (0: none)
   // [compare]

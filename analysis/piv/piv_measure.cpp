@@ -116,26 +116,26 @@ std::vector<double> swirl_strength(const Grid& g, const std::vector<double>& vx,
   return out;
 }
 
-PairMeasure measure_pair(const PairSetup& su, const Snapshot& s, const std::vector<Vec2>& disp, unsigned seed,
-                         bool keep_maps, bool keep_frames) {
+PairMeasure measure_pair(const PairSetup& su, const Snapshot& s, const std::vector<Vec2>& disp, double interval,
+                         unsigned seed, bool keep_maps, bool keep_frames) {
   PairMeasure m;
   m.time = s.time;
   if (disp.size() != s.size()) {
-    m.why = "no displacements";
+    m.why = "no frame A: it would lie before the run's first snapshot";
     return m;
   }
   for (std::size_t g = 0; g < s.size(); ++g)
     if (s.active[g] && !(std::isfinite(disp[g].x) && std::isfinite(disp[g].y))) {
-      m.why = "a grain without a displacement (the window reaches before the run's start)";
+      m.why = "a grain without a displacement (frame A lies before the run's start, or the grain was not in the bed then)";
       return m;
     }
   const Intruder in = intruder_of(s.bodies[static_cast<std::size_t>(su.intruder)]);
   m.in = in;
   m.height = in.yc - su.cell.floor;
-  // frame B: the snapshot; frame A: the grains and the camera one window earlier
+  // frame B: the snapshot; frame A: the grains and the camera one frame interval earlier
   auto t0 = std::chrono::steady_clock::now();
   const View vb = view_at(su, {in.xc, in.yc});
-  const View va = view_at(su, {in.xc - su.V.x * su.window, in.yc - su.V.y * su.window});
+  const View va = view_at(su, {in.xc - su.V.x * interval, in.yc - su.V.y * interval});
   std::vector<Vec2> before(s.size());
   for (std::size_t g = 0; g < s.size(); ++g) before[g] = {s.position[g].x - disp[g].x, s.position[g].y - disp[g].y};
   Image a = render(va, su.camera, before, s.diameter, s.active, 2 * seed + 1);
@@ -149,7 +149,7 @@ PairMeasure measure_pair(const PairSetup& su, const Snapshot& s, const std::vect
   const Grid g = world_grid(f, vb);
   m.grid = g;
   m.replaced = f.count(Vector::replaced);
-  // the image displacement is the grains' less the camera's: lab velocity = u / (scale window) + V, y up
+  // the image displacement is the grains' less the camera's: lab velocity = u / (scale interval) + V, y up
   std::vector<double> vx[2], vy[2];
   for (auto* v : {vx, vy}) v[kPivSide].assign(g.size(), kNaN);
   for (std::size_t j = 0; j < g.ny; ++j)
@@ -157,15 +157,15 @@ PairMeasure measure_pair(const PairSetup& su, const Snapshot& s, const std::vect
       const std::size_t q = (g.ny - 1 - j) * f.nx + i, n = g.at(i, j);
       const auto pi = static_cast<std::size_t>(std::lround(f.x(i))), pj = static_cast<std::size_t>(std::lround(f.y(g.ny - 1 - j)));
       if (f.status[q] == Vector::none || mask.at(pi, pj)) continue;  // no vector, or its centre masked
-      vx[kPivSide][n] = f.u[q] / (su.scale * su.window) + su.V.x;
-      vy[kPivSide][n] = -f.v[q] / (su.scale * su.window) + su.V.y;
+      vx[kPivSide][n] = f.u[q] / (su.scale * interval) + su.V.x;
+      vy[kPivSide][n] = -f.v[q] / (su.scale * interval) + su.V.y;
       ++m.vectors;
     }
 
-  // the coarse-grained field of the grains' displacements over the same window, on the same nodes
+  // the coarse-grained field of the grains' displacements over the same interval, on the same nodes
   t0 = std::chrono::steady_clock::now();
   std::vector<Vec2> vpiv(s.size());
-  for (std::size_t p = 0; p < s.size(); ++p) vpiv[p] = {disp[p].x / su.window, disp[p].y / su.window};
+  for (std::size_t p = 0; p < s.size(); ++p) vpiv[p] = {disp[p].x / interval, disp[p].y / interval};
   Grains grains{s.position, s.mass, s.diameter, s.active, {vpiv}};
   const Fields cg = coarse_grain(g, su.kernel, grains);
   std::vector<double> phi_roi;

@@ -24,7 +24,8 @@ inline constexpr const char* kSideName[2] = {"piv", "cg"};
 struct PairSetup {
   Cell cell;
   double d = 0.0;          // mean grain diameter
-  double window = 0.0;     // the frames' interval (the run's displacement_window), s
+  double interval = 0.0;   // the frames' nominal interval, s (the run's displacement_window, or `gap` snapshot intervals)
+  std::size_t gap = 0;     // 0: frame A from the displacements over the run's window; else from the snapshot `gap` earlier
   double scale = 0.0;      // px per m
   Vec2 V;                  // the intruder's prescribed velocity: the camera's
   double v_ref = 0.0;      // v* = |v| / v_ref
@@ -65,9 +66,10 @@ struct PairMeasure {
   std::optional<Image> a, b;            // the frames (kept ones only)
 };
 
-// The pair of snapshot s (its grains' displacements over the window `disp`); seed draws the sensor noise.
-PairMeasure measure_pair(const PairSetup& su, const Snapshot& s, const std::vector<Vec2>& disp, unsigned seed,
-                         bool keep_maps, bool keep_frames);
+// The pair of snapshot s: frame A shows its grains less their displacements `disp` over `interval` (s),
+// the camera that far back along V; seed draws the sensor noise.
+PairMeasure measure_pair(const PairSetup& su, const Snapshot& s, const std::vector<Vec2>& disp, double interval,
+                         unsigned seed, bool keep_maps, bool keep_frames);
 
 // lambda_ci, the swirl strength (the imaginary part of the velocity gradient's complex eigenvalues; 0 where
 // they are real), by central differences, NaN where a neighbour has no velocity; in 1/s. Counted only where

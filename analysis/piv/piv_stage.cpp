@@ -9,10 +9,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 
 #include "common/normal.hpp"
 #include "common/output.hpp"
 #include "common/snapshot_loop.hpp"
+#include "common/stage_output.hpp"
 #include "common/units.hpp"
 #include "frame/cell.hpp"
 #include "piv/piv_measure.hpp"
@@ -72,6 +74,38 @@ bool vortex(const std::vector<float>& disc, double threshold, std::int64_t min_n
   return n >= min_nodes;
 }
 
+// The frames' interval: the run's displacement_window (frame_interval_s = 0 or equal to it), or a whole
+// number of its snapshot intervals (frame A from the snapshot that many earlier); else a refusal.
+void frame_interval(const SnapshotSource& run, const PivInput& in, PairSetup& su) {
+  const double asked = in.config.frame_interval_s, window = run.displacement_window();
+  const bool has_window = run.has_displacements() && window > 0.0;
+  if (asked == 0.0 || (has_window && std::abs(asked - window) <= 1e-9 * window)) {
+    if (!has_window)
+      throw StageError(run.path() + ": the run has no displacements over a window (the scene's [output] "
+                       "displacement_window, s, > 0 and at most the snapshot interval) and " + in.config_path +
+                       " asks for them (snapshots.frame_interval_s = 0): PIV needs frame pairs; give a whole number of "
+                       "the run's snapshot intervals instead");
+    su.interval = window, su.gap = 0;
+    return;
+  }
+  const std::vector<double>& t = run.snapshot_times();
+  std::vector<double> steps;
+  for (std::size_t k = 1; k < t.size(); ++k) steps.push_back(t[k] - t[k - 1]);
+  double spacing = kNaN;
+  if (!steps.empty()) {
+    std::nth_element(steps.begin(), steps.begin() + static_cast<long>(steps.size() / 2), steps.end());
+    spacing = steps[steps.size() / 2];
+  }
+  const double gap = std::round(asked / spacing);
+  if (!(gap >= 1.0) || std::abs(gap * spacing - asked) > 0.01 * asked || gap >= static_cast<double>(t.size()))
+    throw StageError(in.config_path + ": snapshots.frame_interval_s = " + format_number(asked) + ": " + run.path() +
+                     " cannot give it: its frame pairs are its displacement_window (" +
+                     (has_window ? format_number(window) + " s" : std::string("none")) +
+                     ") or a whole number of its snapshot intervals (" + format_number(spacing) + " s, " +
+                     std::to_string(t.size()) + " snapshots)");
+  su.interval = gap * spacing, su.gap = static_cast<std::size_t>(gap);
+}
+
 PairSetup setup(const SnapshotSource& run, const Snapshot& s0, const PivInput& in) {
   const PivConfig& c = in.config;
   PairSetup su;
@@ -80,10 +114,7 @@ PairSetup setup(const SnapshotSource& run, const Snapshot& s0, const PivInput& i
   su.intruder = s0.find_role("intruder");
   if (su.intruder < 0)
     throw StageError(run.path() + ": " + s0.no_body_with_role("intruder") + ": the camera follows the intruder");
-  su.window = run.displacement_window();
-  if (!run.has_displacements() || !(su.window > 0.0))
-    throw StageError(run.path() + ": the run has no displacements over a window (the scene's [output] "
-                     "displacement_window, s, > 0 and at most the snapshot interval): PIV needs frame pairs that far apart");
+  frame_interval(run, in, su);
   su.V = run.body_velocities().at(static_cast<std::size_t>(su.intruder));
   su.v_ref = in.cg.reference_speed_mm_s > 0.0 ? in.cg.reference_speed_mm_s / kMm : std::hypot(su.V.x, su.V.y);
   if (!(su.v_ref > 0.0))
@@ -203,13 +234,22 @@ PivResult run_piv(const SnapshotSource& run, const PivInput& in) {
     throw StageError(in.config_path + " with " + run.path() + ": " + msg);
   }
   const std::vector<std::size_t> ks = every_kth(S, static_cast<std::size_t>(c.every));
-  // the maps (and frames) among the snapshots whose window lies within the run
+  // the maps (and frames) among the snapshots whose frame A lies within the run
   std::vector<std::size_t> later;
   const std::vector<double>& times = run.snapshot_times();
   for (std::size_t k : ks)
-    if (times[k] >= times.front() + su.window) later.push_back(k);
+    if (su.gap > 0 ? k >= su.gap : times[k] >= times.front() + su.interval) later.push_back(k);
   const std::vector<std::size_t> map_ks = spread_over(later, static_cast<std::size_t>(c.maps));
   const int threads = in.threads > 0 ? in.threads : omp_get_max_threads();
+  // frames A from earlier snapshots: their grains' positions (NaN where not active), read first
+  std::vector<std::vector<Vec2>> earlier(su.gap > 0 ? ks.size() : 0);
+  for (std::size_t q = 0; q < earlier.size(); ++q) {
+    if (ks[q] < su.gap) continue;
+    const Snapshot e = run.snapshot(ks[q] - su.gap);
+    earlier[q].assign(e.size(), {kNaN, kNaN});
+    for (std::size_t g = 0; g < e.size(); ++g)
+      if (e.active[g]) earlier[q][g] = e.position[g];
+  }
 
   std::vector<PairMeasure> ms;  // the valid pairs
   std::vector<std::size_t> valid_ks;
@@ -217,11 +257,25 @@ PivResult run_piv(const SnapshotSource& run, const PivInput& in) {
   std::string skipped_why;
   for_each_snapshot(
       run, ks, threads,
-      [&](std::size_t k, const Snapshot& s, const std::vector<Vec2>& disp) {
+      [&](std::size_t k, const Snapshot& s, const std::vector<Vec2>& window_disp) {
         const auto at = std::lower_bound(map_ks.begin(), map_ks.end(), k);
         const bool keep = at != map_ks.end() && *at == k;
         const bool frames = keep && static_cast<std::int64_t>(at - map_ks.begin()) < c.png_frames;
-        return measure_pair(su, s, disp, static_cast<unsigned>(k), keep, frames);
+        if (su.gap == 0) return measure_pair(su, s, window_disp, su.interval, static_cast<unsigned>(k), keep, frames);
+        const std::vector<Vec2>& e = earlier[static_cast<std::size_t>(std::lower_bound(ks.begin(), ks.end(), k) - ks.begin())];
+        std::vector<Vec2> disp;  // empty: frame A before the run's start
+        if (!e.empty()) {
+          disp.resize(s.size());
+          for (std::size_t g = 0; g < s.size(); ++g) disp[g] = {s.position[g].x - e[g].x, s.position[g].y - e[g].y};
+        }
+        const double interval = k >= su.gap ? times[k] - times[k - su.gap] : su.interval;
+        if (std::abs(interval - su.interval) > 0.01 * su.interval) {  // a snapshot off the run's spacing (the last one)
+          PairMeasure off;
+          off.why = "frame A, " + std::to_string(su.gap) + " snapshot(s) earlier, is " + format_number(interval) +
+                    " s earlier, not the frame interval " + format_number(su.interval) + " s";
+          return off;
+        }
+        return measure_pair(su, s, disp, interval, static_cast<unsigned>(k), keep, frames);
       },
       [&](std::size_t k, PairMeasure&& m) {
         if (!m.valid) {
@@ -249,7 +303,9 @@ PivResult run_piv(const SnapshotSource& run, const PivInput& in) {
   j["pairs"] = ms.size();
   j["pairs_skipped"] = skipped;
   if (skipped > 0) j["pairs_skipped_first"] = skipped_why;
-  j["frame_interval_s"] = su.window;
+  j["frame_interval_s"] = su.interval;
+  j["frame_interval_from"] = su.gap == 0 ? std::string("the run's displacement_window")
+                                         : std::to_string(su.gap) + " snapshot interval" + (su.gap > 1 ? "s" : "");
   j["px_per_m"] = su.scale;
   j["px_per_diameter"] = c.camera.px_per_diameter;
   j["vector_spacing_mm"] = ms.front().grid.dx * kMm;
@@ -276,8 +332,21 @@ PivResult run_piv(const SnapshotSource& run, const PivInput& in) {
                       "cg stage's cone.level (not its noise-calibrated level), edges narrowing upwards left out; "
                       "difference: PIV - CG paired by pair; intervals: 95 % t over pairs (pairs of one run are not "
                       "independent: a lower bound on the uncertainty)";
-  j["wall_mobility_note"] = "not from PIV: the region of interest leaves the walls out (as the paper's); the cg stage's "
-                            "H_c is quoted under cg_stage";
+  {  // H_c: why PIV cannot give it here
+    const double view = 0.5 * static_cast<double>(c.camera.height) / su.scale;  // the view above the intruder's centre (m)
+    const double beta = stats(column_of(ms, [](const PairMeasure& m) { return m.side[kPivSide].beta; })).mean;
+    const double half_gap = 0.5 * (su.cell.right - su.cell.left - ms.front().in.length());
+    const double meet = half_gap * std::tan(beta * std::numbers::pi / 180.0);  // the cone at beta meets the walls this far above
+    j["wall_mobility"] = {
+        {"measured", false},
+        {"view_above_intruder_mm", view * kMm},
+        {"cone_meets_walls_above_intruder_mm", number_or_null(meet * kMm)},
+        {"why", "not from PIV: the region of interest leaves the walls' faces and " + format_number(c.wall_margin_d) +
+                    " d inside them out (as the paper's), and the camera follows the intruder: it sees " +
+                    format_number(std::round(view * kMm)) + " mm above the intruder's centre, while a cone at the PIV's "
+                    "beta meets the walls " + (std::isfinite(meet) ? format_number(std::round(meet * kMm)) : std::string("?")) +
+                    " mm above it (1/2 (L_c - L) tan beta); the cg stage's H_c is quoted under cg_stage"}};
+  }
   j["vortices"] = {{"piv", vortices(ms, c, kPivSide)}, {"cg", vortices(ms, c, kCgSide)}};
   if (!in.cg_metrics_path.empty()) {
     std::ifstream f(in.cg_metrics_path);

@@ -3,7 +3,8 @@
 // (none), a shear with a small counter-shear (swirl, not dominant); the stage on the quick pull-off: frame pairs measured, PIV and the
 // coarse-grained field close on the same nodes (the typical node, the cone's
 // angle), the maps written, the result the same on 1 and 2 threads; the
-// refusals (a run without displacements, a window larger than the image) and
+// frame pairs a snapshot interval apart; the refusals (a run without displacements, a window larger
+// than the image, a frame interval the snapshots cannot give) and
 // the command's exit codes.
 #include <gtest/gtest.h>
 
@@ -119,6 +120,35 @@ TEST(PivStage, QuickStudyRunsItCannotMeasureAreRefused) {
     ADD_FAILURE() << "a window larger than the image was accepted";
   } catch (const StageError& e) {
     EXPECT_NE(std::string(e.what()).find("windows_px = 2048"), std::string::npos) << e.what();
+  }
+}
+
+TEST(PivStage, FrameIntervalsTheSnapshotsGiveAndOnesTheyCannot) {
+  PivInput in = quick_input();
+  in.run_path = test::quick_study_run("pulloff");
+  ASSERT_TRUE(std::filesystem::exists(in.run_path)) << test::quick_study_missing(in.run_path);
+  const RunFileSource run(in.run_path);
+  const std::vector<double>& t = run.snapshot_times();
+  ASSERT_GE(t.size(), 20u);
+  const double spacing = t[10] - t[9];
+  // frame A from the snapshot before: the interval is the snapshots', the fields still agree on the same nodes
+  in.config.frame_interval_s = spacing;
+  const auto m = run_piv(in).metrics["piv"];
+  EXPECT_EQ(m["frame_interval_from"].get<std::string>(), "1 snapshot interval");
+  EXPECT_NEAR(m["frame_interval_s"].get<double>(), spacing, 1e-6 * spacing);
+  EXPECT_GE(m["pairs"].get<int>(), 10);
+  EXPECT_LT(m["median_abs_vstar_difference"].get<double>(), 0.1);
+  // neither the window nor a whole number of snapshot intervals: refused, naming the file and the setting
+  for (double bad : {0.7 * spacing, 1.5 * spacing, 1e4}) {
+    in.config.frame_interval_s = bad;
+    try {
+      run_piv(in);
+      ADD_FAILURE() << "a frame interval of " << bad << " s was accepted";
+    } catch (const StageError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(in.config_path + ": snapshots.frame_interval_s"), std::string::npos) << what;
+      EXPECT_NE(what.find("cannot give it"), std::string::npos) << what;
+    }
   }
 }
 

@@ -226,8 +226,11 @@ def piv_section(metrics: dict) -> list[str]:
              f"{fmt(piv['rms_vstar_difference'])} rms (|v − V|/V in the intruder's frame: "
              f"{fmt(piv['rms_vstar_difference_intruder_frame'])} rms). The cg stage on all its nodes, at its "
              f"noise-calibrated level: β = {fmt(cgs.get('cone_angle_deg'))}°, H_c = "
-             f"{fmt(cgs.get('wall_mobility_length_mm'))} mm (H_c is not read from PIV: its region of interest leaves "
-             f"the walls out, as the paper's).", "",
+             f"{fmt(cgs.get('wall_mobility_length_mm'))} mm. H_c is not read from PIV: its region of interest leaves "
+             f"the walls out, as the paper's, and the camera sees "
+             f"{fmt(piv.get('wall_mobility', {}).get('view_above_intruder_mm'))} mm above the intruder, where a cone at "
+             f"the PIV's β meets the walls {fmt(piv.get('wall_mobility', {}).get('cone_meets_walls_above_intruder_mm'))} "
+             f"mm above it.", "",
              f"**Vortices near the tips (R12)**, swirl strength λ_ci where the rotation dominates, against discs in "
              f"the bed at rest: PIV {v['piv']['verdict']} (a vortex at a tip in {fmt(v['piv'].get('tip_rate'))} of "
              f"the pairs, at rest {fmt(v['piv'].get('control_rate'))}); CG {v['cg']['verdict']} "
