@@ -124,6 +124,8 @@ SUDO ?= $(shell [ "$$(id -u)" -eq 0 ] || command -v sudo)
 .PHONY: paraview deps needs needs-test build build-tests install test test-release test-sanitize test-pipeline test-cluster fuzz bench bench-scaling bench-compare reproduce check validate \
   pulloff-slice cyclic metrics figures report accuracy ensemble clean FORCE
 .DEFAULT_GOAL := build
+# a recipe that fails never leaves its target behind for a later make to take as done
+.DELETE_ON_ERROR:
 
 # $(call missing,PACKAGES): those of the Debian PACKAGES not installed (none off Debian)
 missing = $$(command -v dpkg >/dev/null && for p in $(1); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done)

@@ -2,6 +2,7 @@
 # The Makefile's user variables are checked once, as numbers or names
 # (pipeline/make_vars.mk): a bad value stops make before anything runs, with
 # the variable, the value and what is allowed; a good one is taken as written.
+# And a recipe that fails leaves no target behind (.DELETE_ON_ERROR).
 # Usage: make_vars_test.sh SOURCE_DIR
 set -uo pipefail
 cd "$1" || exit 1
@@ -43,5 +44,13 @@ refused "INTRUDER=s%" "INTRUDER=s%: must be one of: square"
 
 accepted MEMBERS=1000 JOBS=1 THREADS=2 PROGRESS=5 PRESET=fast INTRUDER=square
 accepted PRESET=quick MEMBERS=1
+
+# a recipe that fails after writing its target leaves no target that a later make takes as done
+# (.DELETE_ON_ERROR, for every rule of the Makefile and of what it includes)
+T=$(mktemp -d /tmp/dem2d_delete.XXXXXX)
+printf '%s/out:\n\techo partial > $@; exit 1\n' "$T" > "$T/fail.mk"
+make --no-print-directory -f Makefile -f "$T/fail.mk" "$T/out" >/dev/null 2>&1 && fail "the failing recipe succeeded"
+[ -e "$T/out" ] && fail "a failed recipe left its target behind: $(cat "$T/out")"
+rm -rf "$T"
 
 [ "$failures" -eq 0 ] && echo "make_vars_test: all checks passed" || { echo "make_vars_test: $failures failure(s)"; exit 1; }

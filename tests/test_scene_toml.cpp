@@ -594,7 +594,19 @@ TEST(SceneToml, BodyMotionSchedules) {
   expect_error(edit(cyclic, "period = 4.0", "period = 4.0, duration = 2"),
                {"body[1].motion[1].duration = 2", "a sine segment does not take it"});
   expect_error(edit(cyclic, "period = 4.0, ", ""), {"missing key body[1].motion[1].period", "(sine)"});
-  expect_error(edit(cyclic, "cycles = 3", "cycles = 0"), {"body[1].motion[1].cycles = 0", "integer >= 1"});
+  expect_error(edit(cyclic, "cycles = 3", "cycles = 0"), {"body[1].motion[1].cycles = 0", "integer in [1, 1000000]"});
+  // integers range-checked as the type they are stored in, never wrapped (4294967297 ran one cycle) nor
+  // unrolled into a schedule that cannot fit in memory (1e9 cycles)
+  for (const char* n : {"4294967297", "2147483648", "1000000000", "1000001"})
+    expect_error(edit(cyclic, "cycles = 3", std::string("cycles = ") + n),
+                 {std::string("body[1].motion[1].cycles = ") + n, "1000000"});
+  const std::string repeated = edit(cyclic, "{ kind = \"constant\", velocity = [0, 1.2e-3] },\n", "");
+  EXPECT_EQ(parse_scene(edit(repeated, "motion = [", "motion_repeat = 1000\nmotion = ["), kPath).bodies.back().motion_repeat,
+            1000);
+  expect_error(edit(repeated, "motion = [", "motion_repeat = 4294967297\nmotion = ["),
+               {"body[1].motion_repeat = 4294967297", "1000000"});
+  expect_error(edit(repeated, "motion = [", "motion_repeat = 500000\nmotion = ["),
+               {"body[1].motion_repeat = 500000", "more than 1000000 pieces"});
   expect_error(edit(cyclic, "motion = [", "velocity = [0, 1]\nmotion = ["), {"give either velocity or motion"});
   expect_error(edit(cyclic, "motion = [", "motion_repeat = 2\nmotion = ["),
                {"body[1].motion_repeat = 2", "lasts for ever", "cannot repeat"});

@@ -13,6 +13,7 @@ reads them as unnamed pieces of one dataset). Prints what the reader gave and wh
 it drew (snapshot, H, contacts); exits 1 if that differs from the run file.
 """
 import argparse
+import math
 import os
 import sys
 
@@ -61,6 +62,7 @@ def main():
         snap = run.snapshot(k)
         pressing = int((snap.contacts.fn > 0).sum())
         fn_max = float(snap.contacts.fn.max()) if len(snap.contacts) else 1.0
+        fn_min = float(snap.contacts.fn[snap.contacts.fn > 0].min()) if pressing else 0.0
         d_mean = float(run.particles.diameter.mean())
         # the frame: the cell's width, the floor to just above the highest grain
         xy, r = snap.position[snap.active], run.particles.diameter[snap.active] / 2
@@ -133,14 +135,27 @@ def main():
     view.CameraViewUp = [0, 1, 0]
     aspect = args.size[0] / args.size[1]
     view.CameraParallelScale = 0.55 * max(box[3] - box[2], (box[1] - box[0]) / aspect)
-    pv.SaveScreenshot(args.out, view, ImageResolution=args.size)
+    # what ParaView drew against the run file, before anything is written: the parts' sizes, the pressing
+    # contacts and the range of their F_n (an fn array pointing at other data keeps the counts)
+    strong.UpdatePipeline(snap.time)
     drawn = strong.GetDataInformation().GetNumberOfCells()
+    lo, hi = strong.CellData["fn"].GetRange() if drawn else (0.0, 0.0)
+    problems = []
+    if found != expected:
+        problems.append(f"ParaView read the parts {found}, the run file has {expected}")
+    if drawn != pressing:
+        problems.append(f"ParaView drew {drawn} pressing contacts, the run file has {pressing}")
+    elif pressing and not (math.isclose(lo, fn_min, rel_tol=1e-6) and math.isclose(hi, fn_max, rel_tol=1e-6)):
+        problems.append(f"ParaView's F_n ranges over [{lo:.6g}, {hi:.6g}] N/m, the run file's pressing contacts "
+                        f"over [{fn_min:.6g}, {fn_max:.6g}] N/m")
+    if problems:
+        sys.exit(f"force_network: snapshot {k} of {xdmf}: " + "; ".join(problems) + f": {args.out} not written")
+    root, ext = os.path.splitext(args.out)
+    tmp = f"{root}.tmp{ext}"  # ParaView picks the format by the extension
+    pv.SaveScreenshot(tmp, view, ImageResolution=args.size)
+    os.replace(tmp, args.out)
     print(f"force_network: snapshot {k} (H = {heights[k]:.2f} mm, t = {snap.time:.4f} s): "
-          f"{drawn} contacts with F_n > 0 drawn (run file: {pressing}) -> {args.out}")
-    if drawn != pressing or found != expected:
-        sys.exit(f"force_network: ParaView read {found} and {drawn} pressing contacts, the run file has "
-                 f"{expected} and {pressing}")
-
+          f"{drawn} contacts with F_n > 0 drawn (run file: {pressing}), F_n {lo:.4g}-{hi:.4g} N/m -> {args.out}")
 
 if __name__ == "__main__":
     main()

@@ -27,8 +27,19 @@ Coords end_rates(MotionKind kind, const Coords& param, double duration) {
 
 }  // namespace
 
+std::int64_t motion_pieces(const std::vector<MotionSegment>& segments, std::int64_t repeat) {
+  std::int64_t run = 0;
+  for (const MotionSegment& s : segments)
+    run += s.kind == MotionKind::sine || s.kind == MotionKind::triangle ? std::max(s.cycles, 0) : 1;
+  // (each factor at most kMaxMotionPieces where it matters: no overflow below that)
+  return run > 0 && repeat > kMaxMotionPieces / run ? kMaxMotionPieces + 1 : run * repeat;
+}
+
 MotionSchedule::MotionSchedule(const std::vector<MotionSegment>& segments, int repeat) {
   if (repeat < 1) throw std::invalid_argument("repeat = " + std::to_string(repeat) + ": must be >= 1");
+  if (const std::int64_t n = motion_pieces(segments, repeat); n > kMaxMotionPieces)
+    throw std::invalid_argument(std::to_string(repeat) + " runs of the motion make more than " +
+                                std::to_string(kMaxMotionPieces) + " pieces (cycles included)");
   double t = 0.0;
   Coords at{}, v{};
   for (int run = 0; run < repeat; ++run)

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <string_view>
 #include <vector>
 
@@ -71,12 +72,17 @@ constexpr const MotionKindSpec* motion_kind_named(std::string_view name) {
   return nullptr;
 }
 
+// A schedule unrolls its segments' cycles and runs into pieces (~100 bytes each): at most this many.
+inline constexpr std::int64_t kMaxMotionPieces = 1'000'000;
+// The pieces of `repeat` runs of the segments (each cycle of a sine or triangle one piece).
+std::int64_t motion_pieces(const std::vector<MotionSegment>& segments, std::int64_t repeat);
+
 class MotionSchedule {
  public:
   MotionSchedule() = default;
   // Throws std::invalid_argument (naming the segment) on a schedule that
   // cannot run: a duration or period <= 0, an endless segment before the end
-  // or repeated.
+  // or repeated, more than kMaxMotionPieces pieces.
   MotionSchedule(const std::vector<MotionSegment>& segments, int repeat);
 
   struct State {

@@ -477,12 +477,15 @@ class SceneParser {
       pair(spec->amplitude, "amplitude", scene_key::amplitude, "angle", scene_key::angle, seg.ax, seg.ay, seg.aw);
       if (take(spec->period, "period")) seg.period = m.required("period", scene_key::period, why);
       if (take(spec->cycles, "cycles"))
-        seg.cycles = static_cast<int>(m.integer_or("cycles", 1, "number of cycles", 1));
+        seg.cycles = static_cast<int>(m.integer_or("cycles", 1, "number of cycles", 1, kMaxMotionPieces));
       if (std::isinf(seg.duration) && b.has("motion_repeat"))
         b.fail("motion_repeat", "the last segment lasts for ever (constant without a duration): it cannot repeat");
       body.motion.push_back(seg);
     }
-    body.motion_repeat = static_cast<int>(b.integer_or("motion_repeat", 1, "runs of the whole motion", 1));
+    body.motion_repeat = static_cast<int>(b.integer_or("motion_repeat", 1, "runs of the whole motion", 1, kMaxMotionPieces));
+    if (const std::int64_t pieces = motion_pieces(body.motion, body.motion_repeat); pieces > kMaxMotionPieces)
+      b.fail("motion_repeat", "runs of the motion times its segments' cycles: more than " +
+                                  std::to_string(kMaxMotionPieces) + " pieces, the schedule's limit");
     if (const auto p = b.vec2("pivot", scene_key::pivot)) body.pivot = Point{(*p)[0], (*p)[1]};
   }
 

@@ -221,3 +221,24 @@ def test_force_network(example_runs, tmp_path, reader):
     assert grains > 0.1, f"no grains drawn ({grains:.4f} of the pixels)"
     dark = (image.max(axis=2) < 0.25).mean()  # the strongest chains (inferno's dark end)
     assert dark > 0.001, f"no strong force chain drawn ({dark:.4f} of the pixels)"
+
+
+def test_force_network_writes_nothing_when_it_draws_other_data(example_runs, tmp_path):
+    """run.xdmf's fn pointing at the contacts' overlaps (as many, all positive): the counts agree, the
+    values do not; the script fails naming them, and leaves no picture for make to take as done."""
+    h5 = example_runs["pulloff"]
+    run = tmp_path / "run"
+    run.mkdir()
+    os.symlink(h5, run / "run.h5")
+    xdmf = open(os.path.join(os.path.dirname(h5), "run.xdmf")).read()
+    assert "run.h5:/contacts/fn|" in xdmf
+    (run / "run.xdmf").write_text(xdmf.replace("run.h5:/contacts/fn|", "run.h5:/contacts/overlap|"))
+    png = tmp_path / "force_network.png"
+    if not shutil.which("Xvfb") and not os.environ.get("DISPLAY"):
+        pytest.skip("NOT RUN: no display and no Xvfb (Debian: xvfb) for ParaView")
+    r = subprocess.run([sys.executable, os.path.join(PARAVIEW, "headless.py"), PVBATCH,
+                        os.path.join(PARAVIEW, "force_network.py"), str(run), str(png), "--height-mm", "15",
+                        "--size", "300", "350"], capture_output=True, text=True, timeout=600)
+    assert r.returncode != 0, r.stdout + r.stderr
+    assert "F_n ranges over" in r.stdout + r.stderr and "not written" in r.stdout + r.stderr, r.stdout + r.stderr
+    assert not png.exists() and not list(tmp_path.glob("*.tmp.png"))
