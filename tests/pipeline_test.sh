@@ -87,6 +87,11 @@ assert "| R1 | `fill.solid_fraction` |" in table, table[:400]
 import re
 c = re.search(r"\*\*(\d+) hold, (\d+) fail, (\d+) undetermined\*\* \(of (\d+) targets\)", table)
 assert c and sum(map(int, c.groups()[:3])) == int(c.group(4)), table[:600]
+# the CG-versus-PIV comparison across the members: each member's own mean over its pairs
+row = re.search(r"^\| β, PIV − CG \(paired\) \| ([^|]+) \| ([^|]+) \|", table, re.M)
+assert "## Synthetic PIV against coarse-graining, across the members" in table and row, table[-1500:]
+d = st["metrics"]["piv.cone_angle_deg.difference.mean"]
+assert row.group(1).strip() == ", ".join("—" if v is None else f"{v:.4g}" for v in d["values"]) and row.group(2).strip() == f"{d['mean']:.4g}", row.group(0)
 assert (e / "drag.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 print(f"ensemble outputs: {len(st['metrics'])} metrics over {len(st['members'])} members")
 PYEOF
