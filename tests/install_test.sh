@@ -72,6 +72,17 @@ for cmd in "$I/bin/dem2d check $SRC/tests/scenes/valid_minimal.toml" "$I/libexec
 done
 DEM2D_SHARE="$I/share.away/dem2d" "$I/bin/dem2d" check "$SRC/tests/scenes/valid_minimal.toml" >/dev/null 2>&1 ||
   fail "DEM2D_SHARE did not name the share/ to use"
+# its code version read bounded from a regular file: a device, a pipe or a long file is not read (a link to
+# /dev/zero aborted every program, even --version; a pipe blocked it; 20 MB were stamped into run files)
+cp -r "$P/share/dem2d" "$P/vshare"
+for damage in "ln -s /dev/zero" "mkfifo" "head -c 20000000 /dev/urandom >"; do
+  rm -f "$P/vshare/code_version.txt"
+  case $damage in ln*) ln -s /dev/zero "$P/vshare/code_version.txt" ;; mkfifo) mkfifo "$P/vshare/code_version.txt" ;;
+    *) head -c 20000000 /dev/urandom >"$P/vshare/code_version.txt" ;; esac
+  out=$(DEM2D_SHARE="$P/vshare" timeout 20 "$I/bin/dem2d" --version 2>&1); rc=$?
+  [ "$rc" -eq 0 ] && [[ $out == *+unknown* ]] && [ ${#out} -lt 200 ] ||
+    fail "dem2d --version with code_version.txt made by '$damage': exit $rc: ${out:0:200}"
+done
 out=$(DEM2D_SHARE="$P/cwd" "$I/bin/dem2d" check "$SRC/tests/scenes/valid_minimal.toml" 2>&1); rc=$?
 [ "$rc" -eq 2 ] && grep -qF "DEM2D_SHARE=$P/cwd holds no data/ folder" <<<"$out" ||
   fail "DEM2D_SHARE naming a folder without data/ gave exit $rc: $out"
