@@ -69,6 +69,8 @@ expect 0 "replacing the finished run .*: it ran another scene or other overlays;
 "$DEM2D" inspect "$WORK/minimal/run.h5" | grep -q "a sound run file" || fail "inspect of the minimal run"
 expect 2 "not-a-run.h5: no such file" -- "$DEM2D" inspect "$WORK/not-a-run.h5"
 expect 2 "valid_minimal.toml: cannot open as HDF5" -- "$DEM2D" inspect "$MIN_SCENE"
+mkfifo "$WORK/pipe.h5"  # a pipe where a run file is expected blocked HDF5 for ever
+expect 2 "pipe.h5: a pipe, not a regular file" -- timeout 20 "$DEM2D" inspect "$WORK/pipe.h5"
 
 # the output folder: a run never replaces or deletes a file it did not make, never writes through a
 # link it did not make, never replaces the run it starts from, and a second run into the folder is refused
@@ -83,6 +85,10 @@ expect 0 "run.h5" -- "$DEM2D" run "$MIN" --out "$WORK/own" --overwrite
 echo "elsewhere" >"$WORK/elsewhere.log" && mkdir -p "$WORK/link" && ln -s "$WORK/elsewhere.log" "$WORK/link/run.log"
 expect 2 "link/run.log is a symbolic link: dem2d does not write through one" -- "$DEM2D" run "$MIN" --out "$WORK/link"
 [ "$(cat "$WORK/elsewhere.log")" = "elsewhere" ] || fail "run.log was written through a link"
+# a pipe where the run writes its log blocked it for ever (SIGTERM too); a folder silently lost the log
+mkdir -p "$WORK/fifo" "$WORK/logdir/run.log" && mkfifo "$WORK/fifo/run.log"
+expect 2 "fifo/run.log is a pipe: dem2d writes its own file there" -- timeout 20 "$DEM2D" run "$MIN" --out "$WORK/fifo"
+expect 2 "logdir/run.log is a folder: dem2d writes its own file there" -- "$DEM2D" run "$MIN" --out "$WORK/logdir"
 mkdir -p "$WORK/work/.run.work" && echo keep >"$WORK/work/.run.work/mine.txt" && echo keep >"$WORK/work/run.h5.tmp"
 expect 2 "holds mine.txt, which dem2d did not make" -- "$DEM2D" run "$MIN" --out "$WORK/work"
 [ -e "$WORK/work/.run.work/mine.txt" ] || fail "a user's file in .run.work was deleted"

@@ -1,6 +1,8 @@
 """The run file: a Run and what it holds (snapshots, contacts, bodies, series)."""
 from __future__ import annotations
 
+import os
+import stat
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -234,6 +236,10 @@ class Run:
 
     def __init__(self, path):
         self.path = str(path)
+        if os.path.exists(self.path) and not os.path.isfile(self.path):  # a pipe or a device would block HDF5
+            kind = "a folder" if os.path.isdir(self.path) else "a pipe" if stat.S_ISFIFO(os.stat(self.path).st_mode) \
+                else "a device"
+            raise RunFileError(f"{self.path}: {kind}, not a regular file: an HDF5 file is one")
         try:
             self.file = h5py.File(self.path, "r")
         except FileNotFoundError:

@@ -81,11 +81,29 @@ File File::create(const std::string& path) {
   return adopt(path, H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), "cannot create the file");
 }
 
+namespace {
+
+// An HDF5 file is a regular file: a pipe or a device would block or never end (HDF5 opens what it is given).
+void require_regular(const std::string& path) {
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);  // (through links)
+  if (ec || !std::filesystem::exists(st) || std::filesystem::is_regular_file(st)) return;  // (missing: HDF5 says so)
+  const char* what = std::filesystem::is_directory(st) ? "a folder"
+                     : std::filesystem::is_fifo(st)    ? "a pipe"
+                     : std::filesystem::is_socket(st)  ? "a socket"
+                                                       : "a device";
+  throw std::runtime_error(path + ": " + what + ", not a regular file: an HDF5 file is one");
+}
+
+}  // namespace
+
 File File::open_read(const std::string& path) {
+  require_regular(path);
   return adopt(path, H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "cannot open as HDF5 (missing or corrupt)");
 }
 
 File File::open_write(const std::string& path) {
+  require_regular(path);
   return adopt(path, H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), "cannot open as HDF5 for writing");
 }
 

@@ -66,10 +66,20 @@ OutputDir::OutputDir(const std::string& dir, const std::string& initial_run, boo
   if (holds_initial)
     throw OutputDirError("--out " + dir + " holds the run this one starts from (--initial " + initial_run +
                          "): a run replaces and deletes files in its --out; give another --out");
-  for (const char* name : {"run.h5", "run.xdmf", "run.log", ".run.work", ".run.lock"})
-    if (fs::is_symlink(dir_ / name, ec))
-      throw OutputDirError((dir_ / name).string() + " is a symbolic link: dem2d does not write through one it "
+  for (const std::string name : {"run.h5", "run.xdmf", "run.log", ".run.work", ".run.lock"}) {
+    const fs::path p = dir_ / name;
+    if (fs::is_symlink(p, ec))
+      throw OutputDirError(p.string() + " is a symbolic link: dem2d does not write through one it "
                            "did not make; remove it or give another --out");
+    // what the run writes there: a pipe would block it, a folder lose its log
+    const fs::file_status st = fs::symlink_status(p, ec);
+    const bool folder = name == ".run.work";
+    if (fs::exists(st) && (folder ? !fs::is_directory(st) : !fs::is_regular_file(st)))
+      throw OutputDirError(p.string() + " is " +
+                           (fs::is_directory(st) ? "a folder" : fs::is_fifo(st) ? "a pipe" : "not a regular file") +
+                           ": dem2d writes its " + (folder ? "work folder" : "own file") +
+                           " there; remove it or give another --out");
+  }
   lock_fd_ = ::open((dir_ / ".run.lock").c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
   if (lock_fd_ < 0)
     throw OutputDirError((dir_ / ".run.lock").string() + ": cannot open the folder's lock: " + std::strerror(errno));

@@ -1,5 +1,6 @@
 """The Python reader (python/dem2d) on the examples' run files: what it resolves
 (bodies of contacts, lines, heights) agrees with the engine's own records."""
+import os
 import re
 import subprocess
 
@@ -93,6 +94,11 @@ def test_what_is_not_a_run_file_is_refused(tmp_path):
         dem2d.open_run(other)
     with pytest.raises(dem2d.RunFileError, match="missing.h5: no such file"):
         dem2d.open_run(tmp_path / "missing.h5")
+    # a pipe blocked HDF5 for ever; a folder and a device are no run files either
+    os.mkfifo(tmp_path / "pipe.h5")
+    for path, kind in ((tmp_path / "pipe.h5", "a pipe"), (tmp_path, "a folder"), ("/dev/null", "a device")):
+        with pytest.raises(dem2d.RunFileError, match=f"{kind}, not a regular file"):
+            dem2d.open_run(path)
 
 
 def _set(name, change):
