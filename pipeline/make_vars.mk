@@ -14,9 +14,11 @@ check_count = $(if $(shell v=$(call sh_word,$($(1))); case "$$v" in (''|0?*|*[!0
   (*) [ "$$v" -ge $(2) ] && [ "$$v" -le $(3) ] && echo ok;; esac),,\
   $(error $(1)=$($(1)): must be a whole number from $(2) to $(3), in decimal digits without a leading zero))
 
-# $(call check_name,NAME,ALLOWED...): $(NAME) must be one of the words ALLOWED
-# (a % is refused before filter, which would read it as a pattern matching every word)
-check_name = $(if $(and $(filter 1,$(words $($(1)))),$(if $(findstring %,$($(1))),,$(filter $($(1)),$(2)))),,\
+# $(call check_name,NAME,ALLOWED...): $(NAME) must be one of the words ALLOWED, with no space after it (it
+# becomes part of paths: PRESET='fast ' made results/fast a target of its own); a % is refused before filter,
+# which would read it as a pattern matching every word
+check_name = $(if $(and $(filter 1,$(words $($(1)))),$(if $(subst $(strip $($(1))),,$($(1))),,ok),\
+  $(if $(findstring %,$($(1))),,$(filter $($(1)),$(2)))),,\
   $(error $(1)=$($(1)): must be one of: $(strip $(2))))
 
 PRESET_NAMES := quick $(sort $(basename $(notdir $(wildcard pipeline/presets/*.toml))))

@@ -30,7 +30,7 @@ expect 2 "nowhere.toml: cannot read the scene file" -- "$DEM2D" check "$WORK/now
 # a device that never ends is refused, not read until memory runs out
 expect 2 "/dev/zero: cannot read the scene file: not a regular file" -- timeout 20 "$DEM2D" check /dev/zero
 expect 0 "valid" -- bash -c "\"$DEM2D\" check <(cat \"$TESTS/scenes/valid_minimal.toml\")"  # a pipe is read
-expect 2 "threads: 65536: must be an integer from 0 (all processors) to" -- \
+expect 2 "threads: 65536: must be an integer from 0 (the program chooses) to" -- \
   "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/many" --threads 65536
 [ -e "$WORK/many" ] && fail "a rejected --threads left an output folder"
 expect 2 "threads: -1: must be an integer" -- "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/many" --threads -1

@@ -22,7 +22,8 @@ REGISTRY = '[[stage]]\nname = "fill"\n\n[[stage]]\nname = "spectrum"\n'
 
 def metrics(k: int) -> dict:
     return {"preset": "fast", "code_version": "x",
-            "fill": {"solid_fraction": 0.84 + 0.001 * k, "wall_seconds": 10.0 + k, "note": "text"},
+            "fill": {"solid_fraction": 0.84 + 0.001 * k, "wall_seconds": 10.0 + k, "note": "text",
+                     "ns_per_particle_step": 15.0 + k, "particle_steps_per_second": 6e7 + k},
             "spectrum": {"rupture_spacing_d": 0.2 + 0.01 * k, "top_layer_height_mm": None,
                          "cost": {"seconds": 3.0 * k}, "range": [1, 2]},
             "cost": {"fill": {"wall_seconds": 5.0 * k}}}
@@ -67,7 +68,8 @@ class Aggregate(unittest.TestCase):
         stats = json.loads((self.dir / "ensemble/stats.json").read_text())["metrics"]
         self.assertAlmostEqual(stats["fill.solid_fraction"]["mean"], 0.841, places=12)
         self.assertEqual(stats["spectrum.top_layer_height_mm"]["n"], 0)  # a detector's "none" in every member
-        self.assertFalse([p for p in stats if "seconds" in p or ".cost." in p], "times aggregated as metrics")
+        self.assertFalse([p for p in stats if "seconds" in p or ".cost." in p or "per_particle_step" in p
+                          or "per_second" in p], "times aggregated as metrics")
         self.assertEqual(self.aggregate(dirs, "again").returncode, 0)
         for name in ("stats.json", "metrics.json", "drag.csv"):
             self.assertEqual((self.dir / "ensemble" / name).read_bytes(), (self.dir / "again" / name).read_bytes())

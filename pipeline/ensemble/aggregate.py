@@ -49,7 +49,7 @@ MAX_BINS = 10**6  # bins of the drag profile: a height range wider than this is 
 def is_time(path: str) -> bool:
     """The machine's wall-clock figures: not metrics of the run."""
     parts = path.split(".")
-    return "cost" in parts or parts[-1] == "wall_seconds"
+    return "cost" in parts or parts[-1] in ("wall_seconds", "ns_per_particle_step", "particle_steps_per_second")
 
 
 def leaves(tree, prefix=""):

@@ -1,5 +1,6 @@
-// The --threads option of dem2d run and of the analysis stages: 0 (OpenMP's
-// choice, all processors) up to 4 threads per processor. More only wait on
+// The --threads option of dem2d run and of the analysis stages: 0 (the program
+// chooses: dem2d run from the scene's size and the cores free, a stage OpenMP's
+// default) up to 4 threads per processor. More only wait on
 // each other, and at 65536 libgomp fails without a message.
 #pragma once
 
@@ -19,7 +20,7 @@ inline std::string thread_count_problem(const std::string& text) {
   const char* end = text.data() + text.size();
   const auto [at, ec] = std::from_chars(text.data(), end, n);
   if (ec == std::errc() && at == end && n >= 0 && n <= max_threads()) return "";
-  return text + ": must be an integer from 0 (all processors) to " + std::to_string(max_threads()) + " (4 x the " +
+  return text + ": must be an integer from 0 (the program chooses) to " + std::to_string(max_threads()) + " (4 x the " +
          std::to_string(max_threads() / 4) + " processors here)";
 }
 
