@@ -594,6 +594,13 @@ TEST(SceneToml, BodyMotionSchedules) {
   expect_error(edit(cyclic, "period = 4.0", "period = 4.0, duration = 2"),
                {"body[1].motion[1].duration = 2", "a sine segment does not take it"});
   expect_error(edit(cyclic, "period = 4.0, ", ""), {"missing key body[1].motion[1].period", "(sine)"});
+  // a segment shorter than a time step (a subnormal 1e-310 s turned the grains to NaN at the first step)
+  for (const char* t : {"1e-310", "1e-12"}) {
+    expect_error(edit(cyclic, "duration = 0.5", std::string("duration = ") + t),
+                 {std::string("body[1].motion[0].duration = ") + t, "shorter than one time step"});
+    expect_error(edit(cyclic, "period = 4.0", std::string("period = ") + t),
+                 {std::string("body[1].motion[1].period = ") + t, "shorter than one time step"});
+  }
   expect_error(edit(cyclic, "cycles = 3", "cycles = 0"), {"body[1].motion[1].cycles = 0", "integer in [1, 1000000]"});
   // integers range-checked as the type they are stored in, never wrapped (4294967297 ran one cycle) nor
   // unrolled into a schedule that cannot fit in memory (1e9 cycles)

@@ -476,6 +476,9 @@ class SceneParser {
            seg.vx, seg.vy, seg.w);
       pair(spec->amplitude, "amplitude", scene_key::amplitude, "angle", scene_key::angle, seg.ax, seg.ay, seg.aw);
       if (take(spec->period, "period")) seg.period = m.required("period", scene_key::period, why);
+      const char* forever = "to move on for ever, leave the last constant segment's duration out";
+      if (std::isfinite(seg.duration)) time_key(m, "duration", seg.duration, forever, true);
+      time_key(m, "period", seg.period, forever, true);
       if (take(spec->cycles, "cycles"))
         seg.cycles = static_cast<int>(m.integer_or("cycles", 1, "number of cycles", 1, kMaxMotionPieces));
       if (std::isinf(seg.duration) && b.has("motion_repeat"))
@@ -529,18 +532,24 @@ class SceneParser {
     std::string key;
     double seconds;
     const char* never;
+    bool resolved = false;  // at least one step of dt (a motion segment: its rate follows from its duration)
   };
-  void time_key(const TableReader& t, std::string_view key, double seconds, const char* never) {
-    if (t.has(key)) times_.push_back({t, std::string(key), seconds, never});
+  void time_key(const TableReader& t, std::string_view key, double seconds, const char* never, bool resolved = false) {
+    if (t.has(key)) times_.push_back({t, std::string(key), seconds, never, resolved});
   }
 
   // Every time at most kMaxSteps steps of dt (> 0, set_time_step): a larger
   // count overflowed (a run that spun at step 0, or wrote a row every step).
   void check_step_counts() const {
-    for (const TimeKey& t : times_)
+    for (const TimeKey& t : times_) {
       if (!(t.seconds / s_.dt <= static_cast<double>(kMaxSteps)))
         t.table.fail(t.key, "is " + sig3(t.seconds / s_.dt) + " steps of dt = " + sig3(s_.dt) + " s, more than the " +
                                 sig3(static_cast<double>(kMaxSteps)) + " a run can count; " + t.never);
+      if (t.resolved && !(t.seconds >= s_.dt))
+        t.table.fail(t.key, "is " + sig3(t.seconds / s_.dt) + " steps of dt = " + sig3(s_.dt) +
+                                " s: a motion segment shorter than one time step cannot be followed (its rates "
+                                "would be its displacement over less than a step)");
+    }
   }
 
   const Origin& origin(std::size_t i) const {
