@@ -653,6 +653,10 @@ TEST(SceneToml, TurningSchedules) {
                {"effects.rotating_bodies = true", "no [[body]] motion turns"});
   expect_error(edit(kValid, "velocity = [0, 1.2e-3]", "velocity = [0, 1.2e-3]\npivot = [0, 0]"),
                {"body[1].pivot", "the body has no motion to turn it"});
+  // a pivot far beyond the domain (1e300 collapsed the wall to a point without a word)
+  for (const char* far : {"[1e300, 0.0]", "[0.05, -1e3]"})
+    expect_error(edit(turning, "pivot = [0.05, 0.0]", std::string("pivot = ") + far),
+                 {"body[1].pivot", "lies farther from the domain"});
 }
 
 TEST(SceneTomlErrors, BodiesNeedWalls) {

@@ -489,7 +489,19 @@ class SceneParser {
     if (const std::int64_t pieces = motion_pieces(body.motion, body.motion_repeat); pieces > kMaxMotionPieces)
       b.fail("motion_repeat", "runs of the motion times its segments' cycles: more than " +
                                   std::to_string(kMaxMotionPieces) + " pieces, the schedule's limit");
-    if (const auto p = b.vec2("pivot", scene_key::pivot)) body.pivot = Point{(*p)[0], (*p)[1]};
+    if (const auto p = b.vec2("pivot", scene_key::pivot)) {
+      // within the domain widened by its own size on every side: a body turned about a point much farther
+      // away sweeps out of the domain at once, and far enough its vertices lose their digits (a pivot at 1e300
+      // collapsed a wall to a point)
+      const Box& d = s_.domain;
+      const double w = d.xmax - d.xmin, h = d.ymax - d.ymin;
+      if (!Box{d.xmin - w, d.ymin - h, d.xmax + w, d.ymax + h}.contains((*p)[0], (*p)[1]))
+        b.fail("pivot", "lies farther from the domain [" + shortest(d.xmin) + ", " + shortest(d.xmax) + "] x [" +
+                            shortest(d.ymin) + ", " + shortest(d.ymax) + "] m than its own width or height: put it "
+                            "within [" + shortest(d.xmin - w) + ", " + shortest(d.xmax + w) + "] x [" +
+                            shortest(d.ymin - h) + ", " + shortest(d.ymax + h) + "] m");
+      body.pivot = Point{(*p)[0], (*p)[1]};
+    }
   }
 
   bool has_body(const std::string& name) const {
