@@ -16,6 +16,7 @@ import argparse
 import math
 import os
 import sys
+from xml.etree import ElementTree
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path[:0] = [HERE, os.path.join(HERE, "..", "..", "python")]
@@ -44,17 +45,40 @@ def block_names(reader, time):
     return [m.Get(data.NAME()) if m is not None and m.Has(data.NAME()) else "" for m in meta]
 
 
+MIN_PX, MAX_PX = 16, 16384  # a picture's side (ParaView fails on 0 and on what no X server can hold)
+
+
+def check_xdmf(path):
+    """run.xdmf as dem2d writes it (well-formed XML pointing into run.h5), or an exit naming it: ParaView's
+    readers abort on a damaged one without a word."""
+    if not os.path.isfile(path):
+        sys.exit(f"force_network: {path}: no such file (dem2d run writes it beside run.h5)")
+    try:
+        root = ElementTree.parse(path).getroot()
+    except (ElementTree.ParseError, OSError) as e:
+        sys.exit(f"force_network: {path}: not an XDMF file dem2d wrote ({e})")
+    items = [(d.text or "").strip() for d in root.iter("DataItem") if d.get("Format") == "HDF"]
+    if root.tag != "Xdmf" or not items or not all(t.startswith("run.h5:/") for t in items):
+        sys.exit(f"force_network: {path}: not a dem2d run's XDMF (its HDF data items do not all point into run.h5)")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("run_dir")
     ap.add_argument("out")
     ap.add_argument("--height-mm", type=float, default=34.0, help="intruder height H above the floor (mm)")
-    ap.add_argument("--size", type=int, nargs=2, default=[900, 1200], metavar=("W", "H"), help="pixels")
+    ap.add_argument("--size", type=int, nargs=2, default=[900, 1200], metavar=("W", "H"),
+                    help=f"pixels, each {MIN_PX} to {MAX_PX}")
     ap.add_argument("--reader", choices=["T", "S"], default="T", help="Xdmf3ReaderT or Xdmf3ReaderS")
     args = ap.parse_args()
-    require_display("force_network")
+    if not math.isfinite(args.height_mm):
+        ap.error(f"--height-mm {args.height_mm}: must be a finite height (mm)")
+    if not all(MIN_PX <= n <= MAX_PX for n in args.size):
+        ap.error(f"--size {args.size[0]} {args.size[1]}: each must be from {MIN_PX} to {MAX_PX} pixels")
     h5 = os.path.abspath(os.path.join(args.run_dir, "run.h5"))
     xdmf = os.path.abspath(os.path.join(args.run_dir, "run.xdmf"))  # a bare name misleads the Xdmf3 readers
+    check_xdmf(xdmf)
+    require_display("force_network")
 
     with dem2d.open_run(h5) as run:
         heights = run.heights() * 1e3
@@ -157,5 +181,11 @@ def main():
     print(f"force_network: snapshot {k} (H = {heights[k]:.2f} mm, t = {snap.time:.4f} s): "
           f"{drawn} contacts with F_n > 0 drawn (run file: {pressing}), F_n {lo:.4g}-{hi:.4g} N/m -> {args.out}")
 
+
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except dem2d.RunFileError as e:
+        sys.exit(f"force_network: {e}")
+    except KeyboardInterrupt:
+        sys.exit("force_network: interrupted: nothing written")

@@ -242,3 +242,30 @@ def test_force_network_writes_nothing_when_it_draws_other_data(example_runs, tmp
     assert r.returncode != 0, r.stdout + r.stderr
     assert "F_n ranges over" in r.stdout + r.stderr and "not written" in r.stdout + r.stderr, r.stdout + r.stderr
     assert not png.exists() and not list(tmp_path.glob("*.tmp.png"))
+
+
+def test_force_network_refuses_what_it_cannot_draw(example_runs, tmp_path):
+    """Bad arguments and a damaged or missing run.xdmf end with a message and no picture (a damaged one
+    aborted pvbatch, a missing one, --size 0 0 gave tracebacks, --height-mm nan drew snapshot 0)."""
+    h5 = example_runs["pulloff"]
+    run = tmp_path / "run"
+    run.mkdir()
+    os.symlink(h5, run / "run.h5")
+    xdmf = open(os.path.join(os.path.dirname(h5), "run.xdmf")).read()
+    png = tmp_path / "f.png"
+    script = os.path.join(PARAVIEW, "force_network.py")
+
+    def refused(args, message):
+        r = subprocess.run([PVBATCH, script, str(run), str(png), *args], capture_output=True, text=True, timeout=300)
+        out = r.stdout + r.stderr
+        assert r.returncode != 0 and message in out and "Traceback" not in out, out
+        assert not png.exists()
+
+    refused([], "run.xdmf: no such file")
+    (run / "run.xdmf").write_text(xdmf[: len(xdmf) // 2])
+    refused([], "not an XDMF file dem2d wrote")
+    (run / "run.xdmf").write_text(xdmf.replace("run.h5:/", "elsewhere.h5:/"))
+    refused([], "not a dem2d run's XDMF")
+    (run / "run.xdmf").write_text(xdmf)
+    refused(["--size", "0", "0"], "--size 0 0: each must be from 16 to 16384 pixels")
+    refused(["--height-mm", "nan"], "--height-mm nan: must be a finite height")
