@@ -30,6 +30,9 @@ for c in sbatch squeue sinfo; do
   command -v $c >/dev/null || { echo "submit_targets: $c not found: is this a Slurm login node?" >&2; exit 2; }
 done
 [ -s "$TARGETS" ] || { echo "submit_targets: $TARGETS: no targets" >&2; exit 2; }
+for v in "$@"; do  # make's variables, passed on to every task
+  [[ $v =~ ^[A-Za-z_][A-Za-z0-9_]*= ]] || { echo "submit_targets: '$v': expected VAR=VALUE (a make variable)" >&2; exit 2; }
+done
 bad=$(awk 'NF != 3 || $1 !~ /^[0-9]+$/ || $3 !~ /^[1-9][0-9]*$/ {print NR": "$0; exit}' "$TARGETS")
 [ -z "$bad" ] || { echo "submit_targets: $TARGETS:$bad: expected 'WAVE TARGET MINUTES' (integers > 0)" >&2; exit 2; }
 mkdir -p "$L/status"
@@ -45,7 +48,8 @@ if [ -s "$L/jobs" ]; then
 fi
 : >"$L/jobs"
 rm -f "$L"/status/*.status  # (this script's own files, from an earlier submission)
-vars=$(printf ' %q' "$@")
+vars=""  # (printf of no arguments would give one empty word: make read it as a file name)
+[ $# -eq 0 ] || vars=$(printf ' %q' "$@")
 # the command of a task: make TARGET, its exit status written where this script looks for it
 status_of() { echo "rc=\$?; echo \$rc > $(printf %q "$L/status")/$1.status; exit \$rc"; }
 cpus=$(sinfo -h -o %C | awk -F/ '{n += $4} END {print (n > 0 ? n : 1)}')  # the partition's CPUs
