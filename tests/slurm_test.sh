@@ -62,6 +62,9 @@ cluster_part() {
   pipeline/slurm/local_cluster.sh start "$WORK/cluster" >"$WORK/cluster.log" 2>&1 ||
     { cat "$WORK/cluster.log"; fail "the one-node cluster did not start"; exit 1; }
   export SLURM_CONF=$WORK/cluster/slurm.conf
+  # a second start in the same folder is refused naming the running daemon (it left a munged after stop)
+  out=$(pipeline/slurm/local_cluster.sh start "$WORK/cluster" 2>&1) && fail "a second start in one folder was accepted"
+  grep -q "already has a running cluster (munged, pid" <<<"$out" || fail "a second start said: $out"
   t2=$(date +%s.%N)
   make --no-print-directory ensemble PRESET=quick MEMBERS=$MEMBERS RESULTS="$WORK/slurm" EXECUTOR=slurm SLURM_WAIT=1 \
     >"$WORK/slurm.log" 2>&1 || fail "Slurm ensemble: $(tail -20 "$WORK/slurm.log"; tail -5 "$WORK"/slurm/ensemble/slurm/*.log)"

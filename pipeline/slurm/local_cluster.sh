@@ -44,6 +44,15 @@ for p in munged slurmctld slurmd sinfo; do
   command -v "$p" >/dev/null || { echo "local_cluster: $p not found (Debian: apt-get install munge slurm-wlm)" >&2; exit 2; }
 done
 [ "$(id -u)" -eq 0 ] || { echo "local_cluster: must run as root (slurmd runs jobs as their submitters)" >&2; exit 2; }
+# a cluster already started in DIR: refused (a second start replaced the pid files, and stop then left the
+# first munged running)
+for d in munged slurmctld slurmd; do
+  if [ -s "$DIR/$d.pid" ] && kill -0 "$(cat "$DIR/$d.pid")" 2>/dev/null; then
+    echo "local_cluster: $DIR already has a running cluster ($d, pid $(cat "$DIR/$d.pid")): stop it first" \
+      "($0 stop $DIR)" >&2
+    exit 2
+  fi
+done
 mkdir -p "$DIR"/{state,spool,munge}
 chmod 700 "$DIR/munge"
 HOST=$(hostname -s)
