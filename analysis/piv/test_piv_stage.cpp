@@ -123,7 +123,7 @@ TEST(PivStage, QuickStudyRunsItCannotMeasureAreRefused) {
   }
 }
 
-TEST(PivStage, FrameIntervalsTheSnapshotsGiveAndOnesTheyCannot) {
+TEST(PivStage, QuickRunFrameIntervalsTheSnapshotsGiveAndOnesTheyCannot) {
   PivInput in = quick_input();
   in.run_path = test::quick_study_run("pulloff");
   ASSERT_TRUE(std::filesystem::exists(in.run_path)) << test::quick_study_missing(in.run_path);
