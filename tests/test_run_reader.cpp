@@ -139,6 +139,24 @@ TEST_F(RunReaderChecks, ADamagedDisplacementWindowIsRefused) {
   }
 }
 
+// An attribute of one value damaged into an array: refused naming it (it was read into a single value,
+// past its end: a stack overflow that ASan reports), in C++ as in Python.
+TEST_F(RunReaderChecks, AnArrayWhereOneValueBelongsIsRefusedNotReadPastItsEnd) {
+  const std::string path = dir_->file("array_attr.h5");
+  fs::copy_file(valid_, path, fs::copy_options::overwrite_existing);
+  {
+    const h5::File f = h5::File::open_write(path);
+    if (H5Aexists(f.id(), "displacement_window") > 0) H5Adelete(f.id(), "displacement_window");
+    const hsize_t n = 64;
+    const std::vector<double> values(n, 0.05);
+    const hid_t space = H5Screate_simple(1, &n, nullptr);
+    const hid_t a = H5Acreate2(f.id(), "displacement_window", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
+    ASSERT_GE(H5Awrite(a, H5T_NATIVE_DOUBLE, values.data()), 0);
+    H5Aclose(a), H5Sclose(space);
+  }
+  EXPECT_ERROR(RunReader(path).displacement_window(), path, "displacement_window holds 64 values, expected one");
+}
+
 // /parameters hands back what the run ran with; a file without it is
 // refused (naming the version that wrote it), a value out of the scene's
 // range is named.

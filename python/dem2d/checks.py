@@ -90,12 +90,24 @@ class Checker:
         return [str(s) for s in ds.asstr()[...]]
 
 
+def root_scalar(c: Checker, name: str, integer: bool, default=None):
+    """The root attribute `name` as one integer (or one number of any kind), `default` where it is absent;
+    RunFileError naming it when it is a string, an array or (for an integer) a float."""
+    if name not in c.f.attrs:
+        return default
+    v = np.asarray(c.f.attrs[name])
+    if v.shape != () or v.dtype.kind not in ("iu" if integer else "iuf"):
+        c.fail(f"root attribute {name} = {str(c.f.attrs[name])[:40]}: must be "
+               f"{'an integer' if integer else 'a number'}")
+    return int(v) if integer else float(v)
+
+
 def check_structure(c: Checker) -> dict:
     """What is checked on opening; returns the counts N, B, K, S, C, T and the per-snapshot contact index."""
     f = c.f
     fmt = f.attrs.get("format")
-    fmt = fmt.decode() if isinstance(fmt, bytes) else fmt
-    if fmt not in FORMATS:
+    fmt = fmt.decode(errors="replace") if isinstance(fmt, bytes) else fmt
+    if not isinstance(fmt, str) or fmt not in FORMATS:
         c.fail(f"not a dem2d run file: format attribute is {fmt if fmt is not None else '(none)'}, "
                f"expected {', '.join(FORMATS)}")
     if "parameters" not in f:
@@ -119,8 +131,8 @@ def check_structure(c: Checker) -> dict:
         c.fail(f"/bodies/vertex_count has {n}, expected 1..{MAX_VERTICES}")
     K = int(max([1, *counts]))
     for attr, count, what in (("n_particles", N, "grains (/particles)"), ("n_bodies", B, "bodies (/bodies)")):
-        if attr in f.attrs and int(f.attrs[attr]) != count:
-            c.fail(f"root attribute {attr} is {int(f.attrs[attr])}, but the file holds {count} {what}")
+        if (n := root_scalar(c, attr, True)) is not None and n != count:
+            c.fail(f"root attribute {attr} is {n}, but the file holds {count} {what}")
     S = c.length("snapshots/time")
     times = c.checked("snapshots/time", (S,), "f8")
     steps = c.checked("snapshots/step", (S,), "i8")
@@ -158,7 +170,7 @@ def check_records(c: Checker, N, B, S, C):
         for v in inertia[~(inertia > 0)][:1]:
             c.fail(f"dataset /particles/inertia holds {v:g}: moments of inertia are > 0")
     # the displacement window (C++: RunReader::displacement_window): a finite number of seconds >= 0
-    w = float(np.asarray(f.attrs.get("displacement_window", 0.0)).reshape(-1)[0])
+    w = root_scalar(c, "displacement_window", False, 0.0)
     if not (np.isfinite(w) and w >= 0.0):
         c.fail(f"root attribute displacement_window = {w:g}: must be a finite number of seconds >= 0 (0: none)")
     for name, shape in (("snapshots/theta", (S, N)), ("bodies/velocity", (B, 2)), ("snapshots/displacement", (S, N, 2)),

@@ -300,6 +300,12 @@ T read_scalar_attr(const File& f, const std::string& object, const std::string& 
   Handle obj = open_object(f, object);
   Handle attr = check(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose, f,
                       "no attribute " + object + "@" + name);
+  // one value: an array attribute would be read past `value` (a run file's damage, not a reader's overflow)
+  Handle space(H5Aget_space(attr), H5Sclose);
+  const hssize_t n = space.id() < 0 ? -1 : H5Sget_simple_extent_npoints(space);
+  if (n != 1)
+    throw std::runtime_error(f.path() + ": attribute " + object + "@" + name + " holds " + std::to_string(n) +
+                             " values, expected one");
   T value{};
   check(H5Aread(attr, native_type<T>(), &value), f, "cannot read attribute " + name);
   return value;

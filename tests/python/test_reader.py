@@ -132,6 +132,13 @@ DAMAGE = {
     "a wrong n_particles": (lambda f: f.attrs.__setitem__("n_particles", 5), "open",
                             "root attribute n_particles is 5, but the file holds"),
     "a missing dataset": (lambda f: f.__delitem__("contacts/fn"), "open", "/contacts/fn is missing"),
+    # root attributes of one number damaged into a string or an array: raw ValueError/TypeError before, and
+    # the C++ reader read an array into one value, past its end
+    "n_particles a string": (lambda f: f.attrs.__setitem__("n_particles", "x"), "open",
+                             "n_particles"),
+    "n_bodies a float": (lambda f: f.attrs.__setitem__("n_bodies", np.nan), "open", "n_bodies"),
+    "displacement_window an array": (lambda f: f.attrs.__setitem__("displacement_window", np.full(64, 0.05)), "open",
+                                     "displacement_window"),
     "a series shorter than its times": (_replace("series/body_force_mean", lambda f: f["series/body_force_mean"][:-1]),
                                         "series", "/series/body_force_mean has shape"),
     "a law value out of its range": (_set("parameters/contact/grain_grain/kn", lambda v: v.__setitem__((), -1.0)),
