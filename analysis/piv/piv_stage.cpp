@@ -217,30 +217,21 @@ json vortices(const std::vector<PairMeasure>& ms, const PivConfig& c, std::size_
   return j;
 }
 
-}  // namespace
-
-PivResult run_piv(const SnapshotSource& run, const PivInput& in) {
-  const auto t_start = std::chrono::steady_clock::now();
-  const PivConfig& c = in.config;
-  const std::size_t S = run.snapshots();
-  if (S == 0) throw StageError(run.path() + ": the run file has no snapshots");
-  const Snapshot s0 = run.snapshot(0);
-  PairSetup su;
-  try {
-    su = setup(run, s0, in);
-  } catch (const StageError& e) {
-    const std::string msg = e.what();
-    if (msg.rfind(run.path(), 0) == 0 || msg.rfind(in.config_path, 0) == 0 || msg.rfind(in.cg_config_path, 0) == 0) throw;
-    throw StageError(in.config_path + " with " + run.path() + ": " + msg);
-  }
-  const std::vector<std::size_t> ks = every_kth(S, static_cast<std::size_t>(c.every));
+// The valid pairs of the run's snapshots (every c.every-th), measured on `threads`, in snapshot order.
+struct Pairs {
+  std::vector<PairMeasure> ms;
+  std::vector<std::size_t> ks;  // their snapshots (frame B)
+  std::size_t skipped = 0;
+  std::string skipped_why;      // the first skipped pair's reason
+};
+Pairs measure_pairs(const SnapshotSource& run, const PairSetup& su, const PivConfig& c, int threads) {
+  const std::vector<std::size_t> ks = every_kth(run.snapshots(), static_cast<std::size_t>(c.every));
   // the maps (and frames) among the snapshots whose frame A lies within the run
   std::vector<std::size_t> later;
   const std::vector<double>& times = run.snapshot_times();
   for (std::size_t k : ks)
     if (su.gap > 0 ? k >= su.gap : times[k] >= times.front() + su.interval) later.push_back(k);
   const std::vector<std::size_t> map_ks = spread_over(later, static_cast<std::size_t>(c.maps));
-  const int threads = in.threads > 0 ? in.threads : omp_get_max_threads();
   // frames A from earlier snapshots: their grains' positions (NaN where not active), read first
   std::vector<std::vector<Vec2>> earlier(su.gap > 0 ? ks.size() : 0);
   for (std::size_t q = 0; q < earlier.size(); ++q) {
@@ -251,10 +242,7 @@ PivResult run_piv(const SnapshotSource& run, const PivInput& in) {
       if (e.active[g]) earlier[q][g] = e.position[g];
   }
 
-  std::vector<PairMeasure> ms;  // the valid pairs
-  std::vector<std::size_t> valid_ks;
-  std::size_t skipped = 0;
-  std::string skipped_why;
+  Pairs p;
   for_each_snapshot(
       run, ks, threads,
       [&](std::size_t k, const Snapshot& s, const std::vector<Vec2>& window_disp) {
@@ -279,16 +267,42 @@ PivResult run_piv(const SnapshotSource& run, const PivInput& in) {
       },
       [&](std::size_t k, PairMeasure&& m) {
         if (!m.valid) {
-          if (skipped++ == 0) skipped_why = "snapshot " + std::to_string(k) + ": " + m.why;
+          if (p.skipped++ == 0) p.skipped_why = "snapshot " + std::to_string(k) + ": " + m.why;
           return;
         }
-        valid_ks.push_back(k);
-        ms.push_back(std::move(m));
+        p.ks.push_back(k);
+        p.ms.push_back(std::move(m));
       });
-  if (ms.empty())
+  if (p.ms.empty())
     throw StageError(run.path() + ": no snapshot gives a frame pair with PIV vectors (" +
-                     (skipped_why.empty() ? std::string("none measured") : skipped_why) + ")");
+                     (p.skipped_why.empty() ? std::string("none measured") : p.skipped_why) + ")");
+  return p;
 
+}
+
+// H_c: why PIV cannot give it here (the view above the intruder against where a cone at the PIV's beta
+// meets the walls)
+json wall_mobility(const PivConfig& c, const PairSetup& su, const std::vector<PairMeasure>& ms) {
+  const double view = 0.5 * static_cast<double>(c.camera.height) / su.scale;  // the view above the intruder's centre (m)
+  const double beta = stats(column_of(ms, [](const PairMeasure& m) { return m.side[kPivSide].beta; })).mean;
+  const double half_gap = 0.5 * (su.cell.right - su.cell.left - ms.front().in.length());
+  const double meet = half_gap * std::tan(beta * std::numbers::pi / 180.0);  // the cone at beta meets the walls this far above
+  return {
+      {"measured", false},
+      {"view_above_intruder_mm", view * kMm},
+      {"cone_meets_walls_above_intruder_mm", number_or_null(meet * kMm)},
+      {"why", "not from PIV: the region of interest leaves the walls' faces and " + format_number(c.wall_margin_d) +
+                  " d inside them out (as the paper's), and the camera follows the intruder: it sees " +
+                  format_number(std::round(view * kMm)) + " mm above the intruder's centre, while a cone at the PIV's "
+                  "beta meets the walls " + (std::isfinite(meet) ? format_number(std::round(meet * kMm)) : std::string("?")) +
+                  " mm above it (1/2 (L_c - L) tan beta); the cg stage's H_c is quoted under cg_stage"}};
+}
+
+// metrics.json's "piv" object
+json metrics(const SnapshotSource& run, const PivInput& in, const PairSetup& su, const Pairs& p, int threads,
+             std::chrono::steady_clock::time_point t_start) {
+  const PivConfig& c = in.config;
+  const std::vector<PairMeasure>& ms = p.ms;
   double render_s = 0.0, piv_s = 0.0, cg_s = 0.0, rms = 0.0, rms_frame = 0.0, vectors = 0.0, replaced = 0.0, passes = 0.0;
   for (const PairMeasure& m : ms) {
     render_s += m.render_s, piv_s += m.piv_s, cg_s += m.cg_s;
@@ -301,8 +315,8 @@ PivResult run_piv(const SnapshotSource& run, const PivInput& in) {
   j["config_file"] = in.config_path;
   j["cg_config_file"] = in.cg_config_path;
   j["pairs"] = ms.size();
-  j["pairs_skipped"] = skipped;
-  if (skipped > 0) j["pairs_skipped_first"] = skipped_why;
+  j["pairs_skipped"] = p.skipped;
+  if (p.skipped > 0) j["pairs_skipped_first"] = p.skipped_why;
   j["frame_interval_s"] = su.interval;
   j["frame_interval_from"] = su.gap == 0 ? std::string("the run's displacement_window")
                                          : std::to_string(su.gap) + " snapshot interval" + (su.gap > 1 ? "s" : "");
@@ -332,21 +346,7 @@ PivResult run_piv(const SnapshotSource& run, const PivInput& in) {
                       "cg stage's cone.level (not its noise-calibrated level), edges narrowing upwards left out; "
                       "difference: PIV - CG paired by pair; intervals: 95 % t over pairs (pairs of one run are not "
                       "independent: a lower bound on the uncertainty)";
-  {  // H_c: why PIV cannot give it here
-    const double view = 0.5 * static_cast<double>(c.camera.height) / su.scale;  // the view above the intruder's centre (m)
-    const double beta = stats(column_of(ms, [](const PairMeasure& m) { return m.side[kPivSide].beta; })).mean;
-    const double half_gap = 0.5 * (su.cell.right - su.cell.left - ms.front().in.length());
-    const double meet = half_gap * std::tan(beta * std::numbers::pi / 180.0);  // the cone at beta meets the walls this far above
-    j["wall_mobility"] = {
-        {"measured", false},
-        {"view_above_intruder_mm", view * kMm},
-        {"cone_meets_walls_above_intruder_mm", number_or_null(meet * kMm)},
-        {"why", "not from PIV: the region of interest leaves the walls' faces and " + format_number(c.wall_margin_d) +
-                    " d inside them out (as the paper's), and the camera follows the intruder: it sees " +
-                    format_number(std::round(view * kMm)) + " mm above the intruder's centre, while a cone at the PIV's "
-                    "beta meets the walls " + (std::isfinite(meet) ? format_number(std::round(meet * kMm)) : std::string("?")) +
-                    " mm above it (1/2 (L_c - L) tan beta); the cg stage's H_c is quoted under cg_stage"}};
-  }
+  j["wall_mobility"] = wall_mobility(c, su, ms);
   j["vortices"] = {{"piv", vortices(ms, c, kPivSide)}, {"cg", vortices(ms, c, kCgSide)}};
   if (!in.cg_metrics_path.empty()) {
     std::ifstream f(in.cg_metrics_path);
@@ -366,8 +366,15 @@ PivResult run_piv(const SnapshotSource& run, const PivInput& in) {
                {"piv_seconds_per_pair", piv_s / P}, {"cg_seconds_per_pair", cg_s / P}};
   j["config"] = to_json(c);
 
+  return j;
+}
+
+// metrics.json, piv.h5 and the kept frames
+PivResult outputs(const SnapshotSource& run, const PairSetup& su, const Pairs& pairs, json j) {
+  const std::vector<PairMeasure>& ms = pairs.ms;
+  const std::vector<std::size_t>& valid_ks = pairs.ks;
   PivResult r;
-  r.metrics = {{"piv", j}};
+  r.metrics = {{"piv", std::move(j)}};
   H5Output& h = r.h5;
   h = H5Output("piv", run.path());
   h.note("cell_left", su.cell.left), h.note("cell_right", su.cell.right), h.note("cell_floor", su.cell.floor);
@@ -436,6 +443,27 @@ PivResult run_piv(const SnapshotSource& run, const PivInput& in) {
     h.add(std::string("maps/swirl_") + kSideName[k], maps[k][1], "V/d", "lambda_ci, the swirl strength", {M, g0.ny, g0.nx});
   }
   return r;
+}
+
+}  // namespace
+
+PivResult run_piv(const SnapshotSource& run, const PivInput& in) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const PivConfig& c = in.config;
+  const std::size_t S = run.snapshots();
+  if (S == 0) throw StageError(run.path() + ": the run file has no snapshots");
+  const Snapshot s0 = run.snapshot(0);
+  PairSetup su;
+  try {
+    su = setup(run, s0, in);
+  } catch (const StageError& e) {
+    const std::string msg = e.what();
+    if (msg.rfind(run.path(), 0) == 0 || msg.rfind(in.config_path, 0) == 0 || msg.rfind(in.cg_config_path, 0) == 0) throw;
+    throw StageError(in.config_path + " with " + run.path() + ": " + msg);
+  }
+  const int threads = in.threads > 0 ? in.threads : omp_get_max_threads();
+  const Pairs p = measure_pairs(run, su, c, threads);
+  return outputs(run, su, p, metrics(run, in, su, p, threads, t_start));
 }
 
 PivResult run_piv(const PivInput& in) {
