@@ -22,7 +22,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path[:0] = [HERE, os.path.join(HERE, "..", "..", "python")]
 import dem2d  # noqa: E402
 from headless import require_display  # noqa: E402
-from paraview import simple as pv  # noqa: E402
+
+pv = None  # paraview.simple: imported once the arguments and files are checked (the import takes seconds)
 
 # each part's own array: how it is found where the reader keeps no block names (Xdmf3ReaderS)
 OWN_ARRAY = {"particles": ["POINTS", "diameter"], "bodies": ["CELLS", "thickness"], "contacts": ["CELLS", "fn"]}
@@ -79,6 +80,8 @@ def main():
     xdmf = os.path.abspath(os.path.join(args.run_dir, "run.xdmf"))  # a bare name misleads the Xdmf3 readers
     check_xdmf(xdmf)
     require_display("force_network")
+    global pv
+    from paraview import simple as pv
 
     with dem2d.open_run(h5) as run:
         heights = run.heights() * 1e3
