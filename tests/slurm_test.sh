@@ -76,6 +76,9 @@ cluster_part() {
   # a member that fails: the submission exits non-zero naming it and its log, never "done"
   t4=$(date +%s.%N)
   mkdir -p "$WORK/failing/ensemble/member_001"
+  # member_000 as made above (its times kept: up to date, its task has nothing to do), so that only the
+  # failing member costs anything
+  cp -a "$WORK/slurm/ensemble/member_000" "$WORK/failing/ensemble/" 2>/dev/null
   printf '[time]\nnot_a_key = 1\n' >"$WORK/failing/ensemble/member_001/member.toml"  # (newer than what makes it)
   make --no-print-directory ensemble PRESET=quick MEMBERS=2 RESULTS="$WORK/failing" EXECUTOR=slurm SLURM_WAIT=1 \
     >"$WORK/failing.log" 2>&1 && fail "an ensemble with a failing member was reported as a success: $(tail -5 "$WORK/failing.log")"

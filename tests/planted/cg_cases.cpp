@@ -31,6 +31,9 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
   cg.in.config = analysis::load_cg_config(data_dir + "/cg.toml");
   cg.in.config_path = data_dir + "/cg.toml";
   cg.in.threads = 0;  // every thread, across one replica's snapshots: better balanced than 3 replicas on 2 cores
+  // the cones' snapshots, one every cone_travel_mm of the intruder's travel
+  ConeScenario plain;
+  plain.travel = set.cone_travel_mm * 1e-3;
   const BedGeometry geometry;
   const double half_gap = 0.5 * (geometry.width - geometry.length);
   // the replicas of a scenario: bed and noise seeded alike, 1 ... set.replicas
@@ -49,7 +52,7 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
   auto graded_cones = [&](double noise, double corr, bool beyond) {
     const std::string unit = corr > 0.0 ? "x V per grain, correlated over " + fmt("%g", corr) + " d" : "x V per grain";
     for (const double beta : set.cone_angles_deg) {
-      ConeScenario cone;
+      ConeScenario cone = plain;
       cone.beta_deg = beta, cone.noise = noise, cone.correlation_d = corr;
       const Replicas reps = replicas(cone);
       Row b{"cone angle (R5)", "a cone of " + fmt("%g", beta) + " deg from the intruder's tips", "beta", "deg", beta,
@@ -106,7 +109,7 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
     // coarse-graining's response to a sharp edge, shown beside the graded ones
     if (noise == 0.0)
       for (const double beta : set.cone_angles_deg) {
-        ConeScenario step;
+        ConeScenario step = plain;
         step.beta_deg = beta, step.graded = false;
         const Replicas reps = replicas(step);
         Row b{"cone angle (R5)", "a step cone of " + fmt("%g", beta) + " deg (v* = 1 inside, 0 outside)", "beta", "deg",
@@ -123,7 +126,7 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
         rows.push_back(h);
       }
     // nothing moves but the noise
-    ConeScenario nothing;
+    ConeScenario nothing = plain;
     nothing.moving = false, nothing.noise = noise;
     const Replicas still = replicas(nothing);
     Row nb{"cone angle (R5)", "nothing moves: the noise only", "beta", "deg", std::numeric_limits<double>::quiet_NaN(),
@@ -138,7 +141,7 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
   // cones of other shapes: edges of two angles; edges that bend
   for (const double noise : set.shape_piv_noise) {
     const double left = set.asymmetric_cone_deg[0], right = set.asymmetric_cone_deg[1];
-    ConeScenario two;
+    ConeScenario two = plain;
     two.beta_deg = left, two.beta_right_deg = right, two.noise = noise;
     const Replicas reps = replicas(two);
     const std::string name = "edges of " + fmt("%g", left) + " deg (left) and " + fmt("%g", right) + " deg (right)";
@@ -160,7 +163,7 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
     reps.fill(h, [](const auto& m) { return metric(m, "wall_mobility_length_mm"); });
     rows.push_back(h);
     for (const double bend : set.edge_bends) {
-      ConeScenario bent;
+      ConeScenario bent = plain;
       bent.beta_deg = 60.0, bent.bend = bend, bent.noise = noise;
       const double meet = wall_meeting(bent.beta_deg, bend, half_gap);
       if (!std::isfinite(meet)) continue;
@@ -190,7 +193,7 @@ std::vector<Row> cg_cases(const Settings& set, const std::string& data_dir) {
   // few snapshots (the walls' flags then miss at that rate), the power the
   // stage reports against how often it finds the loss
   for (const double rest : set.intermittent_at_rest) {
-    ConeScenario cone;
+    ConeScenario cone = plain;
     cone.beta_deg = cg.in.config.wall_power_cone_angle_deg;
     cone.at_rest = rest, cone.travel = set.intermittent_travel_mm * 1e-3;
     const std::string name = "a " + fmt("%g", cone.beta_deg) + " deg cone at rest in " + fmt("%g", 100.0 * rest) +

@@ -111,6 +111,7 @@ Settings load_settings(const std::string& path, bool quick) {
     t.numbers("correlated_piv_noise", s.correlated_piv_noise, 0.0, 100.0, "x V per component");
     t.numbers("piv_correlation_d", s.piv_correlation_d, 0.0, 100.0, "x mean diameter", analysis::StageConfig::Ends::open_low);
     t.numbers("intermittent_at_rest", s.intermittent_at_rest, 0.0, 1.0, "fraction of snapshots", analysis::StageConfig::Ends::open_high);
+    t.number("cone_travel_mm", s.cone_travel_mm, 0.0, 1e3, "mm", analysis::StageConfig::Ends::open_low);
     t.number("intermittent_travel_mm", s.intermittent_travel_mm, 0.0, 1e3, "mm", analysis::StageConfig::Ends::open_low);
     t.numbers("cone_angles_deg", s.cone_angles_deg, 0.0, 90.0, "degrees", analysis::StageConfig::Ends::open);
     t.numbers("wall_lengths_mm", s.wall_lengths_mm, 0.0, 1e4, "mm", analysis::StageConfig::Ends::open_low);

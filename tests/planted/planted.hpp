@@ -98,6 +98,7 @@ struct Settings {
   std::vector<double> piv_correlation_d{2.0, 5.0};      // ... these lengths, x mean diameter
   std::vector<double> cone_angles_deg{50.0, 60.0, 70.0};
   std::vector<double> intermittent_at_rest{0.3, 0.5, 0.7};  // H_c's power: fraction of snapshots in which nothing moves
+  double cone_travel_mm = 0.5;                        // the cg family's cones: a snapshot every this much travel
   double intermittent_travel_mm = 5.0;                // ... in snapshots this far apart
   std::vector<double> wall_lengths_mm{54.0, 78.0, 124.0};
   std::vector<double> asymmetric_cone_deg{50.0, 70.0};  // a cone's left and right edges (degrees)
