@@ -30,6 +30,13 @@ expect 2 "nowhere.toml: cannot read the scene file" -- "$DEM2D" check "$WORK/now
 # a device that never ends is refused, not read until memory runs out
 expect 2 "/dev/zero: cannot read the scene file: not a regular file" -- timeout 20 "$DEM2D" check /dev/zero
 expect 0 "valid" -- bash -c "\"$DEM2D\" check <(cat \"$TESTS/scenes/valid_minimal.toml\")"  # a pipe is read
+# a FIFO is read while its writer writes (here one that starts late); one nobody writes to is refused
+mkfifo "$WORK/late.toml" "$WORK/unwritten.toml"
+(sleep 2; cat "$TESTS/scenes/valid_minimal.toml" >"$WORK/late.toml") &
+expect 0 "valid" -- timeout 30 "$DEM2D" check "$WORK/late.toml"
+wait
+expect 2 "unwritten.toml: cannot read the scene file: a pipe that nothing wrote to within 10 s" -- \
+  timeout 30 "$DEM2D" check "$WORK/unwritten.toml"
 expect 2 "threads: 65536: must be an integer from 0 (the program chooses) to" -- \
   "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/many" --threads 65536
 [ -e "$WORK/many" ] && fail "a rejected --threads left an output folder"
@@ -106,6 +113,11 @@ expect 2 "holds the run this one starts from (--initial" -- \
   "$DEM2D" run "$TESTS/scenes/quick_pulloff.toml" --overlay "$WORK/accept_overlap.toml" --initial "$WORK/minimal/beds/bed.h5" \
   --out "$WORK/minimal"
 cmp -s "$WORK/minimal/beds/bed.h5" "$WORK/bed_copy.h5" || fail "a bed inside --out was touched"
+# a bed whose last snapshot has no grain left in the domain: that is what is said, not "no particles"
+cp "$WORK/bed_copy.h5" "$WORK/emptied.h5"
+$PY -c 'import h5py, sys; f = h5py.File(sys.argv[1], "r+"); f["snapshots/active"][-1, :] = 0' "$WORK/emptied.h5"
+expect 2 "cannot start from it: its last snapshot (step [0-9]*) has no active grain: all [0-9]* left the domain" -- \
+  "$DEM2D" run "$TESTS/scenes/quick_pulloff.toml" --initial "$WORK/emptied.h5" --out "$WORK/from_emptied"
 
 # reference: the pour, uninterrupted
 SCENE=$TESTS/scenes/pour_resume.toml

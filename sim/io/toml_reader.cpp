@@ -8,6 +8,10 @@
 #include <filesystem>
 #include <sstream>
 
+#include <fcntl.h>
+#include <poll.h>
+#include <unistd.h>
+
 namespace dem2d {
 
 std::string show(const toml::node& n) {
@@ -85,6 +89,11 @@ std::string TomlFile::read(const char* what) const {
   };
   if (std::filesystem::file_size(path, ec) > kMaxBytes && !ec) too_large();
   std::string text;
+  if (std::filesystem::is_fifo(status)) {
+    text = read_pipe(cannot);
+    if (text.size() > kMaxBytes) too_large();
+    return text;
+  }
   std::FILE* file = std::fopen(path.c_str(), "rb");
   int err = file ? 0 : errno;
   if (file) {
@@ -96,6 +105,43 @@ std::string TomlFile::read(const char* what) const {
   }
   if (err) error(cannot + std::strerror(err));
   if (text.size() > kMaxBytes) too_large();  // (what was read: a file can grow, or report no size)
+  return text;
+}
+
+// A pipe (a FIFO, the shell's <(...)): what its writer sends, up to one byte
+// past the bound, waiting at most kPipeWaitSeconds for each next piece (a
+// FIFO nobody opens for writing is refused, not waited on for ever).
+std::string TomlFile::read_pipe(const std::string& cannot) const {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);  // (does not wait for a writer)
+  if (fd < 0) error(cannot + std::strerror(errno));
+  std::string text;
+  char buf[65536];
+  std::string failure;
+  while (text.size() <= kMaxBytes) {
+    pollfd p{fd, POLLIN, 0};
+    const int ready = ::poll(&p, 1, kPipeWaitSeconds * 1000);
+    if (ready < 0 && errno == EINTR) continue;
+    if (ready < 0) {
+      failure = std::strerror(errno);
+      break;
+    }
+    if (ready == 0) {
+      failure = text.empty() ? "a pipe that nothing wrote to within " + std::to_string(kPipeWaitSeconds) + " s"
+                             : "a pipe whose writer stopped for " + std::to_string(kPipeWaitSeconds) + " s before its end";
+      break;
+    }
+    const ssize_t got = ::read(fd, buf, sizeof buf);
+    if (got > 0) {
+      text.append(buf, static_cast<std::size_t>(got));
+    } else if (got == 0) {
+      break;  // the writer closed it: the end
+    } else if (errno != EAGAIN && errno != EINTR) {
+      failure = std::strerror(errno);
+      break;
+    }
+  }
+  ::close(fd);
+  if (!failure.empty()) error(cannot + failure);
   return text;
 }
 

@@ -54,9 +54,12 @@ class TomlFile {
   // The file's text parsed: "FILE: no such file", "FILE:LINE:COL: TOML syntax error: ...".
   toml::table parse_file() const;
   // The file's text: "FILE: cannot read the <what>: <reason>" if it cannot be read, is neither a
-  // regular file nor a pipe (a directory, a device such as /dev/zero) or is larger than kMaxBytes.
+  // regular file nor a pipe (a directory, a device such as /dev/zero), is larger than kMaxBytes, or is
+  // a pipe that nothing writes to for kPipeWaitSeconds.
   std::string read(const char* what = "file") const;
   static constexpr std::uintmax_t kMaxBytes = std::uintmax_t{256} << 20;  // bytes: no scene or settings file is near
+  // A pipe is read while its writer sends: a wait for its next bytes longer than this (s) is an error.
+  static constexpr int kPipeWaitSeconds = 10;
   toml::table parse(std::string_view text) const;
 
   // Throws the reader's error: raise(message), TomlError if raise returns.
@@ -68,6 +71,9 @@ class TomlFile {
  protected:
   // Throws a reader's own error type (the scene's SceneError, a stage's StageError).
   virtual void raise(const std::string&) const {}
+
+ private:
+  std::string read_pipe(const std::string& cannot) const;
 };
 
 // One table of the file: rejects unknown keys on construction, then reads
