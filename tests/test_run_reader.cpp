@@ -15,6 +15,7 @@
 #include "io/h5.hpp"
 #include "io/run_file.hpp"
 #include "io/run_parameters.hpp"
+#include "core/number_text.hpp"
 #include "io/run_reader.hpp"
 #include "frame/drag_profile.hpp"
 #include "scene_builder.hpp"
@@ -155,6 +156,26 @@ TEST_F(RunReaderChecks, AnArrayWhereOneValueBelongsIsRefusedNotReadPastItsEnd) {
     H5Aclose(a), H5Sclose(space);
   }
   EXPECT_ERROR(RunReader(path).displacement_window(), path, "displacement_window holds 64 values, expected one");
+}
+
+// The run's end, which the spectrum stage's exit height is read from: a NaN,
+// one before the last record or none is the file's damage, named as such (a
+// NaN was blamed on the run's stop criterion).
+TEST_F(RunReaderChecks, TheRunsEndIsAFiniteTimeAfterItsLastRecord) {
+  const double end = RunReader(valid_).end_time();
+  EXPECT_GE(end, RunReader(valid_).series_times().back());
+  const std::string path = dir_->file("end_time.h5");
+  for (const double bad : {kNaN, -1.0, 0.5 * end}) {
+    fs::copy_file(valid_, path, fs::copy_options::overwrite_existing);
+    h5::write_attr(h5::File::open_write(path), "/", "end_time", bad);
+    EXPECT_ERROR(RunReader(path).end_time(), path, "end_time = " + shortest(bad) + ": must be a finite time (s) at or after");
+    EXPECT_ERROR(RunReader(path).check_rest(), path, "end_time = ");
+  }
+  {
+    const h5::File f = h5::File::open_write(path);
+    H5Adelete(f.id(), "end_time");
+  }
+  EXPECT_ERROR(RunReader(path).end_time(), path, "root attribute end_time is missing");
 }
 
 // /parameters hands back what the run ran with; a file without it is

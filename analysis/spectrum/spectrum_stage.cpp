@@ -26,10 +26,9 @@ namespace {
 // free_time seconds): the height at end_time - free_time. NaN if the run
 // did not stop that way.
 double exit_height(const RunReader& run, const DragProfile& p) {
-  const h5::File& f = run.file();
   if (run.stopped_by() != "body_free") return kNaN;
   const double free_time = run.parameters().stop.free_time;
-  const double t = h5::read_attr_double(f, "/", "end_time") - free_time;
+  const double t = run.end_time() - free_time;
   if (!(t >= p.time.front() && t <= p.time.back())) return kNaN;
   const auto k = static_cast<std::size_t>(std::lower_bound(p.time.begin(), p.time.end(), t) - p.time.begin());
   if (k == 0) return p.height.front();

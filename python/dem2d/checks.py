@@ -155,6 +155,14 @@ def check_structure(c: Checker) -> dict:
         T = c.length("series/time")
         c.increasing("series/time", c.checked("series/time", (T,), "f8"))
     check_records(c, N, B, S, C)
+    # the run's end (C++: RunReader::end_time): finite, at or after the last snapshot and series row
+    end = root_scalar(c, "end_time", False)
+    if end is None:
+        c.fail("root attribute end_time is missing")
+    last = max([0.0] + [float(t[-1]) for t in (times, c.f["series/time"][...] if T else []) if len(t)])
+    if not (np.isfinite(end) and end >= last):
+        c.fail(f"root attribute end_time = {end:g}: must be a finite time (s) at or after the run's last "
+               f"snapshot and series row ({last:g} s)")
     return {"N": N, "B": B, "K": K, "S": S, "C": C, "T": T, "times": times, "start": start}
 
 

@@ -307,6 +307,7 @@ std::vector<double> RunReader::series(const std::string& name, const std::vector
 void RunReader::check_rest() const {
   if (h5::exists(file_, "bodies/velocity")) body_velocities();
   displacement_window();
+  end_time();
   if (h5::exists(file_, "contacts/line"))  // (its shape: checked on opening)
     check_finite("contacts/line", h5::read<double>(file_, "contacts/line"), 4, "row", 0);
   if (!h5::exists(file_, "series")) return;
@@ -438,6 +439,18 @@ double RunReader::displacement_window() const {
   if (!(std::isfinite(w) && w >= 0.0))
     fail("root attribute displacement_window = " + shortest(w) + ": must be a finite number of seconds >= 0 (0: none)");
   return w;
+}
+
+double RunReader::end_time() const {
+  if (!h5::has_attr(file_, "/", "end_time")) fail("root attribute end_time is missing");
+  const double t = h5::read_attr_double(file_, "/", "end_time");
+  double last = 0.0;
+  if (!times_.empty()) last = std::max(last, times_.back());
+  if (!series_times_.empty()) last = std::max(last, series_times_.back());
+  if (!(std::isfinite(t) && t >= last))
+    fail("root attribute end_time = " + shortest(t) + ": must be a finite time (s) at or after the run's last "
+         "snapshot and series row (" + shortest(last) + " s)");
+  return t;
 }
 
 std::vector<Vec2> RunReader::displacement(std::size_t k) const {

@@ -148,6 +148,8 @@ class RunReader {
   // not recorded, including files written before displacements existed.
   double displacement_window() const;
   std::vector<Vec2> displacement(std::size_t k) const;
+  // The run's end (s, root attribute end_time): finite, at or after its last snapshot and series row.
+  double end_time() const;
 
   std::size_t bodies() const { return body_names_.size(); }
   const std::vector<std::string>& body_names() const { return body_names_; }

@@ -139,6 +139,11 @@ DAMAGE = {
     "n_bodies a float": (lambda f: f.attrs.__setitem__("n_bodies", np.nan), "open", "n_bodies"),
     "displacement_window an array": (lambda f: f.attrs.__setitem__("displacement_window", np.full(64, 0.05)), "open",
                                      "displacement_window"),
+    # the run's end: the spectrum stage's exit height is read from it (a NaN blamed the stop criterion)
+    "end_time NaN": (lambda f: f.attrs.__setitem__("end_time", np.nan), "open", "end_time = nan: must be a finite"),
+    "end_time before the last snapshot": (lambda f: f.attrs.__setitem__("end_time", 1e-3), "open",
+                                          "end_time = 0.001: must be a finite time .s. at or after"),
+    "end_time missing": (lambda f: f.attrs.__delitem__("end_time"), "open", "root attribute end_time is missing"),
     "a series shorter than its times": (_replace("series/body_force_mean", lambda f: f["series/body_force_mean"][:-1]),
                                         "series", "/series/body_force_mean has shape"),
     "a law value out of its range": (_set("parameters/contact/grain_grain/kn", lambda v: v.__setitem__((), -1.0)),
