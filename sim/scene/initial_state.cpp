@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "core/fnv.hpp"
@@ -22,6 +24,10 @@ void load_initial_state(const std::string& run_path, Scene& scene) {
       order.push_back(i);
       row = std::max(row, last.diameter[i]);
     }
+  if (order.empty())
+    throw std::runtime_error(std::string("its ") + (checkpoint ? "checkpoint (step " : "last snapshot (step ") +
+                             std::to_string(last.step) + ") has no active grain: all " + std::to_string(last.size()) +
+                             " left the domain, and a run cannot start from none");
   auto row_of = [&](std::size_t i) { return std::floor(last.position[i].y / row); };
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     return row_of(a) != row_of(b) ? row_of(a) < row_of(b) : last.position[a].x < last.position[b].x;
