@@ -33,6 +33,20 @@ def makefile_targets() -> set:
     return {t for line in re.findall(r"^([A-Za-z][\w .-]*?)\s*::?(?!=)", text, re.M) for t in line.split()}
 
 
+def makefile_folders() -> set:
+    """The folders the Makefile's own rules write under a preset's results ($(RESULTS)/<name>): a stage of
+    that name would write into one (the pull-off slice's pulloff_5mm among them)."""
+    try:
+        text = (REPO / "Makefile").read_text()
+    except OSError:
+        return set()
+    return set(re.findall(r"\$\(RESULTS\)/([A-Za-z0-9_]+)", text))
+
+
+# the slice on another preset's bed: $(RESULTS)/pulloff_5mm_on_<preset>_bed (Makefile, SLICE_DIR)
+SLICE_ON_BED = re.compile(r"pulloff_5mm_on_.*_bed")
+
+
 MAKE_ESCAPES = {"$": "$$", ",": "$(comma)", "(": "$(lparen)", ")": "$(rparen)"}  # (pipeline/make_vars.mk)
 
 
@@ -96,7 +110,7 @@ def load(path: Path = REGISTRY) -> list:
     entries = doc.get("stage", [])
     if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
         raise RegistryError(f"{path}: stage = {short(entries)}: must be [[stage]] tables")
-    reserved = RESERVED | makefile_targets()
+    reserved = RESERVED | makefile_targets() | (makefile_folders() - set(SIMULATIONS))
     stages = []
     for k, e in enumerate(entries):
         where = f"{path}: stage[{k}]" + (f" ({e['name'][:60]})" if isinstance(e.get("name"), str) else "")
@@ -114,8 +128,9 @@ def load(path: Path = REGISTRY) -> list:
             raise bad("name", "must be a lower-case identifier of at most 64 characters")
         if e["name"] in (s.name for s in stages):
             raise bad("name", "another stage has this name")
-        if e["name"] in reserved or e["name"] in SIMULATIONS and e["name"] != e["run"]:
-            raise bad("name", "a name the Makefile uses already (a target, or a simulation's folder)")
+        if (e["name"] in reserved or SLICE_ON_BED.fullmatch(e["name"])
+                or e["name"] in SIMULATIONS and e["name"] != e["run"]):
+            raise bad("name", "a name the Makefile uses already (a target, or a folder of its own rules)")
         if not isinstance(e["program"], str) or not re.fullmatch(IDENTIFIER, e["program"]):
             raise bad("program", "must be a program name of at most 64 characters (build/release/analysis/<program>)")
         if e["run"] not in SIMULATIONS:

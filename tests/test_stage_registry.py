@@ -67,7 +67,9 @@ class Registry(unittest.TestCase):
 
     def test_names_the_makefile_uses_are_refused(self):
         for name in ("build", "install", "test", "check", "ensemble", "cyclic", "needs", "clean", "reproduce",
-                     "figures", "metrics", "params"):
+                     "figures", "metrics", "params",
+                     # folders of the Makefile's own rules: the pull-off slice, on its own or another bed
+                     "pulloff_5mm", "pulloff_5mm_on_default_bed", "report"):
             with self.subTest(name=name):
                 self.refused(extra(name=name), f"name = '{name}': a name the Makefile uses already")
 
