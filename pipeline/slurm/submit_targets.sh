@@ -80,14 +80,40 @@ echo "$final" >>"$L/jobs"
 [ "$WAIT" = 1 ] || { echo "submit_targets: $FINAL: job $final submitted"; exit 0; }
 # wait, with a bound: until no job of this submission is listed, or the budget is spent
 limit=${SLURM_WAIT_MINUTES:-$budget}
-[[ $limit =~ ^[1-9][0-9]*$ ]] || { echo "submit_targets: SLURM_WAIT_MINUTES=$limit: expected minutes > 0" >&2; exit 2; }
+wait_s=$( [[ $limit =~ ^([0-9]{1,6}(\.[0-9]*)?|\.[0-9]+)$ ]] && awk -v m="$limit" 'BEGIN { printf "%d", m * 60 + 0.5 }' || echo 0)
+[ "$wait_s" -gt 0 ] || { echo "submit_targets: SLURM_WAIT_MINUTES=$limit: expected minutes > 0 (at least 1 s)" >&2; exit 2; }
 echo "submit_targets: waiting for job $final and the waves, at most $limit min"
-deadline=$(($(date +%s) + 60 * limit))
+deadline=$(($(date +%s) + wait_s))
 jobs=$(paste -sd, "$L/jobs")
-while listed=$(squeue -h -j "$jobs" -o "%i %T %r" 2>/dev/null) && [ -n "$listed" ]; do
+# the jobs still listed, into `listed`; returns 1 when the controller does not
+# answer (squeue fails for another reason than jobs it no longer knows: those
+# ended long enough ago to be purged, which is no different from unlisted)
+poll_jobs() {
+  local err
+  if listed=$(squeue -h -j "$jobs" -o "%i %T %r" 2>"$L/squeue.err"); then return 0; fi
+  err=$(head -c 300 "$L/squeue.err")
+  if grep -qi "invalid job id" <<<"$err"; then listed=""; return 0; fi
+  listed=$err
+  return 1
+}
+silent_since=""  # when the controller stopped answering (empty: it answers)
+while :; do
+  if poll_jobs; then
+    [ -z "$silent_since" ] || echo "submit_targets: the controller answers again"
+    silent_since=""
+    [ -n "$listed" ] || break
+  elif [ -z "$silent_since" ]; then
+    silent_since=$(date '+%H:%M:%S')
+    echo "submit_targets: squeue fails ($listed): is slurmctld down? waiting for it to answer" >&2
+  fi
   if [ "$(date +%s)" -ge "$deadline" ]; then
-    echo "submit_targets: still queued or running after $limit min (a lost node? a limit too tight?):" >&2
-    printf '  %s\n' "$listed" >&2
+    if [ -n "$silent_since" ]; then
+      echo "submit_targets: the controller has not answered since $silent_since, and $limit min have passed:" \
+        "what the jobs are doing is unknown" >&2
+    else
+      echo "submit_targets: still queued or running after $limit min (a lost node? a limit too tight?):" >&2
+      printf '  %s\n' "$listed" >&2
+    fi
     break
   fi
   sleep "${SLURM_POLL_SECONDS:-5}"
@@ -98,12 +124,16 @@ for wave in $(awk '{print $1}' "$TARGETS" | sort -n | uniq); do
   k=0
   while read -r target; do
     st="$L/status/wave${wave}_$k.status"
-    if [ ! -s "$st" ]; then failed+=("$target: never ran or did not finish (cancelled, over its time limit, or its node was lost): $L/wave${wave}_$k.log")
+    if [ ! -s "$st" ] && [ -n "$silent_since" ]; then
+      failed+=("$target: not finished when the controller stopped answering (it may still be running): $L/wave${wave}_$k.log")
+    elif [ ! -s "$st" ]; then failed+=("$target: never ran or did not finish (cancelled, over its time limit, or its node was lost): $L/wave${wave}_$k.log")
     elif [ "$(cat "$st")" != 0 ]; then failed+=("$target: failed (exit $(cat "$st")): $L/wave${wave}_$k.log"); fi
     k=$((k + 1))
   done <"$L/wave$wave.txt"
 done
-if [ ! -s "$L/status/final.status" ]; then failed+=("$FINAL: never ran (a target it needs failed or did not finish)")
+if [ ! -s "$L/status/final.status" ] && [ -n "$silent_since" ]; then
+  failed+=("$FINAL: not finished when the controller stopped answering (it may still run): $L/final.log")
+elif [ ! -s "$L/status/final.status" ]; then failed+=("$FINAL: never ran (a target it needs failed or did not finish)")
 elif [ "$(cat "$L/status/final.status")" != 0 ]; then failed+=("$FINAL: failed: $L/final.log"); fi
 if [ ${#failed[@]} -gt 0 ]; then
   echo "submit_targets: ${#failed[@]} of the jobs' targets did not succeed:" >&2
