@@ -78,6 +78,27 @@ expect 2 "not-a-run.h5: no such file" -- "$DEM2D" inspect "$WORK/not-a-run.h5"
 expect 2 "valid_minimal.toml: cannot open as HDF5" -- "$DEM2D" inspect "$MIN_SCENE"
 mkfifo "$WORK/pipe.h5"  # a pipe where a run file is expected blocked HDF5 for ever
 expect 2 "pipe.h5: a pipe, not a regular file" -- timeout 20 "$DEM2D" inspect "$WORK/pipe.h5"
+# a file that claims 3e8 grains (every per-grain dataset that wide, chunked: a few kB on disk): where
+# its reading runs out of memory, that is what is said, with what the file claims (not "std::bad_alloc")
+$PY - "$WORK/minimal/run.h5" "$WORK/huge.h5" <<'PYEOF'
+import shutil, sys, h5py
+shutil.copy(sys.argv[1], sys.argv[2])
+N = 300_000_000
+with h5py.File(sys.argv[2], "r+") as f:
+    n = int(f.attrs["n_particles"])
+    f.attrs["n_particles"] = N
+    wide = []
+    f.visititems(lambda name, o: wide.append(name) if isinstance(o, h5py.Dataset) and n in o.shape else None)
+    for name in wide:
+        d = f[name]
+        shape, dtype, attrs = tuple(N if s == n else s for s in d.shape), d.dtype, dict(d.attrs)
+        del f[name]
+        new = f.create_dataset(name, shape=shape, dtype=dtype, chunks=True, compression="gzip")
+        for k, v in attrs.items():
+            new.attrs[k] = v
+PYEOF
+expect 2 "huge.h5: out of memory reading it (std::bad_alloc): it claims 300000000 grains (4800 MB for one snapshot" -- \
+  bash -c 'ulimit -v 1500000; exec "$0" inspect "$1"' "$DEM2D" "$WORK/huge.h5"
 
 # the output folder: a run never replaces or deletes a file it did not make, never writes through a
 # link it did not make, never replaces the run it starts from, and a second run into the folder is refused

@@ -86,6 +86,18 @@ class Parameters:
 
 
 PARAMETERS_FORMAT = "dem2d-parameters-1"
+# a motion segment's kinds and the values each must have (C++: core/motion.hpp's kMotionKinds, read by
+# io/run_parameters.cpp; a last constant segment without a duration goes on for ever)
+MOTION_KINDS = {"hold": ("duration",), "constant": ("velocity", "duration"), "ramp": ("velocity", "duration"),
+                "sine": ("amplitude", "period", "cycles"), "triangle": ("amplitude", "period", "cycles")}
+MAX_MOTION_PIECES = 1_000_000  # (C++: kMaxMotionPieces)
+
+
+def motion_count(c: Checker, name: str, v: float) -> int:
+    """A motion's cycles or motion_repeat: a whole number from 1 to MAX_MOTION_PIECES (the scene's range)."""
+    if not (1 <= v <= MAX_MOTION_PIECES and float(v).is_integer()):
+        c.fail(f"/{name}: {v:g}: must be a whole number from 1 to {MAX_MOTION_PIECES}")
+    return int(v)
 
 
 def _read_parameters(c: Checker, g: h5py.Group) -> Parameters:
@@ -123,10 +135,18 @@ def _parameters(c: Checker, g: h5py.Group) -> Parameters:
         d["vertices"] = np.asarray(d["vertices"]).reshape(-1, 2)
         d["motion"] = ([{"kind": b[f"motion/{j}"].attrs["kind"], **values(b[f"motion/{j}"])}
                         for j in range(int(b["motion"].attrs["segments"]))] if "motion" in b else [])
-        for seg in d["motion"]:
+        for j, seg in enumerate(d["motion"]):
+            where = f"/parameters/bodies/{k}/motion/{j}"
+            if seg["kind"] not in MOTION_KINDS:
+                c.fail(f"{where}@kind: unknown motion kind {seg['kind']!r}")
+            for key in MOTION_KINDS[seg["kind"]]:
+                forever = key == "duration" and seg["kind"] == "constant" and j + 1 == len(d["motion"])
+                if key not in seg and not forever:
+                    c.fail(f"{where}/{key}: missing")
             if "cycles" in seg:
-                seg["cycles"] = int(seg["cycles"])
-        d["motion_repeat"] = int(d.get("motion_repeat", 1))
+                seg["cycles"] = motion_count(c, f"parameters/bodies/{k}/motion/{j}/cycles", seg["cycles"])
+        d["motion_repeat"] = (motion_count(c, f"parameters/bodies/{k}/motion_repeat", d["motion_repeat"])
+                              if "motion_repeat" in d else 1)
         bodies.append(d)
     effects = values(g["effects"])
     return Parameters(

@@ -1,11 +1,13 @@
 // Reading /parameters (io/run_parameters.hpp).
 #include "io/run_parameters.hpp"
 
+#include <cmath>
 #include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
 
+#include "core/motion.hpp"
 #include "scene/scene_keys.hpp"
 
 namespace dem2d {
@@ -40,6 +42,14 @@ class Reader {
     const double v = number(name);
     if (!obeys(spec, v)) fail(name, shortest(v) + ": must be " + range_text(spec));
     return v;
+  }
+  // a count the scene reader would accept: a whole number from 1 to kMaxMotionPieces (a value past an
+  // int's range, cast, was undefined)
+  int count(const std::string& name) const {
+    const double v = number(name);
+    if (!(v >= 1.0 && v <= static_cast<double>(kMaxMotionPieces) && v == std::floor(v)))
+      fail(name, shortest(v) + ": must be a whole number from 1 to " + std::to_string(kMaxMotionPieces));
+    return static_cast<int>(v);
   }
   std::vector<double> values(const std::string& name, std::size_t n) const {
     if (!has(name)) fail(name, "missing");
@@ -122,7 +132,7 @@ std::vector<MotionSegment> read_motion(const Reader& r, const std::string& group
       m.aw = r.number_or(g + "/angle", 0.0);
     }
     if (spec->period) m.period = r.number(g + "/period");
-    if (spec->cycles) m.cycles = static_cast<int>(r.number(g + "/cycles"));
+    if (spec->cycles) m.cycles = r.count(g + "/cycles");
     out.push_back(m);
   }
   return out;
@@ -148,7 +158,7 @@ std::vector<BodySpec> read_bodies(const Reader& r) {
       const std::vector<double> p = r.values(g + "/pivot", 2);
       b.pivot = Point{p[0], p[1]};
     }
-    b.motion_repeat = static_cast<int>(r.number_or(g + "/motion_repeat", 1.0));
+    b.motion_repeat = r.has(g + "/motion_repeat") ? r.count(g + "/motion_repeat") : 1;
     out.push_back(std::move(b));
   }
   return out;
