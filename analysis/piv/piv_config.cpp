@@ -90,8 +90,14 @@ nlohmann::ordered_json to_json(const PivConfig& c) {
 
 std::string cg_config_path(const std::string& path, const PivConfig& c) {
   const std::filesystem::path p(c.cg_config);
-  if (p.is_absolute()) return p.string();
-  return (std::filesystem::path(path).parent_path() / p).lexically_normal().string();
+  const std::string found =
+      p.is_absolute() ? p.string() : (std::filesystem::path(path).parent_path() / p).lexically_normal().string();
+  std::error_code ec;
+  if (!std::filesystem::exists(found, ec))  // (a settings file elsewhere names the cg stage's, relative to itself)
+    throw StageError((path.empty() ? std::string("the default settings") : path) + ": compare.cg_config = \"" +
+                     c.cg_config + "\": " + found + ": no such file (the cg stage's settings, relative to this "
+                     "file's folder)");
+  return found;
 }
 
 }  // namespace dem2d::analysis

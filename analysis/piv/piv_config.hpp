@@ -39,7 +39,8 @@ struct PivConfig {
 // StageError "FILE:LINE:COL: key = value: ..." on a bad value or key.
 PivConfig load_piv_config(const std::string& path);
 nlohmann::ordered_json to_json(const PivConfig& c);
-// compare.cg_config resolved against the folder of the file at `path`.
+// compare.cg_config resolved against the folder of the file at `path`; StageError naming that file and
+// the key when nothing is there (a settings file copied elsewhere without the cg stage's beside it).
 std::string cg_config_path(const std::string& path, const PivConfig& c);
 
 }  // namespace dem2d::analysis

@@ -58,6 +58,25 @@ TEST(PivSwirl, SolidBodyRotationHasItsAngularVelocityShearAndExpansionNone) {
   EXPECT_TRUE(std::isnan(swirl_strength(g, vx, vy, 0.5)[g.at(6, 5)]));
 }
 
+// The cg stage's settings are found beside the piv settings (compare.cg_config, relative to that
+// file): a copy elsewhere without them is refused naming the copy, the key and the file looked for
+// (it said only "cg.toml: no such file").
+TEST(PivConfig, TheCgSettingsAreLookedForBesideTheFileAndTheirAbsenceNamesTheKey) {
+  const PivConfig c = load_piv_config(DEM2D_DATA_DIR "/piv.toml");
+  EXPECT_EQ(cg_config_path(DEM2D_DATA_DIR "/piv.toml", c), DEM2D_DATA_DIR "/cg.toml");
+  const test::TempDir dir;
+  const std::string copy = dir.file("my_piv.toml");
+  try {
+    cg_config_path(copy, c);
+    ADD_FAILURE() << "a missing cg settings file was accepted";
+  } catch (const StageError& e) {
+    EXPECT_NE(std::string(e.what()).find(copy + ": compare.cg_config = \"cg.toml\": " + dir.file("cg.toml") +
+                                         ": no such file"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 PivInput quick_input() {
   PivInput in;
   in.config = load_piv_config(DEM2D_DATA_DIR "/piv.toml");

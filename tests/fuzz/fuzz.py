@@ -63,7 +63,12 @@ from layers import Pipeline  # noqa: E402
 from outcomes import DEFECTS, classify, execute  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent.parent
-STAGES = ("bed_metrics", "pulloff_metrics", "spectrum", "cg", "network", "friction")
+sys.path.insert(0, str(ROOT / "pipeline"))
+import stages as registry  # noqa: E402
+
+# every analysis program of the stage registry (pipeline/stages.toml) is a consumer of the run files
+REGISTERED = {s.program: s for s in registry.load()}
+STAGES = tuple(REGISTERED)
 SCENES = ["tests/scenes/valid_minimal.toml", "tests/scenes/quick_fill.toml", "examples/box/scene.toml",
           "examples/silo/scene.toml", "tests/fuzz/tiny_fill.toml", "tests/fuzz/tiny_pulloff.toml"]
 COUNTS = {"quick": {"scene": 40, "config": 30, "runfile": 10, "reader": 16, "fault": 6, "pipeline": 20,
@@ -149,13 +154,14 @@ class Suite:
                 sys.exit(f"fuzz: {name} refuses the valid pull-off run:\n{r.err}")
 
     def stage_command(self, stage, run, out, config=None, study=None):
+        """The program `stage` on `run`, with the registry's inputs the base holds (the bed, the
+        spectrum's events and metrics; the others are optional: --fill-metrics, --cg-metrics)."""
         cmd = [self.analysis / stage, run, "--out", out]
-        if stage == "pulloff_metrics":
-            cmd += ["--bed", self.fill]
-        if stage in ("cg", "network"):
-            cmd += ["--events", self.events]
-        if stage == "network":
-            cmd += ["--spectrum-metrics", self.spectrum_metrics]
+        base = {registry.BED: self.fill, "spectrum/spectrum.h5": self.events,
+                "spectrum/metrics.json": self.spectrum_metrics}
+        for flag, source in REGISTERED[stage].inputs.items():
+            if source in base:
+                cmd += [flag, base[source]]
         if config:
             cmd += ["--config", config]
         if study:
@@ -205,12 +211,13 @@ class Suite:
     # ---- stage settings ----
     def configs(self):
         d = self.fresh("config")
+        shutil.copy(ROOT / "data/cg.toml", d / "cg.toml")  # (piv's settings name the cg stage's, beside them)
         cases = []
         for k in range(self.counts["config"]):
             stage = self.rng.choice(STAGES)
-            own = ROOT / "data" / f"{stage}.toml"
+            own = ROOT / REGISTERED[stage].config if REGISTERED[stage].config else None
             # pulloff_metrics has no settings file, bed_metrics no study constants
-            study = stage == "pulloff_metrics" or (stage != "bed_metrics" and self.rng.random() < 0.2)
+            study = own is None or (stage != "bed_metrics" and self.rng.random() < 0.2)
             base = ROOT / "data/study.toml" if study else own
             kind, text = mutate.mutate_toml(self.rng, base.read_text())
             path = d / f"{k:05d}_{base.name}"
@@ -233,9 +240,9 @@ class Suite:
     # run-file reader, which checks the particles, bodies, times and every
     # dataset's shape and type on opening; a snapshot's values when it is read.
     OPENED = ("particles/", "bodies/", "snapshots/time", "snapshots/step", "series/time", "snapshots/contact_start")
-    READS_ALL_SNAPSHOTS = ("cg", "network", "friction")
+    READS_ALL_SNAPSHOTS = ("cg", "network", "friction", "stress", "piv")
     READS_LAST_SNAPSHOT = ("bed_metrics", "dem2d_initial")
-    READS_CONTACTS = ("network", "friction", "bed_metrics", "dem2d_initial")
+    READS_CONTACTS = ("network", "friction", "stress", "bed_metrics", "dem2d_initial")
 
     # Records a run file may lack (files written before they existed): their
     # deletion is not damage a reader must see.
@@ -260,7 +267,7 @@ class Suite:
         if name in ("snapshots/position", "snapshots/velocity") and kind in ("nan", "inf"):
             return consumer in self.READS_ALL_SNAPSHOTS or (where == "last" and consumer in self.READS_LAST_SNAPSHOT)
         if name.startswith("contacts/") and kind in ("nan", "inf", "bad_contact"):
-            reads = consumer in ("network", "friction") or (where == "last" and consumer in self.READS_CONTACTS)
+            reads = consumer in ("network", "friction", "stress") or (where == "last" and consumer in self.READS_CONTACTS)
             return reads and name != "contacts/mr"
         return False
 
