@@ -17,8 +17,13 @@ cmake --install "$BUILD" --prefix "$P/prefix" >"$P/install.log" 2>&1 || { cat "$
 # moved after installing: a relocated installation must work too
 mv "$P/prefix" "$P/moved"
 I=$P/moved
-for f in bin/dem2d libexec/dem2d/bed_metrics libexec/dem2d/pulloff_metrics libexec/dem2d/spectrum libexec/dem2d/cg \
-  libexec/dem2d/network libexec/dem2d/friction share/dem2d/data/study.toml share/dem2d/data/bench/settled_bed.toml \
+# every stage of the registry: its program and its settings file (pipeline/stages.toml)
+registered=$(cd "$SRC" && ${PYTHON:-/usr/bin/python3} -c 'import sys; sys.path.insert(0, "pipeline"); import stages
+print(" ".join(sorted({f"libexec/dem2d/{s.program}" for s in stages.load()}
+                      | {f"share/dem2d/{s.config}" for s in stages.load() if s.config})))') ||
+  { echo "FAIL: the stage registry cannot be read"; exit 1; }
+[ -n "$registered" ] || { echo "FAIL: the stage registry lists no stage"; exit 1; }
+for f in bin/dem2d $registered share/dem2d/data/study.toml share/dem2d/data/bench/settled_bed.toml \
   share/dem2d/code_version.txt share/dem2d/python/dem2d/run.py; do
   [ -e "$I/$f" ] || fail "not installed: $f"
 done

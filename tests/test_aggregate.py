@@ -17,7 +17,19 @@ import unittest
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-REGISTRY = '[[stage]]\nname = "fill"\n\n[[stage]]\nname = "spectrum"\n'
+# two stages, as the registry's own reader (pipeline/stages.py) requires them
+REGISTRY = """[[stage]]
+name = "fill"
+program = "bed_metrics"
+run = "fill"
+outputs = ["metrics.json"]
+
+[[stage]]
+name = "spectrum"
+program = "spectrum"
+run = "pulloff"
+outputs = ["spectrum.h5", "metrics.json"]
+"""
 
 
 def metrics(k: int) -> dict:

@@ -20,6 +20,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "report"))
+import stages  # noqa: E402  (the stage registry)
 import tomlwrite  # noqa: E402
 from pull_speed import intruder_speed, speed_overlay  # noqa: E402
 from files import fail, read_toml, write_if_changed  # noqa: E402
@@ -157,9 +158,12 @@ def main() -> None:
         write_if_changed(cfg, toml_text(f"cg setting {c['name']} (over data/cg.toml's defaults)",
                                         {"kernel": {"w_over_d": c["w_over_d"]}, "grid": {"spacing_mm": c["spacing_mm"]},
                                          "output": {"field_every_mm": 0.0, "field_max_snapshots": 1}}))
+        # the cg stage's command line as the registry gives it (its inputs from the point's own outputs)
+        cg = next(s for s in stages.load() if s.name == "cg")
+        inputs = "".join(f" {flag} {run_dir}/{source}" for flag, source in cg.inputs.items())
         rules.append(f"{d}/metrics.json: {run_dir}/metrics.json {cfg} $(STAGE_PROGRAM_cg)\n"
-                     f"\t@$(call timed,$(STAGE_PROGRAM_cg) {run_dir}/pulloff/run.h5 --config {cfg} --out $(@D) "
-                     f"--events {run_dir}/spectrum/spectrum.h5 --threads {threads})\n")
+                     f"\t@$(call timed,$(STAGE_PROGRAM_cg) {run_dir}/{cg.run}/run.h5 --config {cfg} --out $(@D)"
+                     f"{inputs}{f' --threads {threads}' if cg.threads else ''})\n")
         targets.append(f"{d}/metrics.json")
 
     text = ("# Written by pipeline/accuracy/plan.py from data/accuracy.toml: the accuracy sweep's rules.\n"

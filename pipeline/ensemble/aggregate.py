@@ -31,13 +31,14 @@ import csv
 import json
 import math
 import sys
-import tomllib
 import warnings
 from pathlib import Path
 
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "report"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+import stages  # noqa: E402  (pipeline/stages.py: the registry's one reader)
 from files import fail, read_json, write_atomic  # noqa: E402
 
 RESAMPLES = 10000
@@ -222,11 +223,11 @@ def write_drag(out: Path, names: list, centres, table) -> None:
 
 
 def registry_stages(path: Path) -> list:
+    """The names of the registry's stages, read and checked by the registry's own reader (pipeline/stages.py)."""
     try:
-        with open(path, "rb") as f:
-            return [s["name"] for s in tomllib.load(f)["stage"]]
-    except (OSError, tomllib.TOMLDecodeError, KeyError, TypeError) as e:
-        fail(f"{path}: not a stage registry ({e})")
+        return [s.name for s in stages.load(path)]
+    except stages.RegistryError as e:
+        fail(f"not a stage registry: {e}")
 
 
 def main(argv: list) -> int:
