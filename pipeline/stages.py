@@ -24,23 +24,23 @@ KEYS = {"name", "program", "run", "config", "inputs", "args", "outputs", "thread
 RESERVED = {"all", "default", "FORCE", "stages", "registries", "figures", "metrics", "ensemble", "members"}
 
 
+def makefile_text() -> str:
+    """The Makefile's text ("" where it cannot be read: nothing is then reserved by it)."""
+    try:
+        return (REPO / "Makefile").read_text()
+    except OSError:
+        return ""
+
+
 def makefile_targets() -> set:
     """The Makefile's own targets (`name:` at the start of a line): a stage named like one would take it over."""
-    try:
-        text = (REPO / "Makefile").read_text()
-    except OSError:
-        return set()
-    return {t for line in re.findall(r"^([A-Za-z][\w .-]*?)\s*::?(?!=)", text, re.M) for t in line.split()}
+    return {t for line in re.findall(r"^([A-Za-z][\w .-]*?)\s*::?(?!=)", makefile_text(), re.M) for t in line.split()}
 
 
 def makefile_folders() -> set:
     """The folders the Makefile's own rules write under a preset's results ($(RESULTS)/<name>): a stage of
     that name would write into one (the pull-off slice's pulloff_5mm among them)."""
-    try:
-        text = (REPO / "Makefile").read_text()
-    except OSError:
-        return set()
-    return set(re.findall(r"\$\(RESULTS\)/([A-Za-z0-9_]+)", text))
+    return set(re.findall(r"\$\(RESULTS\)/([A-Za-z0-9_]+)", makefile_text()))
 
 
 # the slice on another preset's bed: $(RESULTS)/pulloff_5mm_on_<preset>_bed (Makefile, SLICE_DIR)

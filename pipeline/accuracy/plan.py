@@ -146,6 +146,8 @@ def main() -> None:
         targets.append(str(target))
 
     default_point = next((p for p in points if p["knob"] == "default" and p["extent"] == "full"), None)
+    # the cg stage's command line as the registry gives it (its inputs from the point's own outputs)
+    cg = next(s for s in stages.load() if s.name == "cg")
     for i, c in enumerate(config.get("cg", [])):
         unknown = set(c) - CG_KEYS
         if unknown or "name" not in c:
@@ -158,8 +160,6 @@ def main() -> None:
         write_if_changed(cfg, toml_text(f"cg setting {c['name']} (over data/cg.toml's defaults)",
                                         {"kernel": {"w_over_d": c["w_over_d"]}, "grid": {"spacing_mm": c["spacing_mm"]},
                                          "output": {"field_every_mm": 0.0, "field_max_snapshots": 1}}))
-        # the cg stage's command line as the registry gives it (its inputs from the point's own outputs)
-        cg = next(s for s in stages.load() if s.name == "cg")
         inputs = "".join(f" {flag} {run_dir}/{source}" for flag, source in cg.inputs.items())
         rules.append(f"{d}/metrics.json: {run_dir}/metrics.json {cfg} $(STAGE_PROGRAM_cg)\n"
                      f"\t@$(call timed,$(STAGE_PROGRAM_cg) {run_dir}/{cg.run}/run.h5 --config {cfg} --out $(@D)"

@@ -150,16 +150,17 @@ def check_structure(c: Checker) -> dict:
                                *((f"contacts/{q}", (C,), "f8") for q in ("fn", "ft", "overlap", "nx", "ny", "mr")),
                                ("contacts/sliding", (C,), "u1")):
         c.dataset(name, shape, dtype)
-    T = 0
+    T, series_times = 0, np.zeros(0)
     if "series/time" in f:
         T = c.length("series/time")
-        c.increasing("series/time", c.checked("series/time", (T,), "f8"))
+        series_times = c.checked("series/time", (T,), "f8")
+        c.increasing("series/time", series_times)
     check_records(c, N, B, S, C)
     # the run's end (C++: RunReader::end_time): finite, at or after the last snapshot and series row
     end = root_scalar(c, "end_time", False)
     if end is None:
         c.fail("root attribute end_time is missing")
-    last = max([0.0] + [float(t[-1]) for t in (times, c.f["series/time"][...] if T else []) if len(t)])
+    last = max([0.0] + [float(t[-1]) for t in (times, series_times) if len(t)])
     if not (np.isfinite(end) and end >= last):
         c.fail(f"root attribute end_time = {end:g}: must be a finite time (s) at or after the run's last "
                f"snapshot and series row ({last:g} s)")
