@@ -25,6 +25,7 @@ void check_ranges(const CgConfig& c, const std::function<std::string(const std::
   check(c.height_mm >= 0.0, "grid.height_mm", c.height_mm, "must be >= 0 (mm; 0: automatic)");
   check(c.mask_fraction >= 0.0 && c.mask_fraction < 1.0, "grid.mask_fraction", c.mask_fraction,
         "must be in [0, 1) (fraction of the bulk solid fraction)");
+  check(c.average_snapshots >= 1, "grid.average_snapshots", c.average_snapshots, "must be >= 1 (snapshots averaged per field)");
   check(c.immobile_below > 0.0 && c.immobile_below < c.dragged_above, "zones.immobile_below", c.immobile_below,
         "must be > 0 and below zones.dragged_above");
   check(c.reference_speed_mm_s >= 0.0, "zones.reference_speed_mm_s", c.reference_speed_mm_s,
@@ -33,6 +34,8 @@ void check_ranges(const CgConfig& c, const std::function<std::string(const std::
   check(c.fit_start_w >= 0.0, "cone.fit_start_w", c.fit_start_w, "must be >= 0 (in w)");
   check(c.fit_min_span_d > 0.0, "cone.fit_min_span_d", c.fit_min_span_d, "must be > 0 (in d)");
   check(c.seed_depth_d > 0.0, "cone.seed_depth_d", c.seed_depth_d, "must be > 0 (in d)");
+  check(c.frame_snapshots >= 1 && c.frame_snapshots <= 1000, "cone.frame_snapshots", c.frame_snapshots,
+        "must be an integer in [1, 1000] (snapshots averaged in the intruder's frame)");
   check(c.wall_band_d > 0.0, "wall.band_d", c.wall_band_d, "must be > 0 (in d)");
   check(c.wall_min_mobile_d >= 0.0, "wall.min_mobile_d", c.wall_min_mobile_d, "must be >= 0 (in d)");
   check(c.region_width_L > 0.0, "dilatancy.region_width_L", c.region_width_L, "must be > 0 (in L)");
@@ -96,6 +99,7 @@ CgConfig load_cg_config(const std::string& path) {
     cone.number("seed_depth_d", c.seed_depth_d, 0.0, kBig, "in d", E::open_low);
     cone.integer("min_snapshots", c.min_snapshots, 2, 1000000, "snapshots with an edge angle");
     cone.number("max_interval_deg", c.max_interval_deg, 0.0, 90.0, "deg, the 95 % interval's half-width", E::open_low);
+    cone.integer("frame_snapshots", c.frame_snapshots, 1, 1000, "snapshots averaged in the intruder's frame");
     cone.reject_unknown();
     StageConfig wall = file->table("wall");
     wall.number("band_d", c.wall_band_d, 0.0, kBig, "in d", E::open_low);

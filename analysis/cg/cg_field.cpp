@@ -92,6 +92,52 @@ void scale(Fields& f, double factor) {
   for (auto& v : f.py) times(v);
 }
 
+namespace {
+
+// Adds `in` moved by (sx, sy) metres, times `weight`, into `out`: out(i, j) +=
+// weight x in at (x_i - sx, y_j - sy), bilinear between the nodes, 0 beyond the grid.
+void add_moved(std::vector<double>& out, const std::vector<double>& in, const Grid& g, double sx, double sy, double weight) {
+  const double u = -sx / g.dx, v = -sy / g.dx;  // where a node's value comes from, in nodes
+  const double fu = std::floor(u), fv = std::floor(v), a = u - fu, b = v - fv;
+  const double w[4] = {(1 - a) * (1 - b), a * (1 - b), (1 - a) * b, a * b};
+  const auto nx = static_cast<long long>(g.nx), ny = static_cast<long long>(g.ny);
+  // beyond the grid (or a shift that is not a number): nothing to add
+  if (!(std::abs(fu) < static_cast<double>(nx + 1) && std::abs(fv) < static_cast<double>(ny + 1))) return;
+  for (int c = 0; c < 4; ++c) {
+    if (w[c] == 0.0) continue;
+    const long long si = static_cast<long long>(fu) + (c & 1), sj = static_cast<long long>(fv) + (c >> 1);
+    const long long i0 = std::max(0LL, -si), i1 = std::min(nx, nx - si);
+    const long long j0 = std::max(0LL, -sj), j1 = std::min(ny, ny - sj);
+    const double wc = weight * w[c];
+    for (long long j = j0; j < j1; ++j) {
+      double* o = out.data() + j * nx;
+      const double* s = in.data() + (j + sj) * nx + si;
+      for (long long i = i0; i < i1; ++i) o[i] += wc * s[i];
+    }
+  }
+}
+
+}  // namespace
+
+Fields frame_average(const Grid& g, const std::vector<const Fields*>& fields, const std::vector<Vec2>& at) {
+  const Fields& last = *fields.back();
+  Fields out{std::vector<double>(last.rho.size(), 0.0), std::vector<double>(last.phi.size(), 0.0),
+             std::vector<std::vector<double>>(last.px.size(), std::vector<double>(last.rho.size(), 0.0)),
+             std::vector<std::vector<double>>(last.py.size(), std::vector<double>(last.rho.size(), 0.0))};
+  const double weight = 1.0 / static_cast<double>(fields.size());
+  for (std::size_t k = 0; k < fields.size(); ++k) {
+    const Fields& f = *fields[k];
+    const double sx = at.back().x - at[k].x, sy = at.back().y - at[k].y;
+    add_moved(out.rho, f.rho, g, sx, sy, weight);
+    add_moved(out.phi, f.phi, g, sx, sy, weight);
+    for (std::size_t s = 0; s < out.px.size(); ++s) {
+      add_moved(out.px[s], f.px[s], g, sx, sy, weight);
+      add_moved(out.py[s], f.py[s], g, sx, sy, weight);
+    }
+  }
+  return out;
+}
+
 Velocity velocity(const Fields& f, std::size_t set, double min_phi) {
   Velocity v;
   v.vx.assign(f.rho.size(), kNaN);

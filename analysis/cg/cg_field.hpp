@@ -44,6 +44,13 @@ Fields coarse_grain(const Grid& grid, const Kernel& kernel, const Grains& grains
 void accumulate(Fields& sum, const Fields& add);
 void scale(Fields& f, double factor);
 
+// The average of fields[0 .. n) in the frame of a point at at[k] in field k
+// (m; e.g. the intruder's centre), on the nodes of the last: field k is moved
+// by at[n-1] - at[k], i.e. its value at a node is taken at node - that shift,
+// bilinear between nodes, 0 beyond the grid. What moves with the point stays;
+// noise independent between the fields averages out as 1/sqrt(n).
+Fields frame_average(const Grid& g, const std::vector<const Fields*>& fields, const std::vector<Vec2>& at);
+
 // The velocity field of set s: V = p / rho where phi >= min_phi, NaN elsewhere.
 struct Velocity {
   std::vector<double> vx, vy;  // m/s [nodes]

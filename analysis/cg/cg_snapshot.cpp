@@ -69,8 +69,9 @@ SourceMeasure measure_source(const Setup& su, const CgConfig& c, const Velocity&
 
 }  // namespace
 
-SnapshotMeasure measure_snapshot(const Setup& su, const CgConfig& c, const Fields& f, bool piv, const Snapshot& s,
-                                 const Intruder& in, bool full_fields, std::size_t primary) {
+SnapshotMeasure measure_snapshot(const Setup& su, const CgConfig& c, const Fields& f, bool piv, const Fields& moving,
+                                 bool moving_piv, const Snapshot& s, const Intruder& in, bool full_fields,
+                                 std::size_t primary) {
   const Grid& g = su.grid;
   SnapshotMeasure m;
   m.time = s.time;
@@ -94,10 +95,14 @@ SnapshotMeasure measure_snapshot(const Setup& su, const CgConfig& c, const Field
       for (auto& fv : m.v_field[set]) fv.assign(g.size(), std::numeric_limits<float>::quiet_NaN());
     if (set == kPiv && !piv) continue;
     const Velocity v = velocity(f, set, su.min_phi);
-    std::vector<double> walls[2];
-    m.src[set] = measure_source(su, c, v, m.intruder, set == primary ? walls : nullptr);
-    if (set == primary)
-      for (int w = 0; w < 2; ++w) m.wall_vstar[w] = to_f32(walls[w]);
+    if (set == kInst || moving_piv) {
+      const bool same = &moving == &f;
+      const Velocity vm = same ? Velocity{} : velocity(moving, set, su.min_phi);
+      std::vector<double> walls[2];
+      m.src[set] = measure_source(su, c, same ? v : vm, m.intruder, set == primary ? walls : nullptr);
+      if (set == primary)
+        for (int w = 0; w < 2; ++w) m.wall_vstar[w] = to_f32(walls[w]);
+    }
     for (std::size_t j = 0; j < g.ny; ++j) m.centre_vy[set][j] = static_cast<float>(v.vy[g.at(su.centre_i, j)]);
     m.tip[set][0] = tip_window(su, v, m.intruder, false);
     m.tip[set][1] = tip_window(su, v, m.intruder, true);

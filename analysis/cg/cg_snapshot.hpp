@@ -80,11 +80,14 @@ struct SnapshotMeasure {
   std::vector<float> phi_field, v_field[2][2];
 };
 
-// Measures snapshot s (intruder `in`) on its (averaged) fields f; `piv`: the
-// PIV set of f is valid; `full_fields`: keep the 2D fields; `primary`: the set
-// whose wall profiles are kept.
-SnapshotMeasure measure_snapshot(const Setup& su, const CgConfig& c, const Fields& f, bool piv, const Snapshot& s,
-                                 const Intruder& in, bool full_fields, std::size_t primary);
+// Measures snapshot s (intruder `in`) on its (averaged) fields f, the zones,
+// the cone and the walls' v* on `moving` (f averaged over cone.frame_snapshots
+// in the intruder's frame; f itself when that is 1); `piv`, `moving_piv`: the
+// PIV set of f, of `moving` is valid; `full_fields`: keep the 2D fields;
+// `primary`: the set whose wall profiles are kept.
+SnapshotMeasure measure_snapshot(const Setup& su, const CgConfig& c, const Fields& f, bool piv, const Fields& moving,
+                                 bool moving_piv, const Snapshot& s, const Intruder& in, bool full_fields,
+                                 std::size_t primary);
 
 // The rows of the wall bands at rest in a snapshot: above floor + margin and
 // below the intruder's centre - margin (margin = noise.rest_margin_w x w).

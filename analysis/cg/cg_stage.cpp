@@ -177,67 +177,95 @@ Setup make_setup(const SnapshotSource& run, const Snapshot& s0, const CgInput& i
 }
 
 // The noise pre-pass: v* of the nodes at rest (rest_rows, outside the
-// intruder's column by the kernel's cut-off beyond its tips) in
-// noise.snapshots snapshots spread evenly over the run, sorted. The fields it
-// coarse-grains go to `fields` (by snapshot), made as the main pass makes
-// them (every velocity set), which takes them instead of making them again.
+// intruder's column by the kernel's cut-off beyond its tips), on the fields the
+// cone is grown on: each averaged with the cone.frame_snapshots - 1 before it
+// in the intruder's frame. Groups of that many consecutive snapshots, ending at
+// snapshots spread evenly over the run, noise.snapshots coarse-grained in all
+// (a group with a snapshot without the primary velocities is left out); v*
+// sorted. The fields it coarse-grains go to `fields` (by snapshot), made as the
+// main pass makes them (every velocity set), which takes them instead of
+// making them again.
 std::vector<double> rest_node_vstar(const SnapshotSource& run, const Setup& su, const CgConfig& c, bool has_piv,
                                     std::size_t primary, int threads, std::map<std::size_t, Fields>& fields) {
-  const std::size_t S = run.snapshots(), n = std::min<std::size_t>(S, static_cast<std::size_t>(c.noise_snapshots));
-  std::vector<std::size_t> ks;
+  const std::size_t S = run.snapshots(), K = std::min<std::size_t>(S, static_cast<std::size_t>(c.frame_snapshots));
+  const std::size_t n = std::clamp<std::size_t>(static_cast<std::size_t>(c.noise_snapshots) / K, 1, S - K + 1);
+  std::vector<std::size_t> ends, ks;
   for (std::size_t q = 0; q < n; ++q) {
-    const std::size_t k = n == 1 ? 0 : static_cast<std::size_t>(std::llround(static_cast<double>(q * (S - 1)) / static_cast<double>(n - 1)));
-    if (ks.empty() || ks.back() != k) ks.push_back(k);
+    const std::size_t e = K - 1 + (n == 1 ? 0 : static_cast<std::size_t>(std::llround(static_cast<double>(q * (S - K)) / static_cast<double>(n - 1))));
+    if (!ends.empty() && ends.back() == e) continue;
+    ends.push_back(e);
+    for (std::size_t k = e + 1 - K; k <= e; ++k)
+      if (ks.empty() || ks.back() < k) ks.push_back(k);
   }
-  std::vector<double> out;
+  std::map<std::size_t, Intruder> intruders;
   for_each_snapshot(
       run, ks, threads,
       [&](std::size_t, const Snapshot& s, const std::vector<Vec2>& disp) {
-        std::pair<std::vector<double>, std::optional<Fields>> result;
-        auto& [found, f] = result;
+        std::pair<Intruder, std::optional<Fields>> result;
+        result.first = intruder_of(s.bodies[static_cast<std::size_t>(s.find_role("intruder"))]);
         const PivVelocities p = has_piv ? piv_velocities(s, disp, su.window) : PivVelocities{false, {}};
         if (primary == kPiv && !p.ok) return result;
-        f = coarse_grain(su.grid, su.kernel, grains_of(s, has_piv ? &p.v : nullptr));
-        const std::vector<double> vstar = speed_ratio(velocity(*f, primary, su.min_phi), 0.0, 0.0, su.v_ref);
-        const Intruder in = intruder_of(s.bodies[static_cast<std::size_t>(s.find_role("intruder"))]);
-        const RestRows rows = rest_rows(su, c, in);
-        const double reach = 0.5 * in.length() + su.kernel.radius();
-        for (std::size_t j = 0; j < su.grid.ny; ++j) {
-          if (su.grid.y(j) < rows.low || su.grid.y(j) >= rows.high) continue;
-          for (std::size_t i = 0; i < su.grid.nx; ++i) {
-            const double v = vstar[su.grid.at(i, j)];
-            if (std::abs(su.grid.x(i) - in.xc) >= reach && std::isfinite(v)) found.push_back(v);
-          }
-        }
+        result.second = coarse_grain(su.grid, su.kernel, grains_of(s, has_piv ? &p.v : nullptr));
         return result;
       },
-      [&](std::size_t k, std::pair<std::vector<double>, std::optional<Fields>>&& r) {
-        out.insert(out.end(), r.first.begin(), r.first.end());
-        if (r.second) fields.emplace(k, std::move(*r.second));
+      [&](std::size_t k, std::pair<Intruder, std::optional<Fields>>&& r) {
+        if (!r.second) return;
+        intruders.emplace(k, r.first);
+        fields.emplace(k, std::move(*r.second));
       });
+  std::vector<double> out;
+  for (const std::size_t e : ends) {
+    std::vector<const Fields*> group;
+    std::vector<Vec2> at;
+    for (std::size_t k = e + 1 - K; k <= e && intruders.count(k); ++k)
+      group.push_back(&fields.at(k)), at.push_back({intruders.at(k).xc, intruders.at(k).yc});
+    if (group.size() < K) continue;
+    const Fields averaged = K > 1 ? frame_average(su.grid, group, at) : Fields{};
+    const std::vector<double> vstar = speed_ratio(velocity(K > 1 ? averaged : *group[0], primary, su.min_phi), 0.0, 0.0, su.v_ref);
+    const Intruder& in = intruders.at(e);
+    const RestRows rows = rest_rows(su, c, in);
+    const double reach = 0.5 * in.length() + su.kernel.radius();
+    for (std::size_t j = 0; j < su.grid.ny; ++j) {
+      if (su.grid.y(j) < rows.low || su.grid.y(j) >= rows.high) continue;
+      for (std::size_t i = 0; i < su.grid.nx; ++i) {
+        const double v = vstar[su.grid.at(i, j)];
+        if (std::abs(su.grid.x(i) - in.xc) >= reach && std::isfinite(v)) out.push_back(v);
+      }
+    }
+  }
   std::sort(out.begin(), out.end());
   return out;
 }
 
 // Every snapshot, in batches: read serially (HDF5), coarse-grained and measured
 // in parallel. Each snapshot's result depends on its own data only (and, with
-// averaging, on the previous snapshots' fields, summed serially): the same for
-// any thread count. Not common/snapshot_loop.hpp: the trailing average is a
-// serial step between two parallel ones.
+// averaging, on the previous snapshots' fields, summed serially or in a fixed
+// order): the same for any thread count. Not common/snapshot_loop.hpp: the
+// trailing average is a serial step between two parallel ones.
 struct Measured {
   std::vector<SnapshotMeasure> ms;
   std::vector<std::uint8_t> piv_ok;  // the snapshot has PIV-like velocities
   double cg_seconds = 0.0;           // wall time in coarse_grain
 };
 
+// The last cone.frame_snapshots snapshots' (lab-averaged) fields, their
+// intruder's centre and whether their PIV set is valid: the intruder-frame
+// average of the zones and the cone.
+struct FrameWindow {
+  std::deque<Fields> fields;
+  std::deque<Vec2> at;
+  std::deque<std::uint8_t> piv;
+};
+
 Measured measure_all(const SnapshotSource& run, const Setup& su, const CgInput& in, bool has_piv, std::size_t primary,
                      const std::vector<std::size_t>& fields_at, int threads, std::map<std::size_t, Fields>& made) {
   const CgConfig& c = in.config;
   const std::string& path = run.path();
-  const std::size_t S = run.snapshots();
+  const std::size_t S = run.snapshots(), K = static_cast<std::size_t>(c.frame_snapshots);
   Measured out{std::vector<SnapshotMeasure>(S), std::vector<std::uint8_t>(S, 0), 0.0};
   const std::size_t batch = static_cast<std::size_t>(std::max(1, 2 * threads));
   std::deque<Fields> history;  // raw fields of the previous snapshots (trailing average)
+  FrameWindow before;          // the K - 1 snapshots before the batch (intruder-frame average)
   for (std::size_t k0 = 0; k0 < S; k0 += batch) {
     const std::size_t k1 = std::min(S, k0 + batch);
     const auto [snaps, piv] = read_batch(run, k0, k1, has_piv, su.window);
@@ -253,6 +281,7 @@ Measured measure_all(const SnapshotSource& run, const Setup& su, const CgInput& 
     // trailing averages (serial: they depend on the previous snapshots)
     std::vector<Fields> avg(raw.size());
     std::vector<std::uint8_t> avg_piv(raw.size());
+    std::vector<Intruder> intruders(raw.size());
     for (std::size_t q = 0; q < raw.size(); ++q) {
       out.piv_ok[k0 + q] = piv[q].ok ? 1 : 0;
       history.push_back(std::move(raw[q]));
@@ -263,15 +292,30 @@ Measured measure_all(const SnapshotSource& run, const Setup& su, const CgInput& 
       bool ok = true;
       for (std::size_t h = 0; h < history.size(); ++h) ok = ok && out.piv_ok[k0 + q - h];
       avg_piv[q] = ok ? 1 : 0;
+      intruders[q] = intruder_of(intruder_body(snaps[q], path));
     }
+    // the window of snapshot q: positions [q + T + 1 - m, q + T] of `before` followed by the batch
+    const std::size_t T = before.fields.size();
+    const auto member = [&](std::size_t p) { return p < T ? &before.fields[p] : &avg[p - T]; };
+    const auto centre = [&](std::size_t p) { return p < T ? before.at[p] : Vec2{intruders[p - T].xc, intruders[p - T].yc}; };
+    const auto piv_valid = [&](std::size_t p) { return p < T ? before.piv[p] != 0 : avg_piv[p - T] != 0; };
     std::vector<std::string> errors(raw.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (std::size_t q = 0; q < raw.size(); ++q) {
       const std::size_t k = k0 + q;
       const bool full = std::binary_search(fields_at.begin(), fields_at.end(), k);
       try {
-        out.ms[k] = measure_snapshot(su, c, avg[q], avg_piv[q] != 0, snaps[q],
-                                 intruder_of(intruder_body(snaps[q], path)), full, primary);
+        Fields moved;
+        bool moved_piv = avg_piv[q] != 0;
+        if (K > 1) {
+          std::vector<const Fields*> fs;
+          std::vector<Vec2> at;
+          for (std::size_t p = q + T + 1 - std::min(K, q + T + 1); p <= q + T; ++p)
+            fs.push_back(member(p)), at.push_back(centre(p)), moved_piv = moved_piv && piv_valid(p);
+          moved = frame_average(su.grid, fs, at);
+        }
+        out.ms[k] = measure_snapshot(su, c, avg[q], avg_piv[q] != 0, K > 1 ? moved : avg[q], moved_piv, snaps[q],
+                                     intruders[q], full, primary);
         if (primary == kPiv && piv[q].ok) add_rest_grain_noise(su, c, snaps[q], piv[q].v, out.ms[k]);
         if (primary == kInst || piv[q].ok)
           add_wall_profiles(su, c, avg[q], grains_of(snaps[q], has_piv ? &piv[q].v : nullptr), primary, out.ms[k]);
@@ -281,6 +325,12 @@ Measured measure_all(const SnapshotSource& run, const Setup& su, const CgInput& 
     }
     for (const std::string& e : errors)
       if (!e.empty()) throw CgError(e);
+    for (std::size_t q = 0; q < avg.size() && K > 1; ++q) {
+      before.fields.push_back(std::move(avg[q]));
+      before.at.push_back({intruders[q].xc, intruders[q].yc});
+      before.piv.push_back(avg_piv[q]);
+      if (before.fields.size() > K - 1) before.fields.pop_front(), before.at.pop_front(), before.piv.pop_front();
+    }
   }
   return out;
 }
