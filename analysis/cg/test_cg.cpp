@@ -540,6 +540,8 @@ TEST(CgConfigFile, DefaultsAndErrors) {
   EXPECT_EQ(error("[output]\nbands_mm = [0, 10, 5]\n"), ":2:12: output.bands_mm = 5: must increase");
   EXPECT_EQ(error("[grid]\naverage_snapshots = 0\n"),
             ":2:21: grid.average_snapshots = 0: must be an integer in [1, 1000000] (snapshots averaged per field)");
+  EXPECT_EQ(error("[cone]\nframe_snapshots = 1001\n"),
+            ":2:19: cone.frame_snapshots = 1001: must be an integer in [1, 1000] (snapshots averaged in the intruder's frame)");
   EXPECT_EQ(error("[sensitivity]\nmax_edge_angles_deg = [90, 200]\n"),
             ":2:28: sensitivity.max_edge_angles_deg[1] = 200: must be in (0, 180] (degrees from the horizontal; 180: "
             "every edge)");
@@ -629,6 +631,18 @@ TEST(CgStage, QuickPulloffRun) {
   EXPECT_EQ(h5::shape(f, "fields/phi")[1], m["grid"]["ny"].get<hsize_t>());
   EXPECT_TRUE(std::filesystem::exists(dir.path() / "metrics.json"));
   EXPECT_FALSE(std::filesystem::exists(dir.path() / "cg.h5.tmp"));
+  // averaged in the intruder's frame: its noise level no higher than one
+  // snapshot's, and the results again independent of the thread count
+  in.config.frame_snapshots = 4;
+  in.threads = 1;
+  auto f1 = compute_cg(in).metrics;
+  in.threads = 2;
+  auto f2 = compute_cg(in).metrics;
+  for (auto* x : {&f1, &f2}) (*x)["cg"].erase("cost");
+  EXPECT_EQ(f1.dump(), f2.dump());
+  EXPECT_LE(f1["cg"]["cone_level"].get<double>(), m["cone_level"].get<double>());
+  EXPECT_NE(f1["cg"]["zone_area_cone_mm2"], m["zone_area_cone_mm2"]);  // the zones are measured on the averages
+  in.config.frame_snapshots = 1;
   // without events: all snapshots, said so
   in.events_path = "";
   EXPECT_EQ(compute_cg(in).metrics["cg"]["loading_selection"], "all_snapshots");
