@@ -34,8 +34,8 @@ void check_ranges(const CgConfig& c, const std::function<std::string(const std::
   check(c.fit_start_w >= 0.0, "cone.fit_start_w", c.fit_start_w, "must be >= 0 (in w)");
   check(c.fit_min_span_d > 0.0, "cone.fit_min_span_d", c.fit_min_span_d, "must be > 0 (in d)");
   check(c.seed_depth_d > 0.0, "cone.seed_depth_d", c.seed_depth_d, "must be > 0 (in d)");
-  check(c.frame_snapshots >= 1 && c.frame_snapshots <= 1000, "cone.frame_snapshots", c.frame_snapshots,
-        "must be an integer in [1, 1000] (snapshots averaged in the intruder's frame)");
+  check(c.frame_snapshots >= 1 && c.frame_snapshots <= 100, "cone.frame_snapshots", c.frame_snapshots,
+        "must be an integer in [1, 100] (snapshots averaged in the intruder's frame)");
   check(c.wall_band_d > 0.0, "wall.band_d", c.wall_band_d, "must be > 0 (in d)");
   check(c.wall_min_mobile_d >= 0.0, "wall.min_mobile_d", c.wall_min_mobile_d, "must be >= 0 (in d)");
   check(c.region_width_L > 0.0, "dilatancy.region_width_L", c.region_width_L, "must be > 0 (in L)");
@@ -99,7 +99,7 @@ CgConfig load_cg_config(const std::string& path) {
     cone.number("seed_depth_d", c.seed_depth_d, 0.0, kBig, "in d", E::open_low);
     cone.integer("min_snapshots", c.min_snapshots, 2, 1000000, "snapshots with an edge angle");
     cone.number("max_interval_deg", c.max_interval_deg, 0.0, 90.0, "deg, the 95 % interval's half-width", E::open_low);
-    cone.integer("frame_snapshots", c.frame_snapshots, 1, 1000, "snapshots averaged in the intruder's frame");
+    cone.integer("frame_snapshots", c.frame_snapshots, 1, 100, "snapshots averaged in the intruder's frame");
     cone.reject_unknown();
     StageConfig wall = file->table("wall");
     wall.number("band_d", c.wall_band_d, 0.0, kBig, "in d", E::open_low);

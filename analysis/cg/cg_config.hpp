@@ -37,7 +37,7 @@ struct CgConfig {
   double seed_depth_d = 1.0;     // the mobilised zone grows from the nodes this deep above the intruder's top
   int min_snapshots = 5;         // beta is reported from at least this many snapshots with an angle ...
   double max_interval_deg = 5.0; // ... whose mean's 95 % t-interval is at most +- this (deg); else undetermined
-  int frame_snapshots = 1;       // zones and cone on rho, p averaged over this many snapshots in the intruder's frame
+  int frame_snapshots = 1;       // zones and cone on rho, p averaged over this many snapshots in the intruder's frame; at most 100 (each held in memory)
   // [wall]
   double wall_band_d = 1.0;          // nodes closer than this to a wall's face form its band
   double wall_min_mobile_d = 1.0;    // a wall is mobile if its band's v*, averaged over this length, reaches the level

@@ -540,8 +540,8 @@ TEST(CgConfigFile, DefaultsAndErrors) {
   EXPECT_EQ(error("[output]\nbands_mm = [0, 10, 5]\n"), ":2:12: output.bands_mm = 5: must increase");
   EXPECT_EQ(error("[grid]\naverage_snapshots = 0\n"),
             ":2:21: grid.average_snapshots = 0: must be an integer in [1, 1000000] (snapshots averaged per field)");
-  EXPECT_EQ(error("[cone]\nframe_snapshots = 1001\n"),
-            ":2:19: cone.frame_snapshots = 1001: must be an integer in [1, 1000] (snapshots averaged in the intruder's frame)");
+  EXPECT_EQ(error("[cone]\nframe_snapshots = 101\n"),
+            ":2:19: cone.frame_snapshots = 101: must be an integer in [1, 100] (snapshots averaged in the intruder's frame)");
   EXPECT_EQ(error("[sensitivity]\nmax_edge_angles_deg = [90, 200]\n"),
             ":2:28: sensitivity.max_edge_angles_deg[1] = 200: must be in (0, 180] (degrees from the horizontal; 180: "
             "every edge)");
