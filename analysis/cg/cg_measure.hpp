@@ -21,6 +21,7 @@ struct Intruder {
   double left = 0.0, right = 0.0;  // x of its tips (ends of the caps)
   double top = 0.0;                // y of its top face
   double length() const { return right - left; }
+  Vec2 centre() const { return {xc, yc}; }
 };
 Intruder intruder_of(const Body& b);
 

@@ -218,7 +218,7 @@ std::vector<double> rest_node_vstar(const SnapshotSource& run, const Setup& su, 
     std::vector<const Fields*> group;
     std::vector<Vec2> at;
     for (std::size_t k = e + 1 - K; k <= e && intruders.count(k); ++k)
-      group.push_back(&fields.at(k)), at.push_back({intruders.at(k).xc, intruders.at(k).yc});
+      group.push_back(&fields.at(k)), at.push_back(intruders.at(k).centre());
     if (group.size() < K) continue;
     const Fields averaged = K > 1 ? frame_average(su.grid, group, at) : Fields{};
     const std::vector<double> vstar = speed_ratio(velocity(K > 1 ? averaged : *group[0], primary, su.min_phi), 0.0, 0.0, su.v_ref);
@@ -248,13 +248,13 @@ struct Measured {
   double cg_seconds = 0.0;           // wall time in coarse_grain
 };
 
-// The last cone.frame_snapshots snapshots' (lab-averaged) fields, their
-// intruder's centre and whether their PIV set is valid: the intruder-frame
-// average of the zones and the cone.
-struct FrameWindow {
-  std::deque<Fields> fields;
-  std::deque<Vec2> at;
-  std::deque<std::uint8_t> piv;
+// One of the last cone.frame_snapshots snapshots: its (lab-averaged) fields,
+// its intruder's centre and whether its PIV set is valid (the intruder-frame
+// average of the zones and the cone).
+struct Framed {
+  Fields fields;
+  Vec2 at;
+  bool piv = false;
 };
 
 Measured measure_all(const SnapshotSource& run, const Setup& su, const CgInput& in, bool has_piv, std::size_t primary,
@@ -265,7 +265,7 @@ Measured measure_all(const SnapshotSource& run, const Setup& su, const CgInput& 
   Measured out{std::vector<SnapshotMeasure>(S), std::vector<std::uint8_t>(S, 0), 0.0};
   const std::size_t batch = static_cast<std::size_t>(std::max(1, 2 * threads));
   std::deque<Fields> history;  // raw fields of the previous snapshots (trailing average)
-  FrameWindow before;          // the K - 1 snapshots before the batch (intruder-frame average)
+  std::deque<Framed> before;   // the K - 1 snapshots before the batch (intruder-frame average)
   for (std::size_t k0 = 0; k0 < S; k0 += batch) {
     const std::size_t k1 = std::min(S, k0 + batch);
     const auto [snaps, piv] = read_batch(run, k0, k1, has_piv, su.window);
@@ -295,10 +295,10 @@ Measured measure_all(const SnapshotSource& run, const Setup& su, const CgInput& 
       intruders[q] = intruder_of(intruder_body(snaps[q], path));
     }
     // the window of snapshot q: positions [q + T + 1 - m, q + T] of `before` followed by the batch
-    const std::size_t T = before.fields.size();
-    const auto member = [&](std::size_t p) { return p < T ? &before.fields[p] : &avg[p - T]; };
-    const auto centre = [&](std::size_t p) { return p < T ? before.at[p] : Vec2{intruders[p - T].xc, intruders[p - T].yc}; };
-    const auto piv_valid = [&](std::size_t p) { return p < T ? before.piv[p] != 0 : avg_piv[p - T] != 0; };
+    const std::size_t T = before.size();
+    const auto member = [&](std::size_t p) { return p < T ? &before[p].fields : &avg[p - T]; };
+    const auto centre = [&](std::size_t p) { return p < T ? before[p].at : intruders[p - T].centre(); };
+    const auto piv_valid = [&](std::size_t p) { return p < T ? before[p].piv : avg_piv[p - T] != 0; };
     std::vector<std::string> errors(raw.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (std::size_t q = 0; q < raw.size(); ++q) {
@@ -326,10 +326,8 @@ Measured measure_all(const SnapshotSource& run, const Setup& su, const CgInput& 
     for (const std::string& e : errors)
       if (!e.empty()) throw CgError(e);
     for (std::size_t q = 0; q < avg.size() && K > 1; ++q) {
-      before.fields.push_back(std::move(avg[q]));
-      before.at.push_back({intruders[q].xc, intruders[q].yc});
-      before.piv.push_back(avg_piv[q]);
-      if (before.fields.size() > K - 1) before.fields.pop_front(), before.at.pop_front(), before.piv.pop_front();
+      before.push_back({std::move(avg[q]), intruders[q].centre(), avg_piv[q] != 0});
+      if (before.size() > K - 1) before.pop_front();
     }
   }
   return out;
