@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <numbers>
 #include <set>
 
+#include "common/json_input.hpp"
 #include "common/snapshot_loop.hpp"
 #include "common/stage_config.hpp"
 #include "common/units.hpp"
@@ -214,16 +214,9 @@ json to_json(const NetworkConfig& c) {
 }
 
 double read_top_layer_height_mm(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw StageError(path + ": no such file (spectrum metrics)");
-  json j;
-  try {
-    j = json::parse(in);
-  } catch (const std::exception& e) {
-    throw StageError(path + ": not JSON (" + e.what() + ")");
-  }
+  const nlohmann::json j = read_json(path, "spectrum metrics");
   if (!j.contains("spectrum") || !j["spectrum"].is_object()) return kNaN;
-  const json& v = j["spectrum"].value("top_layer_height_mm", json(nullptr));
+  const nlohmann::json& v = j["spectrum"].value("top_layer_height_mm", nlohmann::json(nullptr));
   if (v.is_null()) return kNaN;
   if (!v.is_number()) throw StageError(path + ": spectrum.top_layer_height_mm = " + v.dump() + ": expected a number");
   return v.get<double>();

@@ -7,6 +7,9 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <thread>
+
+#include <sys/stat.h>
 
 #include "io/h5.hpp"
 #include "network/network_stage.hpp"
@@ -68,6 +71,33 @@ Snapshot two_chains() {
 // With cohesion, tensile contacts (fn < 0, touching or across a gap) are
 // neither edges nor part of the mean: the graph and the threshold are those
 // of the compressive network.
+// An earlier stage's metrics given as input (--spectrum-metrics here; --fill-metrics and --cg-metrics read
+// the same way): what is not a regular file is refused naming it, and a pipe's writer is waited for, not
+// for ever (a pipe nobody wrote to blocked the stage for ever; /dev/zero was read until memory ran out).
+TEST(NetworkInputs, EarlierMetricsAreARegularFileOrAPipeWithAWriter) {
+  const auto message = [](const std::string& path) {
+    try {
+      return std::to_string(read_top_layer_height_mm(path));
+    } catch (const StageError& e) {
+      return std::string(e.what());
+    }
+  };
+  EXPECT_EQ(message("/dev/zero"), "/dev/zero: cannot read the spectrum metrics: not a regular file");
+  const test::TempDir dir;
+  EXPECT_EQ(message(dir.path().string()), dir.path().string() + ": cannot read the spectrum metrics: not a regular file");
+  EXPECT_EQ(message(dir.path().string() + "/none.json"), dir.path().string() + "/none.json: no such file (spectrum metrics)");
+  EXPECT_EQ(message(dir.file("cut.json", "{\"spectrum\": {")).rfind(dir.path().string() + "/cut.json: not JSON (", 0), 0u);
+  EXPECT_EQ(message(dir.file("m.json", "{\"spectrum\": {\"top_layer_height_mm\": 87.5}}")), "87.500000");
+  const std::string pipe = (dir.path() / "late.json").string();
+  ASSERT_EQ(::mkfifo(pipe.c_str(), 0600), 0);
+  std::thread writer([&] {  // a writer that comes late
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    std::ofstream(pipe) << "{\"spectrum\": {\"top_layer_height_mm\": 12.25}}";
+  });
+  EXPECT_EQ(message(pipe), "12.250000");
+  writer.join();
+}
+
 TEST(NetworkGraph, TensileContactsAreNotEdges) {
   Snapshot s = two_chains();
   s.contacts.add(4, 5, -0.4, 1e-7, 1.0, 0.0);    // pulled, touching

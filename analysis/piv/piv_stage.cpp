@@ -8,9 +8,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <numbers>
 
+#include "common/json_input.hpp"
 #include "common/normal.hpp"
 #include "common/output.hpp"
 #include "common/snapshot_loop.hpp"
@@ -349,13 +349,10 @@ json metrics(const SnapshotSource& run, const PivInput& in, const PairSetup& su,
   j["wall_mobility"] = wall_mobility(c, su, ms);
   j["vortices"] = {{"piv", vortices(ms, c, kPivSide)}, {"cg", vortices(ms, c, kCgSide)}};
   if (!in.cg_metrics_path.empty()) {
-    std::ifstream f(in.cg_metrics_path);
-    json cg;
-    try {
-      cg = json::parse(f).at("cg");
-    } catch (const std::exception& e) {
-      throw StageError(in.cg_metrics_path + ": not the cg stage's metrics.json (" + e.what() + ")");
-    }
+    const nlohmann::json all = read_json(in.cg_metrics_path, "--cg-metrics");
+    if (!all.contains("cg") || !all["cg"].is_object())
+      throw StageError(in.cg_metrics_path + ": not the cg stage's metrics.json (no object \"cg\")");
+    const nlohmann::json& cg = all["cg"];
     j["cg_stage"] = {{"cone_angle_deg", cg.value("cone_angle_deg", json())},
                      {"cone_angle_all_snapshots_deg", cg.value("cone_angle_all_snapshots_deg", json())},
                      {"wall_mobility_length_mm", cg.value("wall_mobility_length_mm", json())},

@@ -3,13 +3,13 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <numeric>
 #include <stdexcept>
 
 #include "common/output.hpp"
 #include "common/stage_output.hpp"
 #include "common/events.hpp"
+#include "common/json_input.hpp"
 #include "io/h5.hpp"
 #include "io/run_parameters.hpp"
 #include "io/run_reader.hpp"
@@ -37,14 +37,7 @@ double exit_height(const RunReader& run, const DragProfile& p) {
 }
 
 double fill_bed_height(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) fail(path, "no such file (--fill-metrics)");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    fail(path, std::string("not a JSON file: ") + e.what());
-  }
+  const nlohmann::json j = read_json(path, "--fill-metrics");
   const auto* v = j.contains("fill") ? &j["fill"] : nullptr;
   if (!v || !v->contains("bed_height_mm") || !(*v)["bed_height_mm"].is_number())
     fail(path, "no number fill.bed_height_mm (the fill stage's metrics, bed_metrics)");
