@@ -121,6 +121,15 @@ cluster_part() {
     printf "slurm_test: %d members through Slurm %.1f s (cluster start %.1f s); the failing member %.1f s, the lost node %.1f s\n",
       k, d - c, c - s, f - e, g - f }'
   pipeline/slurm/local_cluster.sh stop "$WORK/cluster" || fail "the daemons did not stop"
+  # a restart in the lost node's folder: the controller recovers the lost job, which keeps the node busy;
+  # the refusal names the saved state and the way out, and --clear-state starts with it dropped
+  out=$(pipeline/slurm/local_cluster.sh start "$WORK/cluster" 2>&1) && fail "a restart with a lost job's state said idle"
+  grep -q "recovered jobs $job from the state an earlier cluster saved in $WORK/cluster/state: .*--clear-state" \
+    <<<"$out" || fail "a restart on a lost job's state said: $out"
+  pipeline/slurm/local_cluster.sh start "$WORK/cluster" --clear-state >"$WORK/clear.log" 2>&1 ||
+    fail "a restart with --clear-state: $(cat "$WORK/clear.log")"
+  [ -z "$(squeue -h -o %i 2>&1)" ] || fail "jobs listed after --clear-state: $(squeue 2>&1)"
+  pipeline/slurm/local_cluster.sh stop "$WORK/cluster" || fail "the daemons did not stop"
   for pidf in "$WORK"/cluster/*.pid; do [ -e "$pidf" ] && fail "left running: $pidf"; done
 }
 

@@ -6,13 +6,23 @@
 #   pipeline/slurm/local_cluster.sh start DIR   generate DIR/slurm.conf (this host's cores and
 #                                               memory), start munged, slurmctld and slurmd, wait
 #                                               until the node is idle; prints `export SLURM_CONF=...`
+#   pipeline/slurm/local_cluster.sh start DIR --clear-state
+#                                               the same, the jobs an earlier cluster in DIR saved
+#                                               dropped (slurmctld -c): a lost node's job keeps the
+#                                               node busy otherwise
 #   pipeline/slurm/local_cluster.sh stop DIR    stop the daemons it started (by their PIDs in DIR)
 #
 # Needs: munged, slurmctld, slurmd, sinfo (Debian: apt-get install munge slurm-wlm),
 # and root (slurmd runs jobs as their submitters). Exit status 0 on success.
 set -euo pipefail
-cmd=${1:-}; DIR=${2:-}
-[ -n "$cmd" ] && [ -n "$DIR" ] || { echo "usage: $0 start|stop DIR" >&2; exit 2; }
+cmd=${1:-}; DIR=${2:-}; CLEAR=()
+usage="usage: $0 start DIR [--clear-state] | stop DIR"
+[ -n "$cmd" ] && [ -n "$DIR" ] || { echo "$usage" >&2; exit 2; }
+case "$cmd ${3:-}" in
+  "start --clear-state") CLEAR=(-c) ;;
+  "start " | "stop ") ;;
+  *) echo "$usage" >&2; exit 2 ;;
+esac
 DIR=$(realpath -m "$DIR")
 
 stop() {
@@ -36,8 +46,6 @@ stop)
   stop
   echo "local_cluster: stopped ($DIR)"
   exit 0 ;;
-start) ;;
-*) echo "usage: $0 start|stop DIR" >&2; exit 2 ;;
 esac
 
 for p in munged slurmctld slurmd sinfo; do
@@ -105,7 +113,7 @@ echo $! >"$DIR/munged.pid"
 for _ in $(seq 50); do [ -S "$DIR/munge/munge.socket" ] && break; sleep 0.1; done
 [ -S "$DIR/munge/munge.socket" ] || { echo "local_cluster: munged did not start ($DIR/munged.log)" >&2; false; }
 export SLURM_CONF=$DIR/slurm.conf
-slurmctld -D -i -f "$SLURM_CONF" </dev/null >>"$DIR/slurmctld.out" 2>&1 &
+slurmctld -D -i "${CLEAR[@]}" -f "$SLURM_CONF" </dev/null >>"$DIR/slurmctld.out" 2>&1 &
 echo $! >"$DIR/slurmctld.pid"
 slurmd -D -f "$SLURM_CONF" </dev/null >>"$DIR/slurmd.out" 2>&1 &
 echo $! >"$DIR/slurmd.pid"
@@ -114,7 +122,16 @@ for _ in $(seq 150); do
   [ "$state" = idle ] && break
   sleep 0.2
 done
-[ "$state" = idle ] || { echo "local_cluster: node $HOST is '${state:-unreachable}', not idle ($DIR/slurmctld.log, slurmd.log)" >&2; false; }
+if [ "$state" != idle ]; then
+  # the controller recovers the jobs an earlier cluster in this folder saved (a lost node's among them):
+  # they keep the node busy, and only their owner knows whether they still matter
+  jobs=$(squeue -h -o %i 2>/dev/null | tr '\n' ' ' || true)
+  saved=""
+  [ -n "${jobs// /}" ] && saved="; the controller recovered jobs ${jobs% } from the state an earlier cluster saved"
+  [ -n "$saved" ] && saved+=" in $DIR/state: start in a new folder, or drop them ($0 start $DIR --clear-state)"
+  echo "local_cluster: node $HOST is '${state:-unreachable}', not idle ($DIR/slurmctld.log, slurmd.log)$saved" >&2
+  false
+fi
 trap - ERR
 echo "local_cluster: $HOST, $CPUS CPUs, $MEM_MB MB, up in $DIR"
 echo "export SLURM_CONF=$SLURM_CONF"
