@@ -159,8 +159,10 @@ TEST_F(RunReaderChecks, AnArrayWhereOneValueBelongsIsRefusedNotReadPastItsEnd) {
 }
 
 // The run's end, which the spectrum stage's exit height is read from: a NaN,
-// one before the last record or none is the file's damage, named as such (a
-// NaN was blamed on the run's stop criterion).
+// one before the last record, one after the last snapshot (the final state
+// ends every run file) or none is the file's damage, named as such (a NaN was
+// blamed on the run's stop criterion; 1e300 put the exit height outside the
+// series, silently).
 TEST_F(RunReaderChecks, TheRunsEndIsAFiniteTimeAfterItsLastRecord) {
   const double end = RunReader(valid_).end_time();
   EXPECT_GE(end, RunReader(valid_).series_times().back());
@@ -170,6 +172,11 @@ TEST_F(RunReaderChecks, TheRunsEndIsAFiniteTimeAfterItsLastRecord) {
     h5::write_attr(h5::File::open_write(path), "/", "end_time", bad);
     EXPECT_ERROR(RunReader(path).end_time(), path, "end_time = " + shortest(bad) + ": must be a finite time (s) at or after");
     EXPECT_ERROR(RunReader(path).check_rest(), path, "end_time = ");
+  }
+  for (const double bad : {std::nextafter(end, 2.0 * end), 2.0 * end, 1e300}) {
+    fs::copy_file(valid_, path, fs::copy_options::overwrite_existing);
+    h5::write_attr(h5::File::open_write(path), "/", "end_time", bad);
+    EXPECT_ERROR(RunReader(path).end_time(), path, "end_time = " + shortest(bad) + ": must be the time of the run's last snapshot");
   }
   {
     const h5::File f = h5::File::open_write(path);

@@ -164,6 +164,9 @@ def check_structure(c: Checker) -> dict:
     if not (np.isfinite(end) and end >= last):
         c.fail(f"root attribute end_time = {end:g}: must be a finite time (s) at or after the run's last "
                f"snapshot and series row ({last:g} s)")
+    if len(times) and end != float(times[-1]):  # (C++: the final state always ends the file)
+        c.fail(f"root attribute end_time = {end:g}: must be the time of the run's last snapshot ({float(times[-1]):g} s), "
+               "the state every run file ends with")
     return {"N": N, "B": B, "K": K, "S": S, "C": C, "T": T, "times": times, "start": start}
 
 

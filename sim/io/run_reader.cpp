@@ -450,6 +450,11 @@ double RunReader::end_time() const {
   if (!(std::isfinite(t) && t >= last))
     fail("root attribute end_time = " + shortest(t) + ": must be a finite time (s) at or after the run's last "
          "snapshot and series row (" + shortest(last) + " s)");
+  // the run's final state always ends the file (its last snapshot): a later end is damage (the spectrum stage's
+  // exit height, read at end_time - free_time, fell silently outside the series)
+  if (!times_.empty() && t != times_.back())
+    fail("root attribute end_time = " + shortest(t) + ": must be the time of the run's last snapshot (" +
+         shortest(times_.back()) + " s), the state every run file ends with");
   return t;
 }
 

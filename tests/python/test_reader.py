@@ -143,6 +143,8 @@ DAMAGE = {
     "end_time NaN": (lambda f: f.attrs.__setitem__("end_time", np.nan), "open", "end_time = nan: must be a finite"),
     "end_time before the last snapshot": (lambda f: f.attrs.__setitem__("end_time", 1e-3), "open",
                                           "end_time = 0.001: must be a finite time .s. at or after"),
+    "end_time after the last snapshot": (lambda f: f.attrs.__setitem__("end_time", 1e300), "open",
+                                         "end_time = 1e.300: must be the time of the run's last snapshot"),
     "end_time missing": (lambda f: f.attrs.__delitem__("end_time"), "open", "root attribute end_time is missing"),
     "a series shorter than its times": (_replace("series/body_force_mean", lambda f: f["series/body_force_mean"][:-1]),
                                         "series", "/series/body_force_mean has shape"),
