@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <numbers>
 
 #include "common/json_input.hpp"
@@ -223,8 +224,10 @@ struct Pairs {
   std::vector<std::size_t> ks;  // their snapshots (frame B)
   std::size_t skipped = 0;
   std::string skipped_why;      // the first skipped pair's reason
+  std::map<std::string, std::size_t> why_count;  // every reason a pair was skipped for, how often
 };
-Pairs measure_pairs(const SnapshotSource& run, const PairSetup& su, const PivConfig& c, int threads) {
+Pairs measure_pairs(const SnapshotSource& run, const PairSetup& su, const PivConfig& c, int threads,
+                    const std::string& settings) {
   const std::vector<std::size_t> ks = every_kth(run.snapshots(), static_cast<std::size_t>(c.every));
   // the maps (and frames) among the snapshots whose frame A lies within the run
   std::vector<std::size_t> later;
@@ -268,14 +271,18 @@ Pairs measure_pairs(const SnapshotSource& run, const PairSetup& su, const PivCon
       [&](std::size_t k, PairMeasure&& m) {
         if (!m.valid) {
           if (p.skipped++ == 0) p.skipped_why = "snapshot " + std::to_string(k) + ": " + m.why;
+          ++p.why_count[m.why];
           return;
         }
         p.ks.push_back(k);
         p.ms.push_back(std::move(m));
       });
-  if (p.ms.empty())
-    throw StageError(run.path() + ": no snapshot gives a frame pair with PIV vectors (" +
-                     (p.skipped_why.empty() ? std::string("none measured") : p.skipped_why) + ")");
+  if (p.ms.empty()) {  // (the settings decide as much as the run: both named, and every reason with its count)
+    std::string why;
+    for (const auto& [reason, n] : p.why_count) why += (why.empty() ? "" : "; ") + std::to_string(n) + " x " + reason;
+    throw StageError(settings + " with " + run.path() + ": no snapshot gives a frame pair with PIV vectors (" +
+                     (why.empty() ? std::string("none measured") : std::to_string(p.skipped) + " skipped: " + why) + ")");
+  }
   return p;
 
 }
@@ -459,7 +466,7 @@ PivResult run_piv(const SnapshotSource& run, const PivInput& in) {
     throw StageError(in.config_path + " with " + run.path() + ": " + msg);
   }
   const int threads = in.threads > 0 ? in.threads : omp_get_max_threads();
-  const Pairs p = measure_pairs(run, su, c, threads);
+  const Pairs p = measure_pairs(run, su, c, threads, in.config_path);
   return outputs(run, su, p, metrics(run, in, su, p, threads, t_start));
 }
 

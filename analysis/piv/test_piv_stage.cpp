@@ -140,6 +140,19 @@ TEST(PivStage, QuickStudyRunsItCannotMeasureAreRefused) {
   } catch (const StageError& e) {
     EXPECT_NE(std::string(e.what()).find("windows_px = 2048"), std::string::npos) << e.what();
   }
+  // settings under which no pair gives vectors (every 10^6-th snapshot: the first, before any displacement,
+  // and the final state, which has none): the settings named with the run, and every reason a pair was
+  // skipped with its count (it named the run only, and the first pair's reason)
+  in.config = quick_input().config;
+  in.config.every = 1000000;
+  try {
+    run_piv(in);
+    ADD_FAILURE() << "settings that leave no pair were accepted";
+  } catch (const StageError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind(in.config_path + " with " + in.run_path + ": no snapshot gives a frame pair", 0), 0u) << msg;
+    EXPECT_NE(msg.find("(2 skipped: 2 x a grain without a displacement"), std::string::npos) << msg;  // (the first and the final state)
+  }
 }
 
 TEST(PivStage, QuickRunFrameIntervalsTheSnapshotsGiveAndOnesTheyCannot) {
