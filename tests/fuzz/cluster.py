@@ -9,6 +9,10 @@ with these faults in turn:
   cancelled       the array job is cancelled (scancel) while it runs
   resubmit        a second submission into the same folder while the first
                   is listed: refused; the first then succeeds
+  controller_lost slurmctld killed while a member runs: the wait goes on to
+                  its bound, then names what did not finish as "not finished
+                  when the controller stopped answering" (never "never ran",
+                  never done)
 
 A submission with a fault must end non-zero naming each member that did not
 finish (`silent` if it exits 0, `message` if it does not name them), within
@@ -20,7 +24,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent.parent
-FAULTS = ("none", "failing_member", "lost_node", "cancelled", "resubmit")
+FAULTS = ("none", "failing_member", "lost_node", "cancelled", "resubmit", "controller_lost")
 LIMIT = 1200.0  # s for one ensemble of the quick scene through the cluster
 
 
@@ -44,7 +48,7 @@ class Cluster:
         try:
             self.start()
             for k in range(n):
-                fault = FAULTS[k % len(FAULTS)]  # every fault once in five trials
+                fault = FAULTS[k % len(FAULTS)]  # every fault once in six trials
                 outcome, what = self.trial(d / f"{k:03d}", fault, self.rng.choice([1, 2]))
                 self.s.record("slurm", fault, outcome, what)
         finally:
@@ -84,10 +88,12 @@ class Cluster:
             (ensemble / name / "member.toml").write_text("[time]\nnot_a_key = 1\n")  # newer than what makes it
         p = self.submit(case, members)
         second = None
-        if fault in ("lost_node", "cancelled", "resubmit"):
+        if fault in ("lost_node", "cancelled", "resubmit", "controller_lost"):
             started = self.wait_for(ensemble / name / "fill/run.log", p)
             if started and fault == "lost_node":
                 self.kill_node(ensemble)
+            elif started and fault == "controller_lost":
+                os.kill(int((self.dir / "slurmctld.pid").read_text()), signal.SIGKILL)
             elif started and fault == "cancelled":
                 subprocess.run(["scancel", *(ensemble / "slurm/jobs").read_text().split()], capture_output=True)
             elif started:
@@ -100,7 +106,9 @@ class Cluster:
             p.kill()
             return "hang", f"{case} ({fault}): no end in {LIMIT:.0f} s"
         finally:
-            if fault == "lost_node":
+            if fault in ("lost_node", "controller_lost"):
+                if fault == "controller_lost" and (ensemble / "slurm/jobs").exists():
+                    self.kill_node(ensemble)  # (the jobs slurmd still runs)
                 self.stop()
                 self.start()
         what = f"{case} ({fault}, {members} members, {name}): exit {p.returncode}: {log.strip()[-400:]}"
@@ -111,6 +119,9 @@ class Cluster:
             return ("ok" if ok else "fault"), what
         if p.returncode == 0:
             return "silent", what
+        if fault == "controller_lost":
+            said = "not finished when the controller stopped answering" in log and "never ran" not in log
+            return ("failed" if said and ", done" not in log else "message"), what
         if ", done" in log or f"{name}/metrics.json" not in log:
             return "message", what
         return "failed", what

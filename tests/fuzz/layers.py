@@ -16,6 +16,9 @@ engine fed what a careless or hostile user gives them. Kinds:
             held, the run's own --initial): a user's file is never replaced
             or deleted unless --overwrite names it, nothing is written
             through a link, and the run refuses exactly what it must
+  recipe    a recipe of make reproduce writes its outputs and then fails or is
+            killed (tests/fuzz/recipes.py): make ends non-zero and plans it
+            again; nothing it wrote is taken as done
 
 Everything runs in a copy of the repository's files (make's outputs and the
 generated rules stay there)."""
@@ -31,6 +34,7 @@ from pathlib import Path
 
 import mutate
 from outcomes import classify, execute
+from recipes import recipe
 
 ROOT = Path(__file__).resolve().parent.parent.parent
 COUNT_VARS = {"MEMBERS": (1, 1000), "JOBS": (1, 1024), "THREADS": (1, 1024), "PROGRESS": (1, 86400)}
@@ -79,7 +83,7 @@ class Pipeline:
         if self.base_plan.rc != 0 or self.base_vars is None:
             sys.exit(f"fuzz: make -n reproduce fails in the copy of the repository:\n{self.base_plan.err[-2000:]}")
         kinds = {"registry": self.registry, "make": self.make_kind, "aggregate": self.aggregate,
-                 "outdir": self.outdir}
+                 "outdir": self.outdir, "recipe": lambda case: recipe(self, case)}
         for k in range(self.s.counts["pipeline"]):  # one at a time: the canary and make's rules are shared
             name = list(kinds)[k % len(kinds)]
             outcome, kind, what = kinds[name](d / f"{k:04d}")

@@ -10,6 +10,12 @@ import numpy as np
 # Values a hostile or careless user writes, as TOML text.
 SPECIAL_NUMBERS = ["nan", "inf", "-inf", "1e300", "-1e300", "0", "-1", "1e-300", "0.0", "-0.0",
                    "9223372036854775807", "-9223372036854775808", "4294967296", "1e15", "1e-15", "2.5"]
+# the edges of the types a value is stored in: 32- and 64-bit integers (one past them, and one past what a
+# double holds exactly), counts that fit the type but not the memory, subnormal and near-overflow floats
+INT_WIDTHS = ["2147483647", "2147483648", "-2147483649", "4294967295", "4294967297", "9007199254740993",
+              "9223372036854775807", "1000000000", "1e9", "1e18", "4294967297.0"]
+FLOAT_EDGES = ["5e-324", "1e-310", "-1e-310", "2.2250738585072014e-308", "1e-320", "1.7976931348623157e308",
+               "1e308", "-1e308"]
 WRONG_TYPES = ['"text"', "true", "[1, 2]", "{ a = 1 }", "[]", '""', "[[1, 2], [3]]", '["x", "y"]']
 
 
@@ -107,8 +113,19 @@ def mutate_toml(rng, text):
     doc = tomllib.loads(text)
     leaves = _leaves(doc)
     kinds = ["delete", "special", "wrong_type", "scale", "unknown_key", "long_key", "array_size",
-             "truncate", "garbage", "duplicate_line"]
+             "truncate", "garbage", "duplicate_line", "int_width", "float_edge"]
     kind = rng.choice(kinds)
+    if kind in ("int_width", "float_edge"):  # a number of the matching type (any number when there is none)
+        doc = copy.deepcopy(doc)
+        slots = _leaves(doc) + [(c[k], i) for c, k in _leaves(doc) if isinstance(c[k], list) and not _is_table_array(c[k])
+                                for i in range(len(c[k]))]  # an element of an array of numbers too
+        numbers = [(c, k) for c, k in slots if isinstance(c[k], (int, float)) and not isinstance(c[k], bool)]
+        typed = [(c, k) for c, k in numbers if isinstance(c[k], int) == (kind == "int_width")]
+        if typed or numbers:
+            container, key = rng.choice(typed or numbers)
+            container[key] = _Raw(rng.choice(INT_WIDTHS if kind == "int_width" else FLOAT_EDGES))
+            return kind, dumps(doc)
+        kind = "special"
     if kind in ("truncate", "garbage", "duplicate_line") or not leaves:
         lines = text.splitlines(keepends=True)
         if kind == "truncate":
@@ -163,14 +180,27 @@ def all_datasets(f):
     return sorted(names)
 
 
+# what a root attribute becomes: text, an array, an integer or float where the other was, non-finite, huge
+ROOT_ATTR_DAMAGE = ["delete", "text", "", [1.0, 2.0], [3], float("nan"), float("inf"), -1, 0, 2.5, 1e300, 2**40,
+                    np.int32(7), np.float32(0.5)]
+
+
 def mutate_run(rng, f):
     """Mutates an open h5py File in place. Returns (kind, dataset, where):
     where = "last" when the change is in the last snapshot's rows, "all" when
     it reaches every row (or the file's structure), "some" otherwise."""
     kind = rng.choice(["nan", "inf", "negative", "huge", "shorter", "empty", "delete", "int_type",
-                       "reverse_time", "repeat_time", "bad_contact", "truncate_file"])
+                       "reverse_time", "repeat_time", "bad_contact", "truncate_file", "root_attr"])
     if kind == "truncate_file":
         return kind, "", "all"
+    if kind == "root_attr":  # one of the root's attributes (named "@name") deleted or of another type or value
+        name = rng.choice(sorted(f.attrs))
+        value = rng.choice(ROOT_ATTR_DAMAGE)
+        if value == "delete":
+            del f.attrs[name]
+            return kind, "@" + name, "deleted"
+        f.attrs[name] = np.array(value) if isinstance(value, list) else value
+        return kind, "@" + name, "all"
     floats = float_datasets(f)
     if kind in ("reverse_time", "repeat_time"):
         name = rng.choice([n for n in ("snapshots/time", "series/time") if n in f])
@@ -208,8 +238,13 @@ def mutate_run(rng, f):
             data = data[:-1] if len(data) > 1 else data[:0]
         elif kind == "empty":
             data = data[:0]
-        elif kind == "int_type":  # integers standing in for floats, floats for integers
-            data = np.round(data).astype(np.int64) if data.dtype.kind == "f" else data.astype(np.float64)
+        elif kind == "int_type":  # integers standing in for floats, floats for integers, integers for text
+            if data.dtype.kind == "f":
+                data = np.round(np.nan_to_num(data)).astype(np.int64)
+            elif data.dtype.kind in "iub":
+                data = data.astype(np.float64)
+            else:
+                data = np.arange(np.size(data), dtype=np.int64).reshape(np.shape(data))
         f.create_dataset(name, data=data)
         for k, v in attrs.items():
             f[name].attrs[k] = v

@@ -15,8 +15,8 @@ DEFECTS = ("crash", "sanitizer", "hang", "message", "disagree", "traceback", "si
 
 
 class Result:
-    def __init__(self, rc, err, seconds):
-        self.rc, self.err, self.seconds = rc, err, seconds
+    def __init__(self, rc, err, seconds, out=""):
+        self.rc, self.err, self.seconds, self.out = rc, err, seconds, out
 
 
 def execute(cmd, timeout, preexec=None, env=None, cwd=None):
@@ -24,7 +24,7 @@ def execute(cmd, timeout, preexec=None, env=None, cwd=None):
     try:
         p = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, errors="replace",
                            timeout=timeout, preexec_fn=preexec, env=env, cwd=cwd)
-        return Result(p.returncode, p.stderr, time.monotonic() - t0)
+        return Result(p.returncode, p.stderr, time.monotonic() - t0, p.stdout)
     except subprocess.TimeoutExpired as e:
         err = e.stderr.decode(errors="replace") if isinstance(e.stderr, bytes) else (e.stderr or "")
         return Result(None, err, time.monotonic() - t0)
