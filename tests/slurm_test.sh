@@ -124,7 +124,8 @@ cluster_part() {
   # a restart in the lost node's folder: the controller recovers the lost job, which keeps the node busy;
   # the refusal names the saved state and the way out, and --clear-state starts with it dropped
   out=$(pipeline/slurm/local_cluster.sh start "$WORK/cluster" 2>&1) && fail "a restart with a lost job's state said idle"
-  grep -q "recovered jobs $job from the state an earlier cluster saved in $WORK/cluster/state: .*--clear-state" \
+  # (the jobs listed: the array's tasks and the aggregate's job, e.g. "8 7_0")
+  grep -Eq "recovered jobs ([0-9_]+ )*${job}(_[0-9]+)?( [0-9_]+)* from the state an earlier cluster saved in $WORK/cluster/state: .*--clear-state" \
     <<<"$out" || fail "a restart on a lost job's state said: $out"
   pipeline/slurm/local_cluster.sh start "$WORK/cluster" --clear-state >"$WORK/clear.log" 2>&1 ||
     fail "a restart with --clear-state: $(cat "$WORK/clear.log")"
