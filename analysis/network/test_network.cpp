@@ -68,9 +68,6 @@ Snapshot two_chains() {
   return s;
 }
 
-// With cohesion, tensile contacts (fn < 0, touching or across a gap) are
-// neither edges nor part of the mean: the graph and the threshold are those
-// of the compressive network.
 // An earlier stage's metrics given as input (--spectrum-metrics here; --fill-metrics and --cg-metrics read
 // the same way): what is not a regular file is refused naming it, and a pipe's writer is waited for, not
 // for ever (a pipe nobody wrote to blocked the stage for ever; /dev/zero was read until memory ran out).
@@ -98,6 +95,9 @@ TEST(NetworkInputs, EarlierMetricsAreARegularFileOrAPipeWithAWriter) {
   writer.join();
 }
 
+// With cohesion, tensile contacts (fn < 0, touching or across a gap) are
+// neither edges nor part of the mean: the graph and the threshold are those
+// of the compressive network.
 TEST(NetworkGraph, TensileContactsAreNotEdges) {
   Snapshot s = two_chains();
   s.contacts.add(4, 5, -0.4, 1e-7, 1.0, 0.0);    // pulled, touching

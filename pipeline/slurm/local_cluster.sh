@@ -125,10 +125,10 @@ done
 if [ "$state" != idle ]; then
   # the controller recovers the jobs an earlier cluster in this folder saved (a lost node's among them):
   # they keep the node busy, and only their owner knows whether they still matter
-  jobs=$(squeue -h -o %i 2>/dev/null | tr '\n' ' ' || true)
+  jobs=$(squeue -h -o %i 2>/dev/null | paste -sd' ' || true)
   saved=""
-  [ -n "${jobs// /}" ] && saved="; the controller recovered jobs ${jobs% } from the state an earlier cluster saved"
-  [ -n "$saved" ] && saved+=" in $DIR/state: start in a new folder, or drop them ($0 start $DIR --clear-state)"
+  [ -z "$jobs" ] || saved="; the controller recovered jobs $jobs from the state an earlier cluster saved in $DIR/state:\
+ start in a new folder, or drop them ($0 start $DIR --clear-state)"
   echo "local_cluster: node $HOST is '${state:-unreachable}', not idle ($DIR/slurmctld.log, slurmd.log)$saved" >&2
   false
 fi

@@ -13,7 +13,7 @@ is, as long as the program then refuses what is missing or says nothing
 wrong (exit 0 or 2). A special file where dem2d run writes must be refused
 before the run starts, and left as it was (`destroyed` otherwise)."""
 import os
-import shutil
+import sys
 from pathlib import Path
 
 from outcomes import classify, execute
@@ -58,7 +58,7 @@ class Paths:
                                                              "--overlay", p]),
             ("dem2d inspect:run", "dem2d", lambda p, out: [s.dem2d, "inspect", p]),
             ("python reader:run", "dem2d-python",
-             lambda p, out: [os.environ.get("PYTHON", "/usr/bin/python3"), Path(__file__).parent / "py_reader.py", p]),
+             lambda p, out: [sys.executable, Path(__file__).parent / "py_reader.py", p]),  # (as the reader class)
         ]
         for name in OUTPUTS:
             slots.append((f"dem2d run:out/{name}", "dem2d",
