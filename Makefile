@@ -247,7 +247,7 @@ bench-scaling: build
 
 bench-compare: build
 	@$(MAKE) --no-print-directory needs DEBIAN_PACKAGES=lammps
-	$(PYTHON) pipeline/bench_compare/compare.py data/bench/compare.toml $(DEM2D) results/bench_compare
+	$(PYTHON) -m pipeline.bench_compare.compare data/bench/compare.toml $(DEM2D) results/bench_compare
 
 # --- the study's stages: file targets, so only what is stale reruns --------
 # The analysis stages' rules come from their registry, pipeline/stages.toml
@@ -260,7 +260,7 @@ include $(STAGES_MK)
 endif
 $(STAGES_MK): $(STAGE_REGISTRY) pipeline/stages.py | needs
 	@mkdir -p $(@D)
-	$(PYTHON) pipeline/stages.py make $(STAGE_REGISTRY) > $@.tmp && mv $@.tmp $@
+	$(PYTHON) -m pipeline.stages make $(STAGE_REGISTRY) > $@.tmp && mv $@.tmp $@
 
 
 # The programs are always asked to build, all at once (CMake's target
@@ -327,8 +327,8 @@ $(RESULTS)/cyclic/metrics.json: $(RESULTS)/cyclic/run.h5 data/study.toml $(STAGE
 	$(STAGE_PROGRAM_pulloff_metrics) $< --out $(@D) --cycles
 
 # --- metrics, tolerance tests, figures, report -------------------------------
-$(RESULTS)/metrics.json: $(STAGE_METRICS) pipeline/stages.toml $(REPORT_SCRIPTS)/merge_metrics.py $(REPORT_SCRIPTS)/files.py
-	$(PYTHON) $(REPORT_SCRIPTS)/merge_metrics.py $(RESULTS) $(PRESET) $(FILL_RUN)
+$(RESULTS)/metrics.json: $(STAGE_METRICS) pipeline/stages.toml $(REPORT_SCRIPTS)/merge_metrics.py pipeline/files.py
+	$(PYTHON) -m pipeline.report.merge_metrics $(RESULTS) $(PRESET) $(FILL_RUN)
 
 # The tolerance tests' verdicts for the report: misses do not stop the
 # reproduction (`make check` fails on them); a broken check program does.
@@ -345,13 +345,13 @@ check_into = $(CHECK) $(1) data/paper_targets.toml $(2) --gtest_output=json:$@.t
 $(RESULTS)/check.json: $(RESULTS)/metrics.json data/paper_targets.toml $(CHECK)
 	@$(call check_into,$<)
 
-FIGURE_SCRIPTS := $(filter-out %/report.py %/merge_metrics.py,$(wildcard $(REPORT_SCRIPTS)/*.py))
+FIGURE_SCRIPTS := $(filter-out %/report.py %/merge_metrics.py,$(wildcard $(REPORT_SCRIPTS)/*.py)) pipeline/files.py
 $(RESULTS)/figures/index.json: $(STAGE_METRICS) data/study.toml $(FIGURE_SCRIPTS)
-	$(PYTHON) $(REPORT_SCRIPTS)/figures.py $(RESULTS) --preset $(PRESET)$(if $(INTRUDER),_$(INTRUDER))
+	$(PYTHON) -m pipeline.report.figures $(RESULTS) --preset $(PRESET)$(if $(INTRUDER),_$(INTRUDER))
 
 $(RESULTS)/report.md: $(RESULTS)/metrics.json $(RESULTS)/check.json $(RESULTS)/figures/index.json \
                       $(REPORT_SCRIPTS)/report.py $(REPORT_SCRIPTS)/deviations.toml
-	$(PYTHON) $(REPORT_SCRIPTS)/report.py $(RESULTS) $(PRESET)
+	$(PYTHON) -m pipeline.report.report $(RESULTS) $(PRESET)
 
 # ParaView's view of the force network (the paper's Fig. 6b) from the pull-off's run.xdmf, headless:
 # pvbatch on an Xvfb of its own (ParaView renders only through X): pipeline/paraview/force_network.py
@@ -381,17 +381,17 @@ endif
 include $(ACCURACY)/plan.mk
 endif
 $(ACCURACY)/plan.mk: data/accuracy.toml pipeline/accuracy/plan.py pipeline/pulloff.toml $(wildcard pipeline/presets/*.toml)
-	$(PYTHON) pipeline/accuracy/plan.py data/accuracy.toml $(ACCURACY)
+	$(PYTHON) -m pipeline.accuracy.plan data/accuracy.toml $(ACCURACY)
 
 $(ACCURACY)/table.md: $(ACCURACY_TARGETS) data/accuracy.toml data/paper_targets.toml pipeline/accuracy/table.py
-	$(PYTHON) pipeline/accuracy/table.py data/accuracy.toml $(ACCURACY)
+	$(PYTHON) -m pipeline.accuracy.table data/accuracy.toml $(ACCURACY)
 
 accuracy: $(ACCURACY)/table.md
 
 # --- make validate: cases with analytic or established references ---------
 # (pipeline/validate/README.md): results/validate/table.md and figures; fails on any miss
 validate: build
-	$(PYTHON) pipeline/validate/validate.py $(DEM2D) results/validate --jobs $(JOBS)
+	$(PYTHON) -m pipeline.validate.validate $(DEM2D) results/validate --jobs $(JOBS)
 
 # --- make ensemble: MEMBERS independent realisations (docs/ensemble.md) ----
 # Member k (results/<preset>/ensemble/member_NNN/) is the whole study with the
@@ -407,7 +407,7 @@ $(call check_count,MEMBERS,1,1000)
 MEMBER_DIRS := $(foreach k,$(shell seq -f '%03g' 0 $$(( $(MEMBERS) - 1 )) 2>/dev/null),$(ENSEMBLE)/member_$(k))
 
 $(ENSEMBLE)/member_%/member.toml: $(FILL_SCENE) $(OVERLAY_FILES) pipeline/ensemble/member_overlay.py
-	$(PYTHON) pipeline/ensemble/member_overlay.py $(FILL_SCENE) $$((10#$*)) $@ $(OVERLAY_FILES)
+	$(PYTHON) -m pipeline.ensemble.member_overlay $(FILL_SCENE) $$((10#$*)) $@ $(OVERLAY_FILES)
 
 .PRECIOUS: $(ENSEMBLE)/member_%/member.toml
 # the member's own make decides what is stale in it (under make -n, where member.toml is not written,
@@ -421,13 +421,13 @@ $(ENSEMBLE)/members.txt: FORCE
 	@mkdir -p $(@D); echo '$(notdir $(MEMBER_DIRS))' | cmp -s - $@ || echo '$(notdir $(MEMBER_DIRS))' > $@
 
 $(ENSEMBLE)/stats.json: $(addsuffix /metrics.json,$(MEMBER_DIRS)) $(ENSEMBLE)/members.txt pipeline/ensemble/aggregate.py $(STAGE_REGISTRY)
-	$(PYTHON) pipeline/ensemble/aggregate.py --registry $(STAGE_REGISTRY) $(@D) $(PRESET) $(MEMBER_DIRS)
+	$(PYTHON) -m pipeline.ensemble.aggregate --registry $(STAGE_REGISTRY) $(@D) $(PRESET) $(MEMBER_DIRS)
 
 $(ENSEMBLE)/check.json: $(ENSEMBLE)/stats.json data/paper_targets.toml $(CHECK)
 	@$(call check_into,$(@D)/metrics.json,--ensemble $<)
 
 $(ENSEMBLE)/table.md: $(ENSEMBLE)/check.json pipeline/ensemble/table.py
-	$(PYTHON) pipeline/ensemble/table.py $(@D)
+	$(PYTHON) -m pipeline.ensemble.table $(@D)
 
 # EXECUTOR=slurm: an array job of the same member targets, then the aggregate
 # (pipeline/slurm/submit_ensemble.sh; SLURM_WAIT=1 waits for it, at most SLURM_WAIT_MINUTES)
@@ -439,7 +439,7 @@ ensemble:
 else ifeq ($(EXECUTOR),slurm)
 ensemble: $(DEM2D) $(STAGE_PROGRAMS) $(CHECK)
 	pipeline/slurm/submit_ensemble.sh $(ENSEMBLE) $(MEMBERS) \
-	  "$$($(PYTHON) pipeline/slurm/member_minutes.py $(FILL_SCENE) $(PULLOFF_SCENE) $(PRESET_FILE))" "$(SLURM_WAIT)" \
+	  "$$($(PYTHON) -m pipeline.slurm.member_minutes $(FILL_SCENE) $(PULLOFF_SCENE) $(PRESET_FILE))" "$(SLURM_WAIT)" \
 	  PRESET=$(PRESET) MEMBERS=$(MEMBERS) \
 	  RESULTS=$(RESULTS) $(if $(INTRUDER),INTRUDER=$(INTRUDER)) $(if $(INSTALLED),INSTALLED=$(INSTALLED)) PYTHON=$(PYTHON)
 else
@@ -457,10 +457,10 @@ include $(PARAMS)/plan.mk
 endif
 $(PARAMS)/plan.mk: data/params.toml pipeline/params/plan.py pipeline/tomlwrite.py pipeline/fill.toml pipeline/pulloff.toml \
                    pipeline/params/fill_settle.toml pipeline/intruders/square.toml $(wildcard pipeline/presets/*.toml)
-	$(PYTHON) pipeline/params/plan.py data/params.toml $(PLAN) $(PARAMS)
+	$(PYTHON) -m pipeline.params.plan data/params.toml $(PLAN) $(PARAMS)
 
 $(PARAMS)/report.md: $(PARAMS_STATS) data/params.toml pipeline/params/report.py
-	$(PYTHON) pipeline/params/report.py $(PARAMS)
+	$(PYTHON) -m pipeline.params.report $(PARAMS)
 
 ifeq ($(EXECUTOR),local)
 params: $(PARAMS)/plan.mk

@@ -1,9 +1,8 @@
-#!/usr/bin/python3
 """The registry of analysis stages (pipeline/stages.toml): read and checked
 here, for the Makefile and every script that needs the list of stages.
 
-    python3 pipeline/stages.py make [pipeline/stages.toml]   Make rules of the stages, on stdout
-    python3 pipeline/stages.py names [pipeline/stages.toml]  the stage names, one per line
+    python3 -m pipeline.stages make [pipeline/stages.toml]   Make rules of the stages, on stdout
+    python3 -m pipeline.stages names [pipeline/stages.toml]  the stage names, one per line
 
 From Python: `from stages import load; for s in load(): s.name, s.outputs, ...`
 (pipeline/ on sys.path). A bad entry is an error naming the file, the entry,

@@ -17,7 +17,7 @@ cd "$REPO" || exit 1
 # one grain stands in for a bed, so the checks need no run file (dt_c: the smallest grain, 2 mm)
 printf '[[particle]]\nx = 0.02\ny = 0.05\nd = 0.002\n' >"$WORK/grain.toml"
 
-$PY pipeline/accuracy/plan.py data/accuracy.toml "$WORK/acc" || fail "plan.py on data/accuracy.toml"
+$PY -m pipeline.accuracy.plan data/accuracy.toml "$WORK/acc" || fail "plan.py on data/accuracy.toml"
 [ -s "$WORK/acc/plan.mk" ] || fail "no plan.mk"
 
 # every point's overlay, over its preset, is a valid pull-off scene; dt and dt/dt_c as intended
@@ -64,7 +64,7 @@ grep -q "^rolling_stiffness = 0.01728" "$WORK/acc/points/kn_1.92e7/overlay.toml"
 # rewriting an unchanged plan keeps the files' times (make reruns nothing)
 before=$(stat -c %Y.%N "$WORK/acc/points/V_29/overlay.toml")
 sleep 1
-$PY pipeline/accuracy/plan.py data/accuracy.toml "$WORK/acc"
+$PY -m pipeline.accuracy.plan data/accuracy.toml "$WORK/acc"
 [ "$(stat -c %Y.%N "$WORK/acc/points/V_29/overlay.toml")" = "$before" ] || fail "an unchanged overlay was rewritten"
 
 # bad sweep files: exit 2, the file and the key named
@@ -76,11 +76,11 @@ bad() {
   grep -q -- "$pattern" "$WORK/out" || fail "no '$pattern' in: $(cat "$WORK/out")"
 }
 sed 's/^knob = "kn"$/knob = "stiffness"/' data/accuracy.toml >"$WORK/bad_knob.toml"
-bad "bad_knob.toml: point\[[0-9]*\] (kn_[0-9.e]*): knob = 'stiffness'" $PY pipeline/accuracy/plan.py "$WORK/bad_knob.toml" "$WORK/b1"
+bad "bad_knob.toml: point\[[0-9]*\] (kn_[0-9.e]*): knob = 'stiffness'" $PY -m pipeline.accuracy.plan "$WORK/bad_knob.toml" "$WORK/b1"
 sed 's/^kn = 1.92e5$/kn = -1.92e5/' data/accuracy.toml >"$WORK/bad_kn.toml"
-bad "bad_kn.toml: point\[[0-9]*\] (kn_1.92e5): kn = -192000.0: must be a number > 0" $PY pipeline/accuracy/plan.py "$WORK/bad_kn.toml" "$WORK/b2"
+bad "bad_kn.toml: point\[[0-9]*\] (kn_1.92e5): kn = -192000.0: must be a number > 0" $PY -m pipeline.accuracy.plan "$WORK/bad_kn.toml" "$WORK/b2"
 sed 's/^V_mm_s = 2.4$/V_mm_s = -2.4/' data/accuracy.toml >"$WORK/bad_v.toml"
-bad "bad_v.toml: point\[[0-9]*\] (V_2.4): V_mm_s = -2.4: must be a number > 0" $PY pipeline/accuracy/plan.py "$WORK/bad_v.toml" "$WORK/b3"
+bad "bad_v.toml: point\[[0-9]*\] (V_2.4): V_mm_s = -2.4: must be a number > 0" $PY -m pipeline.accuracy.plan "$WORK/bad_v.toml" "$WORK/b3"
 
 $PY tests/test_accuracy_table.py || fail "tests/test_accuracy_table.py"
 

@@ -18,7 +18,7 @@ cmake --install "$BUILD" --prefix "$P/prefix" >"$P/install.log" 2>&1 || { cat "$
 mv "$P/prefix" "$P/moved"
 I=$P/moved
 # every stage of the registry: its program and its settings file (pipeline/stages.toml)
-registered=$(cd "$SRC" && ${PYTHON:-/usr/bin/python3} -c 'import sys; sys.path.insert(0, "pipeline"); import stages
+registered=$(cd "$SRC" && ${PYTHON:-/usr/bin/python3} -c 'from pipeline import stages
 print(" ".join(sorted({f"libexec/dem2d/{s.program}" for s in stages.load()}
                       | {f"share/dem2d/{s.config}" for s in stages.load() if s.config})))') ||
   { echo "FAIL: the stage registry cannot be read"; exit 1; }

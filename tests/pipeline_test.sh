@@ -16,8 +16,7 @@ fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 $PY - "$R" <<'PYEOF' || fail "outputs of $R"
 import json, re, sys, tomllib
 from pathlib import Path
-sys.path.insert(0, "pipeline")
-from stages import load
+from pipeline.stages import load
 r = Path(sys.argv[1])
 m = json.load(open(r / "metrics.json"))
 for stage in [s.name for s in load()]:
@@ -50,14 +49,18 @@ print(f"pipeline outputs: {len(m)} metric groups, {len(tests)} targets, {len(ind
 PYEOF
 
 # --- staleness: nothing reruns; a stage's setting reruns that stage and what follows
-ran() { grep -E "dem2d run|analysis/[a-z_]+ |report/[a-z_]+\.py|check_paper_targets" "$1" | sed 's/ .*//' | sort -u; }
+ran() { grep -E "dem2d run|analysis/[a-z_]+ |pipeline\.report\.[a-z_]+|check_paper_targets" "$1" | sed 's/ .*//' | sort -u; }
 make --no-print-directory reproduce PRESET=quick >"$WORK/again" 2>&1 || fail "second make reproduce: $(cat "$WORK/again")"
 [ -z "$(ran "$WORK/again")" ] || fail "a second make reproduce reran: $(ran "$WORK/again")"
 make --no-print-directory reproduce PRESET=quick -W data/friction.toml >"$WORK/friction" 2>&1 ||
   fail "make reproduce after a friction setting changed: $(cat "$WORK/friction")"
 grep -q "analysis/friction " "$WORK/friction" || fail "friction did not rerun"
-grep -q "report.py" "$WORK/friction" || fail "the report was not rewritten"
-grep -qE "dem2d run|analysis/(spectrum|cg|network|bed_metrics|pulloff_metrics) " "$WORK/friction" &&
+grep -q "pipeline.report.report" "$WORK/friction" || fail "the report was not rewritten"
+# every other stage of the registry (none reads friction's outputs) stays as it was
+others=$($PY -c 'from pipeline import stages
+print("|".join(s.program for s in stages.load() if s.name != "friction" and "friction" not in s.after()))')
+[ -n "$others" ] || fail "the registry lists no stage besides friction"
+grep -qE "dem2d run|analysis/($others) " "$WORK/friction" &&
   fail "a changed friction setting reran other stages: $(ran "$WORK/friction")"
 
 # --- an ensemble of two members: member 0 is the single run, member 1 another
@@ -108,10 +111,10 @@ expect_msg() {  # expect_msg PATTERN -- command...: exit code 2 and PATTERN in s
   grep -q -- "$pattern" "$WORK/err" || fail "$*: no '$pattern' in: $(cat "$WORK/err")"
 }
 expect_msg "quick/metrics.json: no such file: run \`make reproduce PRESET=quick\`" -- \
-  $PY pipeline/report/report.py "$Q" quick
+  $PY -m pipeline.report.report "$Q" quick
 expect_msg "quick/fill/metrics.json: no such file: run \`make fill PRESET=quick\`" -- \
-  $PY pipeline/report/merge_metrics.py "$Q" quick
-expect_msg "quick/fill/metrics.json missing: run \`make fill PRESET=quick\`" -- $PY pipeline/report/figures.py "$Q"
+  $PY -m pipeline.report.merge_metrics "$Q" quick
+expect_msg "quick/fill/metrics.json missing: run \`make fill PRESET=quick\`" -- $PY -m pipeline.report.figures "$Q"
 # the registry of stages: an added entry is a make target; a bad one is named
 cp pipeline/stages.toml "$WORK/more.toml"
 printf '[[stage]]\nname = "friction_again"\nprogram = "friction"\nrun = "pulloff"\n%s\n' \
@@ -124,7 +127,7 @@ grep -q "analysis/friction .*--out $R/friction_again" "$WORK/more.out" || fail "
 rm -rf "$R/friction_again" "build/release/registries$WORK/more.toml.mk"
 sed 's|"spectrum/metrics.json"|"spectra/metrics.json"|' pipeline/stages.toml >"$WORK/bad.toml"
 expect_msg "stage\[4\] (network): inputs = .*'spectra/metrics.json': not an output of an earlier stage" -- \
-  $PY pipeline/stages.py make "$WORK/bad.toml"
+  $PY -m pipeline.stages make "$WORK/bad.toml"
 echo '{"fill": ' >"$Q/metrics.json"
 expect_msg "quick/metrics.json: not valid JSON" -- build/release/tests/paper_targets/check_paper_targets \
   "$Q/metrics.json" data/paper_targets.toml

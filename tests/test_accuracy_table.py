@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "pipeline" / "accuracy"))
-import table  # noqa: E402
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # the repository under test: its pipeline package
+from pipeline.accuracy import table  # noqa: E402
 
 
 class FakeRun(table.Run):

@@ -62,9 +62,9 @@ class Aggregate(unittest.TestCase):
         return dirs
 
     def aggregate(self, dirs, out="ensemble"):
-        return subprocess.run([sys.executable, str(ROOT / "pipeline/ensemble/aggregate.py"), "--registry",
+        return subprocess.run([sys.executable, "-m", "pipeline.ensemble.aggregate", "--registry",
                                str(self.dir / "stages.toml"), str(self.dir / out), "fast", *dirs],
-                              capture_output=True, text=True)
+                              capture_output=True, text=True, cwd=ROOT)
 
     def refused(self, docs, *expected, drag=None):
         r = self.aggregate(self.members(docs, drag))

@@ -12,8 +12,8 @@ import unittest
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "pipeline" / "bench_compare"))
-import compare  # noqa: E402
+sys.path.insert(0, str(ROOT))  # the repository under test: its pipeline package
+from pipeline.bench_compare import compare  # noqa: E402
 
 DEM2D = sys.argv.pop(1) if len(sys.argv) > 1 else None
 

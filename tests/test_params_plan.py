@@ -21,7 +21,7 @@ DEM2D = sys.argv.pop(1) if len(sys.argv) > 1 else str(ROOT / "build/release/sim/
 
 
 def plan(config, name, out):
-    return subprocess.run([sys.executable, "pipeline/params/plan.py", str(config), name, str(out)], cwd=ROOT,
+    return subprocess.run([sys.executable, "-m", "pipeline.params.plan", str(config), name, str(out)], cwd=ROOT,
                           capture_output=True, text=True)
 
 
@@ -121,10 +121,8 @@ class ParamsPlan(unittest.TestCase):
 
 
 def load_report():
-    spec = importlib.util.spec_from_file_location("params_report", ROOT / "pipeline/params/report.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    sys.path.insert(0, str(ROOT))  # the repository under test: its pipeline package
+    return importlib.import_module("pipeline.params.report")
 
 
 class ParamsVerdicts(unittest.TestCase):

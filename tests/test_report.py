@@ -15,9 +15,9 @@ import unittest
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "pipeline" / "report"))
-import files  # noqa: E402
-import report  # noqa: E402
+sys.path.insert(0, str(ROOT))  # the repository under test: its pipeline package
+from pipeline import files  # noqa: E402
+from pipeline.report import report  # noqa: E402
 
 METRICS = {"fill": {"solid_fraction": 0.8414430434, "bed_height_mm": 141.1},
            "spectrum": {"envelope_fit_upper": {"slope": -0.2436, "r2": 0.3625}},
@@ -29,7 +29,8 @@ import resource, signal, sys
 sys.path.insert(0, sys.argv[1])
 signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # writes past the limit fail with EFBIG, as on a full disk
 resource.setrlimit(resource.RLIMIT_FSIZE, (4096, 4096))
-import files, common
+from pipeline import files
+from pipeline.report import common
 if sys.argv[2] == "text":
     files.write_atomic(__import__("pathlib").Path(sys.argv[3]) / "report.html", "x" * 100000)
 else:
@@ -63,7 +64,7 @@ class Writes(unittest.TestCase):
     def test_a_full_disk_leaves_nothing_half_written_and_says_so(self):
         for kind, name in (("text", "report.html"), ("figure", "fig.png")):
             with self.subTest(kind=kind), tempfile.TemporaryDirectory() as out:
-                r = subprocess.run([sys.executable, "-c", FULL_DISK, str(ROOT / "pipeline" / "report"), kind, out],
+                r = subprocess.run([sys.executable, "-c", FULL_DISK, str(ROOT), kind, out],
                                    capture_output=True, text=True)
                 self.assertEqual(r.returncode, 2, r.stderr)
                 self.assertNotIn("Traceback", r.stderr)

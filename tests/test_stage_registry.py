@@ -18,8 +18,8 @@ import unittest
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "pipeline"))
-import stages  # noqa: E402
+sys.path.insert(0, str(ROOT))  # the repository under test: its pipeline package
+from pipeline import stages  # noqa: E402
 
 BASE = (ROOT / "pipeline/stages.toml").read_text()
 
@@ -45,8 +45,8 @@ class Registry(unittest.TestCase):
         return path
 
     def generate(self, text):
-        r = subprocess.run([sys.executable, str(ROOT / "pipeline/stages.py"), "make", str(self.registry(text))],
-                           capture_output=True, text=True)
+        r = subprocess.run([sys.executable, "-m", "pipeline.stages", "make", str(self.registry(text))],
+                           capture_output=True, text=True, cwd=ROOT)
         return r
 
     def refused(self, text, *expected):
@@ -142,7 +142,7 @@ class Registry(unittest.TestCase):
 
     def test_the_report_scripts_read_the_registry_make_was_given(self):
         copy = self.registry(extra(name="extra"))
-        r = subprocess.run([sys.executable, "-c", "import sys; sys.path.insert(0, 'pipeline/report'); import files; "
+        r = subprocess.run([sys.executable, "-c", "from pipeline import files; "
                             "print(' '.join(s.name for s in files.stages()))"], cwd=ROOT, capture_output=True,
                            text=True, env={**os.environ, "DEM2D_STAGE_REGISTRY": str(copy)})
         self.assertEqual(r.returncode, 0, r.stderr)

@@ -1,9 +1,8 @@
-#!/usr/bin/python3
 """The accuracy sweep's plan: from data/accuracy.toml, every point's overlay,
 every bed the points start from, every cg configuration, and the make rules
 that run them (RESULTS/plan.mk, included by the Makefile for `make accuracy`).
 
-    /usr/bin/python3 pipeline/accuracy/plan.py data/accuracy.toml results/accuracy
+    /usr/bin/python3 -m pipeline.accuracy.plan data/accuracy.toml results/accuracy
 
 A point changes one knob of the base preset: the contact stiffness k_n (k_t
 and k_r scale with it, the time step follows dt_c), dt / dt_c, or the pull
@@ -18,12 +17,10 @@ import math
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "report"))
-import stages  # noqa: E402  (the stage registry)
-import tomlwrite  # noqa: E402
-from pull_speed import intruder_speed, speed_overlay  # noqa: E402
-from files import fail, read_toml, write_if_changed  # noqa: E402
+from pipeline import stages
+from pipeline import tomlwrite
+from pipeline.pull_speed import intruder_speed, speed_overlay
+from pipeline.files import fail, read_toml, write_if_changed
 
 PULLOFF_SCENE = Path("pipeline/pulloff.toml")
 RESETTLE_SCENE = Path("pipeline/accuracy/resettle.toml")
@@ -80,7 +77,7 @@ def kn_label(kn: float) -> str:
 
 def main() -> None:
     if len(sys.argv) != 3:
-        fail("usage: plan.py data/accuracy.toml RESULTS_DIR")
+        fail("usage: python3 -m pipeline.accuracy.plan data/accuracy.toml RESULTS_DIR")
     config_path, out = Path(sys.argv[1]), Path(sys.argv[2])
     config = read_toml(config_path)
     sweep = config.get("sweep", {})

@@ -1,7 +1,6 @@
-#!/usr/bin/python3
 """The accuracy sweep's table and Pareto figure (make accuracy).
 
-    /usr/bin/python3 pipeline/accuracy/table.py data/accuracy.toml results/accuracy
+    /usr/bin/python3 -m pipeline.accuracy.table data/accuracy.toml results/accuracy
 
 For every point of data/accuracy.toml:
   - the slice comparison: over the first slice_mm of travel, the drag profile
@@ -22,8 +21,7 @@ import math
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "report"))
-from files import fail, read_json, read_toml, write_atomic  # noqa: E402
+from pipeline.files import fail, read_json, read_toml, write_atomic
 
 MAKE = "make accuracy"
 CG_METRICS = ["cg.cone_angle_deg", "cg.wall_mobility_length_mm", "cg.dilatancy_delta_phi"]
@@ -209,7 +207,7 @@ def setting(p: dict) -> str:
 
 def main() -> None:
     if len(sys.argv) != 3:
-        fail("usage: table.py data/accuracy.toml RESULTS_DIR")
+        fail("usage: python3 -m pipeline.accuracy.table data/accuracy.toml RESULTS_DIR")
     config_path, out = Path(sys.argv[1]), Path(sys.argv[2])
     config = read_toml(config_path)
     sweep, tol = config["sweep"], config["tolerance"]

@@ -1,4 +1,3 @@
-#!/usr/bin/python3
 """dem2d against LAMMPS (GRANULAR package) on the same settled bed.
 
 Usage: compare.py DESCRIPTION DEM2D OUT_DIR
@@ -28,7 +27,6 @@ velocity uses the radii instead of the branch vectors to the contact point.
 """
 
 import json
-import math
 import os
 import re
 import shutil
@@ -37,11 +35,11 @@ import sys
 import time
 from pathlib import Path
 
+import dem2d
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "report"))
-from files import fail, read_toml, write_atomic  # noqa: E402  (also puts python/dem2d on the path)
-import dem2d  # noqa: E402
+from pipeline import tomlwrite
+from pipeline.files import fail, read_toml, write_atomic
 
 WALL = 2e-3  # m, thickness of dem2d's wall sphero-lines (their inner faces are the cell's)
 
@@ -76,73 +74,30 @@ def dem2d_scene(d: dict, settle: bool, steps: int = 0, dt: float = 0.0) -> str:
     bed, c = d["bed"], d["contact"]
     w, top = bed["cell_width"], bed["fill_height"]
     h = WALL / 2
+    scene = {"name": f"bench_compare_{'settle' if settle else 'timed'}",
+             "effects": {"gravity": True, "normal_damping": True, "friction": True, "walls": True},
+             "gravity": {"g": [0.0, -bed["gravity"]]},
+             "material": {"density": bed["density"]},
+             "contact": {k: c[k] for k in ("kn", "kt", "restitution", "friction")},
+             "neighbour": {"skin": c["skin"]}}
     if settle:
-        time_block = f"duration = {d['settle']['duration']}\ndt_over_critical = {c['dt_over_critical']}"
-        stop = (f"[stop]\nkinetic_energy_below = {d['settle']['kinetic_energy_below']}\n"
-                f"check_interval = 0.01\nmin_time = {d['settle']['min_time']}\n")
-        output = "[output]\nseries_interval = 0.01\n"
-        generator = (f"[[generator]]\nkind = \"triangular_lattice\"\ncount = {bed['count']}\nseed = {bed['seed']}\n"
-                     f"diameter = {{ min = {bed['diameter'][0]}, max = {bed['diameter'][1]} }}\n"
-                     f"region = [[0.0, 0.0], [{w}, 0.0], [{w}, {top}], [0.0, {top}]]\n")
+        s = d["settle"]
+        scene["time"] = {"duration": s["duration"], "dt_over_critical": c["dt_over_critical"]}
+        scene["stop"] = {"kinetic_energy_below": s["kinetic_energy_below"], "check_interval": 0.01,
+                         "min_time": s["min_time"]}
+        scene["output"] = {"series_interval": 0.01}
+        scene["generator"] = [{"kind": "triangular_lattice", "count": bed["count"], "seed": bed["seed"],
+                               "diameter": {"min": bed["diameter"][0], "max": bed["diameter"][1]},
+                               "region": [[0.0, 0.0], [w, 0.0], [w, top], [0.0, top]]}]
     else:  # the settled bed comes from --initial; output only at the end
         duration = steps * dt
-        time_block = f"duration = {duration!r}\ndt = {dt!r}"
-        stop, generator = "", ""
-        output = f"[output]\nseries_interval = {duration!r}\nsnapshot_interval = {duration!r}\n"
-    return f"""# Written by pipeline/bench_compare/compare.py from data/bench/compare.toml: edit that.
-name = "bench_compare_{'settle' if settle else 'timed'}"
-
-[effects]
-gravity = true
-normal_damping = true
-friction = true
-walls = true
-
-[gravity]
-g = [0.0, {-bed['gravity']}]
-
-[material]
-density = {bed['density']}
-
-[contact]
-kn = {c['kn']}
-kt = {c['kt']}
-restitution = {c['restitution']}
-friction = {c['friction']}
-
-[neighbour]
-skin = {c['skin']}
-
-[time]
-{time_block}
-
-{stop}
-{output}
-[domain]
-xmin = -0.01
-xmax = {w + 0.01}
-ymin = -0.01
-ymax = {top + 0.2}
-
-{generator}
-[[body]]
-name = "floor"
-a = [{-h}, {-h}]
-b = [{w + h}, {-h}]
-thickness = {WALL}
-
-[[body]]
-name = "left"
-a = [{-h}, {-h}]
-b = [{-h}, {top + 0.2}]
-thickness = {WALL}
-
-[[body]]
-name = "right"
-a = [{w + h}, {-h}]
-b = [{w + h}, {top + 0.2}]
-thickness = {WALL}
-"""
+        scene["time"] = {"duration": duration, "dt": dt}
+        scene["output"] = {"series_interval": duration, "snapshot_interval": duration}
+    scene["domain"] = {"xmin": -0.01, "xmax": w + 0.01, "ymin": -0.01, "ymax": top + 0.2}
+    scene["body"] = [{"name": "floor", "a": [-h, -h], "b": [w + h, -h], "thickness": WALL},
+                     {"name": "left", "a": [-h, -h], "b": [-h, top + 0.2], "thickness": WALL},
+                     {"name": "right", "a": [w + h, -h], "b": [w + h, top + 0.2], "thickness": WALL}]
+    return tomlwrite.dumps(scene, "Written by pipeline/bench_compare/compare.py from data/bench/compare.toml: edit that.")
 
 
 def final_state(run: Path) -> dict:

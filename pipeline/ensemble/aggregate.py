@@ -1,7 +1,6 @@
-#!/usr/bin/python3
 """Aggregates the members of an ensemble (docs/ensemble.md).
 
-    python3 pipeline/ensemble/aggregate.py ENSEMBLE_DIR PRESET MEMBER_DIR...
+    python3 -m pipeline.ensemble.aggregate ENSEMBLE_DIR PRESET MEMBER_DIR...
 
 Reads each member's metrics.json and pulloff/drag.csv and writes into
 ENSEMBLE_DIR:
@@ -36,10 +35,8 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "report"))
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-import stages  # noqa: E402  (pipeline/stages.py: the registry's one reader)
-from files import fail, read_json, write_atomic  # noqa: E402
+from pipeline import stages
+from pipeline.files import fail, read_json, write_atomic
 
 RESAMPLES = 10000
 SEED = 20261124

@@ -1,8 +1,7 @@
-#!/usr/bin/python3
 """The overlay that makes member K of an ensemble: the fill scene's grain
 generators with their seeds moved by K (member 0 is the single run itself).
 
-    python3 pipeline/ensemble/member_overlay.py FILL_SCENE K OUT.toml [OVERLAY ...]
+    python3 -m pipeline.ensemble.member_overlay FILL_SCENE K OUT.toml [OVERLAY ...]
 
 The generators are taken from FILL_SCENE and the overlays the run applies
 (the last one that gives [[generator]] wins, as in dem2d's overlay merge);
@@ -15,10 +14,8 @@ import sys
 import tomllib
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "report"))
-from files import write_if_changed  # noqa: E402
-from tomlwrite import value as toml_value  # noqa: E402
+from pipeline.files import write_if_changed
+from pipeline.tomlwrite import value as toml_value
 
 SEED_STEP = 1000003
 
@@ -30,7 +27,7 @@ def fail(message: str) -> None:
 
 def main(argv: list) -> int:
     if len(argv) < 4:
-        fail("usage: member_overlay.py FILL_SCENE K OUT.toml [OVERLAY ...]")
+        fail("usage: python3 -m pipeline.ensemble.member_overlay FILL_SCENE K OUT.toml [OVERLAY ...]")
     scene, out = Path(argv[1]), Path(argv[3])
     try:
         k = int(argv[2])

@@ -1,7 +1,6 @@
-#!/usr/bin/python3
 """The ensemble's table of paper targets (docs/ensemble.md).
 
-    python3 pipeline/ensemble/table.py ENSEMBLE_DIR
+    python3 -m pipeline.ensemble.table ENSEMBLE_DIR
 
 Reads ENSEMBLE_DIR/stats.json (pipeline/ensemble/aggregate.py) and
 ENSEMBLE_DIR/check.json (check_paper_targets --ensemble) and writes
@@ -12,8 +11,7 @@ mean, sd and 95 % t-interval of the mean, the paper's value, the verdict
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "report"))
-from files import check_rows, fail, read_json, write_atomic  # noqa: E402
+from pipeline.files import check_rows, fail, read_json, write_atomic
 
 
 def g(v) -> str:
@@ -53,7 +51,7 @@ def piv_lines(metrics: dict) -> list:
 
 def main(argv: list) -> int:
     if len(argv) != 2:
-        fail("usage: table.py ENSEMBLE_DIR")
+        fail("usage: python3 -m pipeline.ensemble.table ENSEMBLE_DIR")
     d = Path(argv[1])
     stats = read_json(d / "stats.json", "make ensemble")
     check = read_json(d / "check.json", "make ensemble")

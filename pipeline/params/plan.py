@@ -1,9 +1,8 @@
-#!/usr/bin/python3
 """make params' plan: from data/params.toml, every point's scenes and overlay,
 and the make rules that run its members and aggregate them
 (RESULTS/plan.mk, included by the Makefile for `make params`).
 
-    /usr/bin/python3 pipeline/params/plan.py data/params.toml PLAN RESULTS_DIR
+    /usr/bin/python3 -m pipeline.params.plan data/params.toml PLAN RESULTS_DIR
 
 PLAN is a table of data/params.toml ([reduced], [full], ...): the preset,
 the pull speed, the members, the bed. A point changes one knob of the base
@@ -34,11 +33,9 @@ import sys
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent))
-sys.path.insert(0, str(HERE.parent / "report"))
-import tomlwrite  # noqa: E402
-from pull_speed import speed_overlay  # noqa: E402
-from files import fail, read_toml, write_if_changed  # noqa: E402
+from pipeline import tomlwrite
+from pipeline.pull_speed import speed_overlay
+from pipeline.files import fail, read_toml, write_if_changed
 
 FILLS = {"settle": Path("pipeline/params/fill_settle.toml"), "hopper": Path("pipeline/fill.toml")}
 PULLOFF = Path("pipeline/pulloff.toml")
@@ -249,7 +246,7 @@ def check(config: dict, plan_name: str, where: Path) -> tuple[dict, list]:
 
 def main() -> None:
     if len(sys.argv) != 4:
-        fail("usage: plan.py data/params.toml PLAN RESULTS_DIR")
+        fail("usage: python3 -m pipeline.params.plan data/params.toml PLAN RESULTS_DIR")
     config_path, plan_name, out = Path(sys.argv[1]), sys.argv[2], Path(sys.argv[3])
     config = read_toml(config_path)
     plan, sweeps = check(config, plan_name, config_path)
@@ -297,7 +294,7 @@ def main() -> None:
             seeds = m / "seeds.toml"
             fill_run = out / "points" / "base" / f"member_{k:03d}" / "fill" / "run.h5" if shared_bed else m / "fill" / "run.h5"
             rules.append(f"{seeds}: {d}/fill.toml pipeline/ensemble/member_overlay.py\n"
-                         f"\t$(PYTHON) pipeline/ensemble/member_overlay.py {d}/fill.toml {k} $@\n")
+                         f"\t$(PYTHON) -m pipeline.ensemble.member_overlay {d}/fill.toml {k} $@\n")
             # a member: the study's own make targets (`metrics`; `cyclic` for cyclic loading) in its folder
             goal, target = ("cyclic", f"{m}/cyclic/metrics.json") if cyc else ("metrics", f"{m}/metrics.json")
             rules.append(f"{target}: {d}/fill.toml {d}/pulloff.toml {d}/overlay.toml {seeds}"
@@ -314,7 +311,7 @@ def main() -> None:
             stats += [f"{m}/cyclic/metrics.json" for m in member_dirs]
         else:
             rules.append(f"{d}/stats.json: {' '.join(m + '/metrics.json' for m in member_dirs)} pipeline/ensemble/aggregate.py\n"
-                         f"\t$(PYTHON) pipeline/ensemble/aggregate.py {d} {plan['preset']} {' '.join(member_dirs)}\n")
+                         f"\t$(PYTHON) -m pipeline.ensemble.aggregate {d} {plan['preset']} {' '.join(member_dirs)}\n")
             stats.append(f"{d}/stats.json")
         index.append({"point": name, "sweep": sweep, "knob": knob, "settings": settings, "members": member_dirs,
                       "shared_bed": shared_bed})

@@ -1,9 +1,8 @@
-#!/usr/bin/python3
 """make params' report: a table per sweep (setting, each headline metric with
 its interval, cost), the figures, and report.md saying claim by claim what
 holds, what does not, and how sure we are (docs/params.md).
 
-    /usr/bin/python3 pipeline/params/report.py RESULTS_DIR     (results/params)
+    /usr/bin/python3 -m pipeline.params.report RESULTS_DIR     (results/params)
 
 Intervals: a point with n >= 2 members gives mean +- t(0.975, n-1) sd/sqrt(n);
 a point run once gives its value +- 1.96 sd_base, sd_base the spread of
@@ -18,9 +17,8 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "report"))
-from common import save  # noqa: E402
-from files import fail, read_json, write_atomic  # noqa: E402
+from pipeline.report.common import save
+from pipeline.files import fail, read_json, write_atomic
 
 G = 9.81
 BED_HEIGHT_FOR_I = 0.1  # m: P ~ rho g h at the intruder's mid-travel (docs/accuracy.md's inertial number)
@@ -343,7 +341,6 @@ def claims(points: list) -> list:
 def cyclic_section(points: list) -> list:
     """Cyclic loading: the drag of each up and down leg, and the bed between cycles (its mean surface height and
     solid fraction at the end of the rise's rest and of each cycle: compaction if they fall and rise)."""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
     import dem2d
     from dem2d.measure import surface
     lines = []
@@ -434,7 +431,7 @@ def verdict_line(verdicts: list, claim: str) -> str:
 
 def main() -> int:
     if len(sys.argv) != 2:
-        fail("usage: report.py RESULTS_DIR")
+        fail("usage: python3 -m pipeline.params.report RESULTS_DIR")
     out = Path(sys.argv[1])
     plan = read_json(out / "plan.json", "make params")
     # a point whose members are not all done is left out and named (a report of a plan still running)

@@ -6,7 +6,7 @@ from matplotlib.collections import EllipseCollection, LineCollection
 from matplotlib.patches import Polygon
 
 import dem2d
-from common import MM, InputError
+from pipeline.report.common import MM, InputError
 
 
 class Run:

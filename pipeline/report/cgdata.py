@@ -4,7 +4,7 @@ displacements, else instantaneous)."""
 
 import numpy as np
 
-from common import MM
+from pipeline.report.common import MM
 
 
 class CG:

@@ -8,11 +8,10 @@ import sys
 import tomllib
 from pathlib import Path
 
+import dem2d
 import matplotlib
 
-from files import stages, write_atomic
-
-import dem2d  # noqa: E402 (on sys.path through files)
+from pipeline.files import stages, write_atomic
 
 matplotlib.use("Agg")
 import h5py  # noqa: E402

@@ -4,7 +4,7 @@ layer, and the event amplitudes against height (inset)."""
 import matplotlib.pyplot as plt
 import numpy as np
 
-from common import MM, band_mm, intruder_depth
+from pipeline.report.common import MM, band_mm, intruder_depth
 
 
 def drag_profile(inp, mark_mm=None):

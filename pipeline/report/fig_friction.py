@@ -4,8 +4,8 @@ Coulomb cone and the distribution (Fig. 12b, c), the means against height (Fig. 
 import matplotlib.pyplot as plt
 import numpy as np
 
-from bed import draw_bodies, draw_grains, frame
-from common import MM, mark_heights, nearest
+from pipeline.report.bed import draw_bodies, draw_grains, frame
+from pipeline.report.common import MM, mark_heights, nearest
 
 CLASSES = [((0,), "grain–grain (bulk)", "0.35"), ((1, 2), "side walls", "#2ca02c"),
            ((3,), "floor", "#1f77b4"), ((4,), "intruder", "#d62728")]

@@ -5,9 +5,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import LogNorm
 
-import events
-from bed import draw_bodies, draw_grains, draw_network, frame
-from common import NoData, bed_height_mm, nearest
+from pipeline.report import events
+from pipeline.report.bed import draw_bodies, draw_grains, draw_network, frame
+from pipeline.report.common import NoData, bed_height_mm, nearest
 
 LETTERS = "abcd"
 

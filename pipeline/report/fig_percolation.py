@@ -3,7 +3,7 @@ the fabric anisotropy above the intruder, against height (network.h5)."""
 
 import matplotlib.pyplot as plt
 
-from common import MM, binned_fraction, fmt, mark_heights
+from pipeline.report.common import MM, binned_fraction, fmt, mark_heights
 
 VARIANTS = [("strong", "strong (F_n > mean)", "#d62728", 1.6), ("strong_x0.8", "strong, 0.8 × mean", "#ff9896", 0.9),
             ("strong_x1.2", "strong, 1.2 × mean", "#8c1d1d", 0.9), ("whole", "whole network (F_n > 0)", "k", 1.6)]

@@ -5,7 +5,7 @@ same colour scale, the nodes both have; and a frame the PIV read."""
 import matplotlib.pyplot as plt
 import numpy as np
 
-from common import MM, NoData
+from pipeline.report.common import MM, NoData
 
 
 def maps(inp):

@@ -3,7 +3,7 @@
 
 import matplotlib.pyplot as plt
 
-from common import MM
+from pipeline.report.common import MM
 
 BANDS = [("psd", "loading/rupture part", "k", 1.6),
          ("psd/bands/bottom", "bottom", "#1f77b4", 0.9), ("psd/bands/middle", "middle", "#2ca02c", 0.9),

@@ -5,7 +5,7 @@ onto the intruder against the recorded one."""
 import matplotlib.pyplot as plt
 import numpy as np
 
-from common import MM, NoData
+from pipeline.report.common import MM, NoData
 
 
 def maps(inp):

@@ -6,9 +6,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm
 
-import events
-from bed import draw_bodies, outline
-from common import MM, ZONE_COLOURS, NoData, band_mm, bed_height_mm, nearest
+from pipeline.report import events
+from pipeline.report.bed import draw_bodies, outline
+from pipeline.report.common import MM, ZONE_COLOURS, NoData, band_mm, bed_height_mm, nearest
 
 LETTERS = "abcdefgh"
 

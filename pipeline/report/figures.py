@@ -1,6 +1,6 @@
 """The study's figures from one results directory.
 
-    /usr/bin/python3 pipeline/report/figures.py RESULTS_DIR      (e.g. results/default)
+    /usr/bin/python3 -m pipeline.report.figures RESULTS_DIR      (e.g. results/default)
 
 Reads the stage outputs RESULTS_DIR/{fill,pulloff,spectrum,cg,network,friction,stress,piv}/,
 writes RESULTS_DIR/figures/*.png and, last, RESULTS_DIR/figures/index.json
@@ -14,23 +14,14 @@ import os
 import sys
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import matplotlib.pyplot as plt
+import numpy as np
 
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-import events  # noqa: E402
-import fig_drag  # noqa: E402
-import fig_friction  # noqa: E402
-import fig_network  # noqa: E402
-import fig_percolation  # noqa: E402
-import fig_piv  # noqa: E402
-import fig_spectrum  # noqa: E402
-import fig_stress  # noqa: E402
-import fig_velocity  # noqa: E402
-from bed import Run  # noqa: E402
-from cgdata import CG  # noqa: E402
-from common import InputError, Inputs, NoData, nearest, save, write_json  # noqa: E402
+from pipeline.report import (events, fig_drag, fig_friction, fig_network, fig_percolation, fig_piv, fig_spectrum,
+                             fig_stress, fig_velocity)
+from pipeline.report.bed import Run
+from pipeline.report.cgdata import CG
+from pipeline.report.common import InputError, Inputs, NoData, nearest, save, write_json
 
 NETWORK_HEIGHT_MM = 34.0  # paper Fig. 6b
 

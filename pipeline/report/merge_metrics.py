@@ -1,7 +1,6 @@
-#!/usr/bin/python3
 """Merges the stages' metrics into one file, with the run's cost.
 
-    /usr/bin/python3 pipeline/report/merge_metrics.py RESULTS_DIR PRESET [FILL_RUN]
+    /usr/bin/python3 -m pipeline.report.merge_metrics RESULTS_DIR PRESET [FILL_RUN]
 
 FILL_RUN: the bed's run file when it is not RESULTS_DIR/fill/run.h5 (make
 accuracy starts its sweep points from beds made elsewhere).
@@ -23,14 +22,14 @@ import json
 import sys
 from pathlib import Path
 
-from files import fail, read_json, stages, write_atomic
+from pipeline.files import fail, read_json, stages, write_atomic
 
 SIMULATIONS = ["fill", "pulloff"]
 
 
 def simulation_cost(run_file: Path, preset: str, stage: str) -> tuple[dict, str]:
     """The run's cost (engine wall time, steps, ...) and the code version that ran it."""
-    import dem2d  # python/dem2d (files.py puts it on the path)
+    import dem2d  # the run-file reader (python/dem2d; the pipeline package puts it on the path)
 
     try:
         with dem2d.open_run(run_file) as r:
@@ -49,7 +48,7 @@ def simulation_cost(run_file: Path, preset: str, stage: str) -> tuple[dict, str]
 
 def main() -> None:
     if len(sys.argv) not in (3, 4):
-        fail("usage: merge_metrics.py RESULTS_DIR PRESET [FILL_RUN]")
+        fail("usage: python3 -m pipeline.report.merge_metrics RESULTS_DIR PRESET [FILL_RUN]")
     results, preset = Path(sys.argv[1]), sys.argv[2]
     runs = {stage: results / stage / "run.h5" for stage in SIMULATIONS}
     if len(sys.argv) == 4:

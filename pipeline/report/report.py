@@ -1,7 +1,6 @@
-#!/usr/bin/python3
 """Writes the reproduction report of one preset's results.
 
-    /usr/bin/python3 pipeline/report/report.py RESULTS_DIR PRESET
+    /usr/bin/python3 -m pipeline.report.report RESULTS_DIR PRESET
 
 Reads RESULTS_DIR/metrics.json (merge_metrics.py), RESULTS_DIR/check.json
 (the tolerance tests' GoogleTest JSON output: one test per paper target, with
@@ -16,7 +15,7 @@ from pathlib import Path
 
 import markdown
 
-from files import check_rows, fail, read_json, read_toml, stages, write_atomic
+from pipeline.files import check_rows, fail, read_json, read_toml, stages, write_atomic
 
 HERE = Path(__file__).resolve().parent
 
@@ -283,7 +282,7 @@ def headline(preset: str, targets: int, failed: int, undetermined: int = 0) -> s
 
 def main() -> None:
     if len(sys.argv) != 3:
-        fail("usage: report.py RESULTS_DIR PRESET")
+        fail("usage: python3 -m pipeline.report.report RESULTS_DIR PRESET")
     results, preset = Path(sys.argv[1]), sys.argv[2]
     again = f"make reproduce PRESET={preset}"
     metrics = read_json(results / "metrics.json", again)

@@ -4,16 +4,12 @@ repose of a heap against sliding and rolling friction. Grains: the paper's glass
 d uniform in [2, 4] mm, k_n = 1.92e6 N/m (preset fast: the bulk laws do not
 depend on the stiffness), dt = dt_c/20."""
 import math
-import os
-import sys
 
 import numpy as np
+from dem2d.measure import heap_angle
 
-from checks import Check
-from runner import DENSITY, glass_contact, run
-
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
-from dem2d.measure import heap_angle  # noqa: E402
+from pipeline.validate.checks import Check
+from pipeline.validate.runner import DENSITY, glass_contact, run
 
 G = 9.81
 KN = 1.92e6

@@ -12,7 +12,7 @@ import math
 import subprocess
 from pathlib import Path
 
-from checks import Check
+from pipeline.validate.checks import Check
 
 ROOT = Path(__file__).resolve().parents[2]
 

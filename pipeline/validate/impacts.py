@@ -7,13 +7,12 @@ independent fine-step integration of the same law (impact_ode.py).
 Disks are the paper's glass (rho = 2500 kg/m^3, d = 3 mm unless said),
 k_n = 1.92e7 N/m (the default preset), k_t = k_n/2, dt = dt_c/200."""
 import math
-from pathlib import Path
 
 import numpy as np
 
-from checks import Check
-from impact_ode import impact
-from runner import disk_mass, glass_contact, run
+from pipeline.validate.checks import Check
+from pipeline.validate.impact_ode import impact
+from pipeline.validate.runner import disk_mass, glass_contact, run
 
 KN = 1.92e7
 D = 3e-3

@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 
-from checks import Check
-from runner import check, glass_contact, run
+from pipeline.validate.checks import Check
+from pipeline.validate.runner import check, glass_contact, run
 
 KN = 1.92e6
 D = 2e-3

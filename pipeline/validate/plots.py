@@ -2,7 +2,6 @@
 impacts.png (Chung & Ooi), numerics.png (energy error order, stability
 limit), bulk.png (Janssen, Beverloo, repose). A panel whose case did not run
 is left out."""
-import math
 from pathlib import Path
 
 import matplotlib

@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 
-from checks import Check
-from runner import disk_mass, glass_contact, run
+from pipeline.validate.checks import Check
+from pipeline.validate.runner import disk_mass, glass_contact, run
 
 G = 9.81
 KN = 1.92e7

@@ -11,8 +11,8 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from checks import Check
-from runner import run_stage
+from pipeline.validate.checks import Check
+from pipeline.validate.runner import run_stage
 
 G = 9.81
 

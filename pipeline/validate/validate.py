@@ -1,4 +1,3 @@
-#!/usr/bin/python3
 """make validate: validation cases with analytic or established references.
 
 Usage: validate.py DEM2D OUT_DIR [--config data/validate.toml] [--quick] [--jobs N]
@@ -16,17 +15,9 @@ from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "report"))
-import bulk  # noqa: E402
-import detectors  # noqa: E402
-import impacts  # noqa: E402
-import numerics  # noqa: E402
-import plots  # noqa: E402
-import single  # noqa: E402
-import stress  # noqa: E402
-from checks import Check  # noqa: E402
-from files import fail, read_toml, write_atomic  # noqa: E402
+from pipeline.files import fail, read_toml, write_atomic
+from pipeline.validate import bulk, detectors, impacts, numerics, plots, single, stress
+from pipeline.validate.checks import Check
 
 # name -> (title, the functions that run it): one registry for the driver,
 # the table and the quick subset

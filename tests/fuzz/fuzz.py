@@ -58,17 +58,15 @@ from pathlib import Path
 
 import h5py
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import mutate  # noqa: E402
+ROOT = Path(__file__).resolve().parent.parent.parent
+sys.path.insert(0, str(ROOT))  # the repository under test: its pipeline package
+import mutate  # noqa: E402  (this folder's modules: a script's folder is on the path)
 from cluster import Cluster  # noqa: E402
 from install import Install  # noqa: E402
 from layers import Pipeline  # noqa: E402
 from paths import Paths  # noqa: E402
 from outcomes import DEFECTS, classify, execute  # noqa: E402
-
-ROOT = Path(__file__).resolve().parent.parent.parent
-sys.path.insert(0, str(ROOT / "pipeline"))
-import stages as registry  # noqa: E402
+from pipeline import stages as registry  # noqa: E402
 
 # every analysis program of the stage registry (pipeline/stages.toml) is a consumer of the run files
 REGISTERED = {s.program: s for s in registry.load()}

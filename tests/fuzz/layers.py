@@ -34,6 +34,7 @@ from pathlib import Path
 
 import mutate
 from outcomes import classify, execute
+from pipeline import stages as stage_registry
 from recipes import recipe
 
 ROOT = Path(__file__).resolve().parent.parent.parent
@@ -108,6 +109,11 @@ class Pipeline:
             return True
         return False
 
+    def pipeline_module(self, module, *args):
+        """A program of the repository's pipeline package (python3 -m module args...)."""
+        return execute([sys.executable, "-m", module, *args], self.s.timeout,
+                       env={**os.environ, "PYTHONPATH": str(self.repo)})
+
     # ---- the stage registry ----
     def hostile_stage(self):
         """A stage valid but for one field (so that what that field does reaches make when it is taken)."""
@@ -144,7 +150,7 @@ class Pipeline:
             kind, text = mutate.mutate_toml(self.rng, base)
         path = case.with_suffix(".stages.toml")
         path.write_text(text, errors="surrogateescape")
-        r = execute([sys.executable, self.repo / "pipeline/stages.py", "make", path], self.s.timeout)
+        r = self.pipeline_module("pipeline.stages", "make", path)
         verdict = named_error(r, [path])
         plan = self.make(["-n", "reproduce", "PRESET=quick", f"STAGE_REGISTRY={path}"])
         what = f"{path} ({kind}): stages.py exit {r.rc}: {r.err.strip()[:300]}"
@@ -204,7 +210,7 @@ class Pipeline:
 
     # ---- the ensemble aggregate ----
     def aggregate(self, case):
-        stages = [s for s in re.findall(r'^name = "(\w+)"', (self.repo / "pipeline/stages.toml").read_text(), re.M)]
+        stages = [s.name for s in stage_registry.load(self.repo / "pipeline/stages.toml")]
         dirs = []
         for k in range(3):
             m = case / f"member_{k:03d}"
@@ -219,8 +225,8 @@ class Pipeline:
         victim = dirs[1]
         kind, must_fail = self.damage_member(victim, stages)
         out = case / "ensemble"
-        r = execute([sys.executable, self.repo / "pipeline/ensemble/aggregate.py", "--registry",
-                     self.repo / "pipeline/stages.toml", out, "quick", *dirs], self.s.timeout)
+        r = self.pipeline_module("pipeline.ensemble.aggregate", "--registry", self.repo / "pipeline/stages.toml", out,
+                                 "quick", *dirs)
         what = f"{victim} ({kind}): exit {r.rc}: {r.err.strip()[:300]}"
         verdict, kind = named_error(r, [victim]), kind.split(" ")[0]
         if verdict == "ok":

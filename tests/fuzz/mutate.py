@@ -3,9 +3,10 @@
 Every mutation is a function of a random.Random and its input; the same seed
 gives the same inputs on every machine. Each returns (kind, result)."""
 import copy
-import math
 
 import numpy as np
+
+from pipeline.tomlwrite import Raw, dumps, is_table_array
 
 # Values a hostile or careless user writes, as TOML text.
 SPECIAL_NUMBERS = ["nan", "inf", "-inf", "1e300", "-1e300", "0", "-1", "1e-300", "0.0", "-0.0",
@@ -19,66 +20,6 @@ FLOAT_EDGES = ["5e-324", "1e-310", "-1e-310", "2.2250738585072014e-308", "1e-320
 WRONG_TYPES = ['"text"', "true", "[1, 2]", "{ a = 1 }", "[]", '""', "[[1, 2], [3]]", '["x", "y"]']
 
 
-# ---- a minimal TOML writer (tomllib reads; it does not write) ----
-
-def _value(v):
-    if isinstance(v, _Raw):
-        return v.text
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, int):
-        return str(v)
-    if isinstance(v, float):
-        if math.isnan(v):
-            return "nan"
-        if math.isinf(v):
-            return "inf" if v > 0 else "-inf"
-        return repr(v)
-    if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    if isinstance(v, list):
-        return "[" + ", ".join(_value(x) for x in v) + "]"
-    if isinstance(v, dict):
-        return "{ " + ", ".join(f"{_key(k)} = {_value(x)}" for k, x in v.items()) + " }"
-    raise TypeError(type(v))
-
-
-def _key(k):
-    return k if k and all(c.isalnum() or c in "_-" for c in k) else _value(k)
-
-
-class _Raw:
-    """A value written as given (special numbers, wrong types)."""
-
-    def __init__(self, text):
-        self.text = text
-
-
-def _is_table_array(v):
-    return isinstance(v, list) and v and all(isinstance(x, dict) for x in v)
-
-
-def dumps(doc):
-    out = []
-
-    def table(prefix, t):
-        scalars = [(k, v) for k, v in t.items() if not isinstance(v, dict) and not _is_table_array(v)]
-        for k, v in scalars:
-            out.append(f"{_key(k)} = {_value(v)}")
-        for k, v in t.items():
-            name = f"{prefix}.{_key(k)}" if prefix else _key(k)
-            if isinstance(v, dict):
-                out.append(f"\n[{name}]")
-                table(name, v)
-            elif _is_table_array(v):
-                for e in v:
-                    out.append(f"\n[[{name}]]")
-                    table(name, e)
-
-    table("", doc)
-    return "\n".join(out) + "\n"
-
-
 # ---- structural mutations of a parsed TOML document ----
 
 def _leaves(doc):
@@ -90,7 +31,7 @@ def _leaves(doc):
             out.append((t, k))
             if isinstance(v, dict):
                 walk(v)
-            elif _is_table_array(v):
+            elif is_table_array(v):
                 for e in v:
                     walk(e)
 
@@ -117,13 +58,13 @@ def mutate_toml(rng, text):
     kind = rng.choice(kinds)
     if kind in ("int_width", "float_edge"):  # a number of the matching type (any number when there is none)
         doc = copy.deepcopy(doc)
-        slots = _leaves(doc) + [(c[k], i) for c, k in _leaves(doc) if isinstance(c[k], list) and not _is_table_array(c[k])
+        slots = _leaves(doc) + [(c[k], i) for c, k in _leaves(doc) if isinstance(c[k], list) and not is_table_array(c[k])
                                 for i in range(len(c[k]))]  # an element of an array of numbers too
         numbers = [(c, k) for c, k in slots if isinstance(c[k], (int, float)) and not isinstance(c[k], bool)]
         typed = [(c, k) for c, k in numbers if isinstance(c[k], int) == (kind == "int_width")]
         if typed or numbers:
             container, key = rng.choice(typed or numbers)
-            container[key] = _Raw(rng.choice(INT_WIDTHS if kind == "int_width" else FLOAT_EDGES))
+            container[key] = Raw(rng.choice(INT_WIDTHS if kind == "int_width" else FLOAT_EDGES))
             return kind, dumps(doc)
         kind = "special"
     if kind in ("truncate", "garbage", "duplicate_line") or not leaves:
@@ -142,13 +83,13 @@ def mutate_toml(rng, text):
     if kind == "delete":
         del container[key]
     elif kind == "special":
-        container[key] = _Raw(rng.choice(SPECIAL_NUMBERS))
+        container[key] = Raw(rng.choice(SPECIAL_NUMBERS))
     elif kind == "wrong_type":
-        container[key] = _Raw(rng.choice(WRONG_TYPES))
+        container[key] = Raw(rng.choice(WRONG_TYPES))
     elif kind == "scale":
         f = rng.choice([1e6, 1e-6, -1.0, 1e12, 0.5])
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            container[key] = _Raw(rng.choice(SPECIAL_NUMBERS))
+            container[key] = Raw(rng.choice(SPECIAL_NUMBERS))
         else:
             container[key] = value * f if isinstance(value, float) else int(value * f) if abs(value * f) < 2**62 else value * f
     elif kind == "unknown_key":

@@ -7,7 +7,6 @@ import sys
 from pathlib import Path
 
 # the run-file reader (python/dem2d): the one way the scripts read run files
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
 
 
 def fail(message: str) -> None:
@@ -62,8 +61,7 @@ def write_if_changed(path: Path, text: str) -> bool:
 def stages() -> list:
     """The analysis stages of the registry (pipeline/stages.py): the Makefile's STAGE_REGISTRY, which it
     exports as DEM2D_STAGE_REGISTRY (an absolute path), else pipeline/stages.toml."""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from stages import REGISTRY, RegistryError, load
+    from pipeline.stages import REGISTRY, RegistryError, load
 
     try:
         return load(Path(os.environ.get("DEM2D_STAGE_REGISTRY") or REGISTRY))

@@ -1,0 +1,1 @@
+"""The parametric study: its plan (Make rules) and its report (docs/params.md)."""

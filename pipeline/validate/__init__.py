@@ -1,0 +1,1 @@
+"""make validate: the engine and the detectors against references (README.md)."""
