@@ -22,6 +22,20 @@ expect() {
 }
 
 expect 0 "valid" -- "$DEM2D" check "$TESTS/scenes/valid_minimal.toml"
+# the effects, from the program's one list (sim/core/effects.hpp): each bit its place, what it needs among
+# them; the scene format's documentation names the same, in the same order
+"$DEM2D" --list-effects >"$WORK/effects.json" || fail "dem2d --list-effects exited $?"
+$PY - "$WORK/effects.json" "$TESTS/../docs/scene_format.md" <<'PYEOF' || fail "dem2d --list-effects: $(cat "$WORK/effects.json")"
+import json, re, sys
+effects = json.load(open(sys.argv[1]))
+keys = [e["key"] for e in effects]
+assert [e["bit"] for e in effects] == [1 << k for k in range(len(effects))], effects
+assert all(e["needs"] is None or e["needs"] in keys for e in effects) and all(e["what"] for e in effects), effects
+assert {e["key"]: e["needs"] for e in effects}["rotating_bodies"] == "moving_bodies", effects
+doc = open(sys.argv[2]).read()
+listed = doc[doc.index("### `[effects]`"):doc.index("(the bits of")].split("default `false`:", 1)[1]
+assert re.findall(r"`(\w+)`", listed) == keys, (keys, listed)
+PYEOF
 sed 's/^kn = .*/kn = -5.0/' "$TESTS/scenes/valid_minimal.toml" >"$WORK/bad.toml"
 expect 2 "bad.toml:[0-9]*:[0-9]*: contact.kn = -5: must be > 0" -- "$DEM2D" check "$WORK/bad.toml"
 expect 2 "bad.toml:[0-9]*:[0-9]*: contact.kn = -5" -- "$DEM2D" run "$WORK/bad.toml" --out "$WORK/bad"

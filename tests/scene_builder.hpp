@@ -19,6 +19,11 @@ inline constexpr double kMeanD = 3e-3;      // m
 // the study's effects: a poured bed with friction and rolling resistance in a walled cell
 inline constexpr EffectSet kFull =
     effect::gravity | effect::normal_damping | effect::friction | effect::rolling_resistance | effect::walls;
+// ... with moving bodies and both dashpots: every effect the run-file, ledger and scene tests exercise together
+// (named, not "all but ...": an effect added to the engine does not change what they test; cohesion:
+// test_cohesion.cpp, turning bodies: test_motion.cpp)
+inline constexpr EffectSet kFullMoving =
+    kFull | effect::moving_bodies | effect::tangential_damping | effect::rolling_damping;
 
 // The paper's law (docs/paper.md) with stiffness kn: k_t = k_n/2, e = 0.9, mu = 0.5,
 // mu_r = mu d 1e-2, k_r = d^2 k_n 1e-4.

@@ -68,15 +68,15 @@ TEST(CohesionLaw, TermRegisteredThroughTheLawsList) {
     if (k.needs == effect::cohesion) cohesive.push_back(k.key);
   EXPECT_EQ(cohesive, (std::vector<std::string_view>{"cohesion_force", "cohesion_range"}));
   EXPECT_TRUE(reaches_beyond_contact(kCohesive | effect::friction));
-  EXPECT_FALSE(reaches_beyond_contact(effect::all & ~effect::cohesion));
+  EXPECT_FALSE(reaches_beyond_contact(kFullMoving));
   const LawCoefficients c = coefficients(cohesive_law(), 1e-6);
   EXPECT_EQ(law_range(c, kCohesive), kRange);
-  EXPECT_EQ(law_range(c, effect::all & ~effect::cohesion), 0.0);
+  EXPECT_EQ(law_range(c, kFullMoving), 0.0);
   EXPECT_DOUBLE_EQ(c.coh_k, kPull / kRange);
   ContactLaw steep = cohesive_law();
   steep.cohesion_range = 0.5 * kPull / kKn;  // attraction twice as steep as the spring
   ASSERT_EQ(law_issues(steep, kCohesive).size(), 1u);
-  EXPECT_TRUE(law_issues(steep, effect::all & ~effect::cohesion).empty());
+  EXPECT_TRUE(law_issues(steep, kFullMoving).empty());
   EXPECT_TRUE(law_issues(cohesive_law(), kCohesive).empty());
 }
 

@@ -30,7 +30,7 @@ namespace fs = std::filesystem;
 // right, and one grain thrown out of the domain (lost, then inactive).
 Scene run_scene() {
   // cohesion: test_cohesion.cpp; turning bodies: test_motion.cpp
-  Scene s = glass_scene(effect::all & ~effect::cohesion & ~effect::rotating_bodies);
+  Scene s = glass_scene(kFullMoving);
   const double d = 3e-3, y = 0.5 * d - 1e-5;
   add_wall(s, "floor", -0.02, -1e-3, 0.02, -1e-3);  // flat face at y = 0
   for (int k = 0; k < 4; ++k) add_disk(s, k * (d - 1e-5), y, d);

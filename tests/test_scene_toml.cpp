@@ -17,6 +17,7 @@
 #include "io/toml_reader.hpp"
 #include "scene/generators.hpp"
 #include "scene/scene_toml.hpp"
+#include "scene_builder.hpp"
 #include "temp_dir.hpp"
 
 namespace dem2d::test {
@@ -539,7 +540,7 @@ TEST(SceneToml, DampingEffectsAndTheirRatios) {
                                   "rolling_stiffness = 1.728e-6\n",
                                   "rolling_stiffness = 1.728e-6\ntangential_damping_ratio = 0.3\nrolling_damping_ratio = 0.2\n");
   const Scene s = parse_scene(damped, kPath);
-  EXPECT_EQ(s.effects, effect::all & ~effect::cohesion & ~effect::rotating_bodies);
+  EXPECT_EQ(s.effects, kFullMoving);
   EXPECT_EQ(s.particle_particle.tangential_damping_ratio, 0.3);
   EXPECT_EQ(s.particle_wall.rolling_damping_ratio, 0.2);  // inherited by the wall law
   // the ratios are required with their effect, forbidden without it

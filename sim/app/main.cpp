@@ -4,6 +4,7 @@
 //   dem2d check SCENE.toml [--overlay FILE]... [--initial RUN.h5|CHECKPOINT.h5] [--json]
 //   dem2d bench [--scene FILE] [--steps N] [--threads 1,2]
 //   dem2d inspect RUN.h5
+//   dem2d --list-effects   the effects this build knows (JSON: key, bit, needs, what)
 // Exit codes: 0 done, 1 run failed, 2 bad input, 3 interrupted (checkpoint written).
 #include <unistd.h>
 
@@ -25,6 +26,7 @@
 #include "core/share_dir.hpp"
 #include "core/thread_limit.hpp"
 #include "run/output_dir.hpp"
+#include "core/effects.hpp"
 #include "core/version.hpp"
 #include "engine/kernel_sets.hpp"
 #include "io/toml_reader.hpp"  // did_you_mean, show_key
@@ -116,11 +118,26 @@ int cmd_run(const std::string& path, const dem2d::SceneSources& extra, dem2d::Ru
   return 0;
 }
 
+// The effects of this build, from the one list (core/effects.hpp), as JSON on stdout.
+void list_effects() {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const dem2d::EffectName& e : dem2d::kEffectNames) {
+    nlohmann::ordered_json needs;  // null: none
+    for (const dem2d::EffectName& n : dem2d::kEffectNames)
+      if (n.bit == e.needs) needs = n.key;
+    out.push_back({{"key", e.key}, {"bit", e.bit}, {"needs", needs}, {"what", e.what}});
+  }
+  std::printf("%s\n", out.dump(2).c_str());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"dem2d: 2D discrete element simulation of frictional disks and sphero-lines"};
   app.set_version_flag("--version", dem2d::code_version());
+  app.add_flag_callback(
+      "--list-effects", [] { list_effects(); throw CLI::Success(); },
+      "Print the effects a scene may name (JSON: key, bit, what it needs, what it does) and exit");
   app.require_subcommand(1);
 
   std::string scene_path;

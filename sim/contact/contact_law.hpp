@@ -7,8 +7,8 @@
 //   tangential  spring-slider, cap mu F_n                     contact/tangential.hpp
 //   rolling     rolling spring-slider, cap mu_r F_n           contact/rolling.hpp
 //
-// A new term is its own header plus its line here (and its effect in
-// core/effects.hpp); the scene reader, the coefficients, the model, the
+// A new term is its own header plus its line here (and its effect's line in
+// core/effects.hpp's DEM2D_EFFECTS); the scene reader, the coefficients, the model, the
 // stored energy, the stability limit and the load that caps friction take
 // it from this list.
 #pragma once

@@ -14,18 +14,44 @@ namespace dem2d {
 
 using EffectSet = std::uint32_t;
 
+// The effects, once: X(key, what it needs or none, what it does). An
+// effect's bit is its place in this list; its key is the scene's [effects]
+// key, the run file's and `dem2d --list-effects`'. A new contact term with
+// an effect of its own adds its line here (a build that tests the term
+// contract adds its own through DEM2D_EXTRA_EFFECTS_HEADER, tests/extra_term/).
+#define DEM2D_EFFECTS(X)                                                                            \
+  X(gravity, none, "body force g on every grain")                                                   \
+  X(normal_damping, none, "viscous normal term from the restitution e")                             \
+  X(friction, none, "incremental tangential spring + Coulomb cap")                                  \
+  X(rolling_resistance, none, "incremental rolling spring + cap mu_r F_n")                          \
+  X(walls, none, "grain / body contacts (bodies: shape/shape.hpp)")                                 \
+  X(moving_bodies, walls, "kinematic bodies with a prescribed velocity or schedule")                \
+  X(tangential_damping, friction, "dashpot beside the tangential spring")                           \
+  X(rolling_damping, rolling_resistance, "dashpot beside the rolling spring")                       \
+  X(cohesion, none, "attraction up to a range beyond contact (contact/cohesion.hpp)")               \
+  X(rotating_bodies, moving_bodies, "schedules that turn bodies about a pivot (core/motion.hpp)")
+
+#ifdef DEM2D_EXTRA_EFFECTS_HEADER
+#include DEM2D_EXTRA_EFFECTS_HEADER  // defines DEM2D_EXTRA_EFFECTS(X), lines as above
+#else
+#define DEM2D_EXTRA_EFFECTS(X)
+#endif
+#define DEM2D_ALL_EFFECTS(X) DEM2D_EFFECTS(X) DEM2D_EXTRA_EFFECTS(X)
+
 namespace effect {
-inline constexpr EffectSet gravity = 1u << 0;             // body force g on every grain
-inline constexpr EffectSet normal_damping = 1u << 1;      // viscous normal term from the restitution e
-inline constexpr EffectSet friction = 1u << 2;            // incremental tangential spring + Coulomb cap
-inline constexpr EffectSet rolling_resistance = 1u << 3;  // incremental rolling spring + cap mu_r F_n
-inline constexpr EffectSet walls = 1u << 4;               // grain / body contacts (bodies: shape/shape.hpp)
-inline constexpr EffectSet moving_bodies = 1u << 5;       // kinematic bodies with a prescribed velocity or schedule
-inline constexpr EffectSet tangential_damping = 1u << 6;  // dashpot beside the tangential spring (needs friction)
-inline constexpr EffectSet rolling_damping = 1u << 7;     // dashpot beside the rolling spring (needs rolling_resistance)
-inline constexpr EffectSet cohesion = 1u << 8;            // attraction up to a range beyond contact (contact/cohesion.hpp)
-inline constexpr EffectSet rotating_bodies = 1u << 9;     // schedules that turn bodies about a pivot (core/motion.hpp)
-inline constexpr int count = 10;
+// the place of each effect in the list
+enum Place : int {
+#define DEM2D_EFFECT_PLACE(key, needs, what) key##_place,
+  DEM2D_ALL_EFFECTS(DEM2D_EFFECT_PLACE)
+#undef DEM2D_EFFECT_PLACE
+  count_place
+};
+inline constexpr EffectSet none = 0;
+#define DEM2D_EFFECT_BIT(key, needs, what) inline constexpr EffectSet key = 1u << key##_place;
+DEM2D_ALL_EFFECTS(DEM2D_EFFECT_BIT)
+#undef DEM2D_EFFECT_BIT
+inline constexpr int count = count_place;
+static_assert(count <= 31, "bit 31 marks the generic kernel");
 inline constexpr EffectSet all = (1u << count) - 1;
 // Not a scene effect: the mark of the generic kernel, which has every term
 // compiled in and applies the ones the scene's set names, tested at run time
@@ -35,28 +61,15 @@ inline constexpr EffectSet generic = 1u << 31;
 
 struct EffectName {
   EffectSet bit;
-  std::string_view key;  // key in the scene's [effects] table
+  std::string_view key;   // key in the scene's [effects] table
+  EffectSet needs;        // the effect it only makes sense on top of (0: none)
+  std::string_view what;  // what it does, in words
 };
 
 inline constexpr std::array<EffectName, effect::count> kEffectNames{{
-    {effect::gravity, "gravity"},
-    {effect::normal_damping, "normal_damping"},
-    {effect::friction, "friction"},
-    {effect::rolling_resistance, "rolling_resistance"},
-    {effect::walls, "walls"},
-    {effect::moving_bodies, "moving_bodies"},
-    {effect::tangential_damping, "tangential_damping"},
-    {effect::rolling_damping, "rolling_damping"},
-    {effect::cohesion, "cohesion"},
-    {effect::rotating_bodies, "rotating_bodies"},
-}};
-
-// Effects that only make sense on top of another: (effect, what it needs).
-inline constexpr std::array<std::array<EffectSet, 2>, 4> kEffectNeeds{{
-    {effect::tangential_damping, effect::friction},
-    {effect::rolling_damping, effect::rolling_resistance},
-    {effect::moving_bodies, effect::walls},
-    {effect::rotating_bodies, effect::moving_bodies},
+#define DEM2D_EFFECT_NAME(key, needs, what) {effect::key, #key, effect::needs, what},
+    DEM2D_ALL_EFFECTS(DEM2D_EFFECT_NAME)
+#undef DEM2D_EFFECT_NAME
 }};
 
 constexpr bool has(EffectSet set, EffectSet bit) { return (set & bit) != 0; }
@@ -84,8 +97,8 @@ constexpr bool compiles(EffectSet bit) {
 // A set the engine runs: known bits only, and every effect's prerequisite present.
 constexpr bool is_valid(EffectSet set) {
   if (set > effect::all) return false;
-  for (const auto& [bit, needs] : kEffectNeeds)
-    if (has(set, bit) && !has(set, needs)) return false;
+  for (const EffectName& e : kEffectNames)
+    if (has(set, e.bit) && e.needs != 0 && !has(set, e.needs)) return false;
   return true;
 }
 

@@ -125,10 +125,9 @@ class SceneParser {
     effects_ = top_.table("effects", keys);
     for (const auto& e : kEffectNames)
       if (effects_.boolean(e.key).value_or(false)) s_.effects |= e.bit;
-    for (const auto& [bit, needs] : kEffectNeeds)
-      if (has(s_.effects, bit) && !has(s_.effects, needs))
-        effects_.fail(effect_key(bit).substr(8),
-                      "needs " + effect_key(needs) + " = true (" + effect_key(bit) + " acts on what it adds)");
+    for (const EffectName& e : kEffectNames)
+      if (has(s_.effects, e.bit) && e.needs != 0 && !has(s_.effects, e.needs))
+        effects_.fail(e.key, "needs " + effect_key(e.needs) + " = true (" + effect_key(e.bit) + " acts on what it adds)");
 
     if (has(s_.effects, effect::gravity)) {
       const Vec2 g = top_.table("gravity", {"g"})

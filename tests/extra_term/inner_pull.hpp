@@ -7,7 +7,8 @@
 //   stored energy  1/2 (k_n - k_a) overlap^2,   normal stiffness  k_n - k_a.
 //
 // It is written as a new term would be (sim/contact/law_terms.hpp): its own
-// header, and its line in the list (law_list.hpp here). The stability limit,
+// header, its line in the law's list (law_list.hpp here) and its effect's
+// line in the effect list (effects.hpp here). The stability limit,
 // the energy ledger and the run file's mu_star and sliding must then be
 // right for it with no other edit; test_extra_term.cpp checks all three.
 #pragma once
@@ -19,7 +20,7 @@
 namespace dem2d {
 
 struct InnerPull {
-  static constexpr EffectSet effect = 0;  // a real term would name its own effect bit
+  static constexpr EffectSet effect = effect::inner_pull;  // its line in the effect list: effects.hpp here
 
   struct Params {
     double inner_pull = 0.0;  // k_a (N/m)

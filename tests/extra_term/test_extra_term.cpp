@@ -34,9 +34,11 @@ TEST(ExtraTerm, StabilityLimitFollowsItsStiffness) {
   const double d = 3e-3, m = kDensity * M_PI * d * d / 4.0;
   const StabilityLimit plain = stability_limit(law, 0, kDensity, d);
   EXPECT_NEAR(plain.dt, 2.0 / std::sqrt(6.0 * kKn / m), 1e-6 * plain.dt);
-  const StabilityLimit soft = stability_limit(pulled(law), 0, kDensity, d);
+  const StabilityLimit soft = stability_limit(pulled(law), effect::inner_pull, kDensity, d);
   EXPECT_NEAR(soft.dt, 2.0 / std::sqrt(6.0 * (kKn - kKa) / m), 1e-6 * soft.dt);
   EXPECT_NEAR(soft.dt / plain.dt, std::sqrt(2.0), 1e-6);
+  // without its effect the term is not there, whatever its parameter
+  EXPECT_EQ(stability_limit(pulled(law), 0, kDensity, d).dt, plain.dt);
 }
 
 // Two grains meet head-on without damping: what the contact stores is
@@ -45,7 +47,7 @@ TEST(ExtraTerm, StabilityLimitFollowsItsStiffness) {
 // out, the stored energy would be counted twice as large and the error would
 // reach the whole kinetic energy at the deepest overlap.
 TEST(ExtraTerm, EnergyLedgerCountsItsEnergy) {
-  Scene s = glass_scene(0, kKn);
+  Scene s = glass_scene(effect::inner_pull, kKn);
   s.particle_particle = pulled(s.particle_particle);
   const double d = 3e-3, v = 0.1;  // m, m/s
   add_disk(s, -0.51 * d, 0.0, d, v);
@@ -77,7 +79,7 @@ TEST(ExtraTerm, EnergyLedgerCountsItsEnergy) {
 // overlap. The run file's mu_star = |F_t| / (mu load) is then 1 and the
 // contact is flagged sliding; with F_n as the load mu_star would read 2.
 TEST(ExtraTerm, RunFileFrictionLoadIncludesItsPull) {
-  Scene s = glass_scene(effect::gravity | effect::friction | effect::walls | effect::moving_bodies, kKn);
+  Scene s = glass_scene(effect::gravity | effect::friction | effect::walls | effect::moving_bodies | effect::inner_pull, kKn);
   s.particle_wall = pulled(s.particle_wall);
   const double d = 3e-3, m = kDensity * M_PI * d * d / 4.0;
   const double rest = m * 9.81 / (kKn - kKa);  // overlap at rest (m)
