@@ -58,6 +58,28 @@ struct ContactKinematics {
   double sqrt_i;  // sqrt(I_eff) (sqrt(kg m)); rolling damping only
 };
 
+// The relative motion at a contact, written once for the kernels and the
+// energy ledger: from the relative velocity rv (v_i - v_j; against a body,
+// v_i less the body's surface velocity at the contact point), the unit normal
+// n (towards i), the branch lengths a (centre to contact point, m) and the
+// spins w (rad/s).
+struct ContactMotion {
+  double vn;    // rv.n (m/s)
+  double vt;    // tangential velocity of i's contact point relative to the partner's, along t = z x n (m/s)
+  double spin;  // relative spin (rad/s)
+};
+
+// between grains i and j
+constexpr ContactMotion grain_pair_motion(double rvx, double rvy, double nx, double ny, double ai, double wi, double aj,
+                                          double wj) {
+  return {rvx * nx + rvy * ny, rvx * -ny + rvy * nx - (ai * wi + aj * wj), wi - wj};
+}
+
+// between grain i and a body's surface (its motion is in rv)
+constexpr ContactMotion grain_body_motion(double rvx, double rvy, double nx, double ny, double a, double w) {
+  return {rvx * nx + rvy * ny, rvx * -ny + rvy * nx - a * w, w};
+}
+
 // What the law gives: on i, in the contact frame; the partner gets the opposite.
 struct ContactForce {
   double fn;  // normal force along n (N/m), > 0 pushes the grains apart

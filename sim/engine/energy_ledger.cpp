@@ -23,10 +23,9 @@ std::pair<double, double> gravity_of(const System& s) {
 }
 
 // Kinematics of a touching contact at the step's end, as the kernel sees it
-// (engine/kernels.hpp): normal velocity, tangential velocity of the contact
-// points, relative spin.
-struct Motion {
-  double vn, vt, spin;
+// (the same functions: contact/law_terms.hpp): normal velocity, tangential
+// velocity of the contact points, relative spin.
+struct Motion : ContactMotion {
   double tx, ty;  // t = z x n
   double a;       // the grain's branch length to the contact point (m)
 };
@@ -36,8 +35,7 @@ Motion pair_motion(const Particles& p, std::size_t i, std::size_t j, double over
   const double nx = dist > 0.0 ? dx / dist : 1.0, ny = dist > 0.0 ? dy / dist : 0.0;
   const double rvx = p.vx[i] - p.vx[j], rvy = p.vy[i] - p.vy[j];
   const double ai = p.radius[i] - 0.5 * overlap, aj = p.radius[j] - 0.5 * overlap;
-  return {rvx * nx + rvy * ny, -rvx * ny + rvy * nx - (ai * p.omega[i] + aj * p.omega[j]), p.omega[i] - p.omega[j],
-          -ny, nx, ai};
+  return {grain_pair_motion(rvx, rvy, nx, ny, ai, p.omega[i], aj, p.omega[j]), -ny, nx, ai};
 }
 
 Motion wall_motion(const System& s, std::size_t i, std::size_t b, double overlap) {
@@ -50,7 +48,7 @@ Motion wall_motion(const System& s, std::size_t i, std::size_t b, double overlap
     rvx -= v[0];
     rvy -= v[1];
   }
-  return {rvx * g.nx + rvy * g.ny, -rvx * g.ny + rvy * g.nx - a * p.omega[i], p.omega[i], -g.ny, g.nx, a};
+  return {grain_body_motion(rvx, rvy, g.nx, g.ny, a, p.omega[i]), -g.ny, g.nx, a};
 }
 
 // What the dashpots and caps took this step from one touching contact.

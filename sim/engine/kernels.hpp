@@ -154,13 +154,14 @@ DEM2D_HOT inline void pair_forces(System& s, const ContactModel<E> model) {  // 
     // branch vectors end at the middle of the overlap: a = r + delta/2
     const double ai = ri + 0.5 * delta, aj = rj + 0.5 * delta;
     const double tx = -ny, ty = nx;
+    const ContactMotion m = grain_pair_motion(rvx, rvy, nx, ny, ai, w[i], aj, w[j]);
     double vt = 0.0, spin = 0.0, sqrt_i = 0.0;
-    if (friction) vt = rvx * tx + rvy * ty - (ai * w[i] + aj * w[j]);
+    if (friction) vt = m.vt;
     if (rolling) {
-      spin = w[i] - w[j];
+      spin = m.spin;
       sqrt_i = sqi[sl];
     }
-    const ContactForce f = model.eval({delta, rvx * nx + rvy * ny, vt, spin, sqm[sl], sqrt_i}, acts, ft[sl], mr[sl]);
+    const ContactForce f = model.eval({delta, m.vn, vt, spin, sqm[sl], sqrt_i}, acts, ft[sl], mr[sl]);
     double fxs = f.fn * nx, fys = f.fn * ny, tqi = 0.0, tqj = 0.0;
     if (friction) {
       fxs += f.ft * tx;
@@ -240,13 +241,14 @@ DEM2D_HOT inline void wall_forces(System& s, const ContactModel<E> model) {  // 
       rvy -= bw[b] * (x[i] - a * g.nx - bpx[b]);
     }
     const double tx = -g.ny, ty = g.nx;
+    const ContactMotion m = grain_body_motion(rvx, rvy, g.nx, g.ny, a, w[i]);
     double vt = 0.0, spin = 0.0, sqrt_i = 0.0;
-    if (friction) vt = rvx * tx + rvy * ty - a * w[i];
+    if (friction) vt = m.vt;
     if (rolling) {
-      spin = w[i];
+      spin = m.spin;
       sqrt_i = sqi[sl];
     }
-    const ContactForce f = model.eval({delta, rvx * g.nx + rvy * g.ny, vt, spin, sqm[sl], sqrt_i}, acts, ft[sl], mr[sl]);
+    const ContactForce f = model.eval({delta, m.vn, vt, spin, sqm[sl], sqrt_i}, acts, ft[sl], mr[sl]);
     double fx = f.fn * g.nx, fy = f.fn * g.ny, tq = 0.0;
     if (friction) {
       fx += f.ft * tx;
