@@ -1,57 +1,35 @@
 #!/usr/bin/python3
-"""Checks a dem2d run file against docs/run_file.md, and its XDMF companion.
+"""Checks a dem2d run file against its schema, and its XDMF companion.
 
-Usage: /usr/bin/python3 tests/check_run_file.py RUN.h5 [RUN.xdmf] [--same-as OTHER.h5]
-(the XDMF defaults to RUN.h5 with the extension .xdmf). With --same-as, every
-dataset must also equal OTHER.h5's bit for bit (a resumed run against an
-uninterrupted one). Needs h5py and numpy.
-Prints every problem found and exits 1 if there is any, 0 otherwise.
+Usage: /usr/bin/python3 tests/check_run_file.py --schema SCHEMA.json RUN.h5 [RUN.xdmf] [--same-as OTHER.h5]
+SCHEMA.json is the program's own (`dem2d inspect --schema > SCHEMA.json`): the
+root attributes, every dataset's type and shape, the energy ledger's terms and
+the effects come from there, not from a copy here. The XDMF defaults to RUN.h5
+with the extension .xdmf. With --same-as, every dataset must also equal
+OTHER.h5's bit for bit (a resumed run against an uninterrupted one). Needs h5py
+and numpy. Prints every problem found and exits 1 if there is any, 0 otherwise.
 """
 import argparse
+import json
 import os
+import re
 import sys
 import xml.etree.ElementTree as ET
 
 import h5py
 import numpy as np
 
-ATTRS = {"scene_text": str, "scene_path": str, "code_version": str, "threads": np.int64, "dt": np.float64,
-         "steps": np.int64, "end_time": np.float64, "stop_reason": str, "effects": str,
-         "n_particles": np.int64, "n_bodies": np.int64, "lost_particles": np.int64, "format": str,
-         "initial_run": str, "initial_source": str, "initial_digest": str, "jams": np.int64,
-         "wall_seconds": np.float64,
-         "displacement_window": np.float64}
-EFFECTS = {"gravity", "normal_damping", "friction", "rolling_resistance", "walls", "moving_bodies",
-           "tangential_damping", "rolling_damping", "cohesion", "rotating_bodies"}
-# /series/energy/<term>, present when the scene asked for output.energy_balance
-ENERGY = ("kinetic", "elastic_normal", "elastic_tangential", "elastic_rolling", "gravity", "body_work",
-          "normal_damping", "tangential_damping", "sliding", "rolling_damping", "rolling_slip", "removed",
-          "integration_error")
+ATTRIBUTE_TYPES = {"str": str, "i8": np.int64, "f8": np.float64}
+ENERGY = "series/energy/"
 
 
-def layout(T, S, C, L, N, B, J, K):
-    """dataset -> (numpy dtype kind+size, shape)"""
-    f8, i8, i4, u1 = "f8", "i8", "i4", "u1"
-    return {
-        "particles/id": (i4, (N,)), "particles/diameter": (f8, (N,)), "particles/mass": (f8, (N,)),
-        "particles/inertia": (f8, (N,)),
-        "bodies/name": ("str", (B,)), "bodies/shape": ("str", (B,)), "bodies/vertex_count": (i4, (B,)),
-        "bodies/thickness": (f8, (B,)), "bodies/velocity": (f8, (B, 2)),
-        "series/time": (f8, (T,)), "series/step": (i8, (T,)), "series/body_force": (f8, (T, B, 2)),
-        "series/body_force_mean": (f8, (T, B, 2)), "series/body_torque": (f8, (T, B)),
-        "series/body_torque_mean": (f8, (T, B)), "series/body_vertices": (f8, (T, B, K, 2)),
-        "series/kinetic_energy": (f8, (T,)), "series/max_overlap": (f8, (T,)), "series/contacts": (i8, (T,)),
-        "snapshots/time": (f8, (S,)), "snapshots/step": (i8, (S,)), "snapshots/position": (f8, (S, N, 2)),
-        "snapshots/velocity": (f8, (S, N, 2)), "snapshots/displacement": (f8, (S, N, 2)), "snapshots/omega": (f8, (S, N)), "snapshots/theta": (f8, (S, N)),
-        "snapshots/active": (u1, (S, N)), "snapshots/body_vertices": (f8, (S, B, K, 2)),
-        "snapshots/contact_start": (i8, (S + 1,)),
-        "contacts/i": (i4, (C,)), "contacts/j": (i4, (C,)), "contacts/fn": (f8, (C,)), "contacts/ft": (f8, (C,)),
-        "contacts/overlap": (f8, (C,)), "contacts/nx": (f8, (C,)), "contacts/ny": (f8, (C,)),
-        "contacts/mr": (f8, (C,)), "contacts/sliding": (u1, (C,)), "contacts/mu_star": (f8, (C,)),
-        "contacts/line": (f8, (C, 2, 2)), "xdmf/body_outline": (i4, (B, K + 1)),
-        "lost/id": (i4, (L,)), "lost/step": (i8, (L,)), "lost/x": (f8, (L,)), "lost/y": (f8, (L,)),
-        "events/jam_time": (f8, (J,)),
-    }
+def shape_of(shape: str, dims: dict) -> tuple:
+    """A schema shape ("S,N,2", "S+1", "B,K+1") with the file's dimensions."""
+    out = []
+    for part in shape.split(","):
+        m = re.fullmatch(r"([A-Z])(?:\+(\d+))?|(\d+)", part)
+        out.append(int(m.group(3)) if m.group(3) else dims[m.group(1)] + int(m.group(2) or 0))
+    return tuple(out)
 
 
 def datasets(f):
@@ -66,8 +44,9 @@ def dtype_code(ds):
     return ds.dtype.kind + str(ds.dtype.itemsize)
 
 
-def check_run_file(f, errors):
-    for name, kind in ATTRS.items():
+def check_run_file(f, schema, errors):
+    for a in schema["attributes"]:
+        name, kind = a["name"], ATTRIBUTE_TYPES[a["type"]]
         if name not in f.attrs:
             errors.append(f"missing root attribute {name}")
         elif kind is str and not isinstance(f.attrs[name], (str, bytes)):
@@ -76,24 +55,35 @@ def check_run_file(f, errors):
             errors.append(f"attribute {name} is {np.asarray(f.attrs[name]).dtype}, not {np.dtype(kind)}")
     if errors:
         return
-    if f.attrs["format"] != "dem2d-run-2":
-        errors.append(f"format is {f.attrs['format']!r}")
+    if f.attrs["format"] != schema["format"]:
+        errors.append(f"format is {f.attrs['format']!r}, the schema's {schema['format']!r}")
     effects = [e for e in f.attrs["effects"].split(",") if e]
-    if not set(effects) <= EFFECTS:
-        errors.append(f"unknown effects {set(effects) - EFFECTS}")
+    if not set(effects) <= set(schema["effects"]):
+        errors.append(f"unknown effects {set(effects) - set(schema['effects'])}")
 
     dim = lambda name: f[name].shape[0] if name in f else -1  # noqa: E731
-    N, B = int(f.attrs["n_particles"]), int(f.attrs["n_bodies"])
-    expected = layout(dim("series/time"), dim("snapshots/time"), dim("contacts/i"), dim("lost/id"), N, B,
-                      dim("events/jam_time"),
-                      max([1] + [int(n) for n in f["bodies/vertex_count"][()]]) if "bodies/vertex_count" in f else -1)
-    for name, (code, shape) in expected.items():
+    dims = {"N": int(f.attrs["n_particles"]), "B": int(f.attrs["n_bodies"]), "T": dim("series/time"),
+            "S": dim("snapshots/time"), "C": dim("contacts/i"), "L": dim("lost/id"), "J": dim("events/jam_time"),
+            "K": max([1] + [int(n) for n in f["bodies/vertex_count"][()]]) if "bodies/vertex_count" in f else -1,
+            "Q": dim("xdmf/sequence")}
+    assert set(dims) == set(schema["dimensions"]), f"the schema's dimensions {sorted(schema['dimensions'])}"
+    N, B = dims["N"], dims["B"]
+    energy = "series/energy" in f
+    known = set()
+    for d in schema["datasets"]:
+        name, code = d["path"], d["type"]
+        known.add(name)
+        if d["when"] and not (d["when"] == "output.energy_balance" and energy):
+            continue
         if name not in f:
             errors.append(f"missing dataset /{name}")
-        elif f[name].shape != shape:
-            errors.append(f"/{name} has shape {f[name].shape}, expected {shape}")
+        elif f[name].shape != shape_of(d["shape"], dims):
+            errors.append(f"/{name} has shape {f[name].shape}, expected {shape_of(d['shape'], dims)}")
         elif dtype_code(f[name]) != code:
             errors.append(f"/{name} is {dtype_code(f[name])}, expected {code}")
+    for name in datasets(f):
+        if name not in known and not name.startswith("parameters/"):
+            errors.append(f"/{name}: a dataset the schema does not know")
     if errors:
         return
     for name in datasets(f):  # every dataset says what it holds
@@ -148,18 +138,13 @@ def check_run_file(f, errors):
             errors.append(f"/contacts/line of snapshot {k}: not from grain i's centre to grain j's")
             break
     if "series/energy" in f:
-        check_energy(f, errors)
+        check_energy(f, schema, errors)
 
 
-def check_energy(f, errors):
-    """The ledger's terms, and their sum constant to round-off (docs/energy.md)."""
-    T = f["series/time"].shape[0]
-    for term in ENERGY:
-        name = "series/energy/" + term
-        if name not in f or f[name].shape != (T,) or dtype_code(f[name]) != "f8":
-            errors.append(f"/{name}: missing, or not f8 of shape ({T},)")
-            return
-    terms = {t: f["series/energy/" + t][...] for t in ENERGY}
+def check_energy(f, schema, errors):
+    """The ledger's terms (shapes and types checked with the layout), and their sum constant to round-off
+    (docs/energy.md)."""
+    terms = {d["path"][len(ENERGY):]: f[d["path"]][...] for d in schema["datasets"] if d["path"].startswith(ENERGY)}
     total = sum(v for t, v in terms.items() if t != "body_work") - terms["body_work"]
     scale = max(np.max(np.abs(v)) for v in terms.values())
     if scale > 0 and np.max(np.abs(total - total[0])) > 1e-9 * scale:
@@ -260,6 +245,7 @@ def compare_datasets(f, other_path, errors):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--schema", required=True, help="the program's schema (dem2d inspect --schema > FILE)")
     parser.add_argument("run")
     parser.add_argument("xdmf", nargs="?")
     parser.add_argument("--same-as", dest="same_as")
@@ -268,11 +254,16 @@ def main():
     xdmf_path = args.xdmf or os.path.splitext(h5_path)[0] + ".xdmf"
     errors = []
     try:
+        with open(args.schema) as s:
+            schema = json.load(s)
+    except (OSError, json.JSONDecodeError) as e:
+        sys.exit(f"{args.schema}: cannot read the schema: {e}")
+    try:
         f = h5py.File(h5_path, "r")
     except OSError as e:
         sys.exit(f"{h5_path}: cannot open as HDF5: {e}")
     with f:
-        check_run_file(f, errors)
+        check_run_file(f, schema, errors)
         if not errors:
             check_xdmf(f, h5_path, xdmf_path, errors)
         if not errors and args.same_as:

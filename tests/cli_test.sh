@@ -6,9 +6,11 @@ set -uo pipefail
 DEM2D=$1
 TESTS=$2
 PY=${PYTHON:-/usr/bin/python3}
-CHECK="$PY $TESTS/check_run_file.py"
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
+# run files are checked against the program's own schema
+"$DEM2D" inspect --schema >"$WORK/schema.json" || { echo "FAIL: dem2d inspect --schema exited $?"; exit 1; }
+CHECK="$PY $TESTS/check_run_file.py --schema $WORK/schema.json"
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 
@@ -67,6 +69,19 @@ MIN_SCENE=$TESTS/scenes/valid_minimal.toml
 expect 0 "run.h5" -- "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/minimal"
 [ -d "$WORK/minimal/.run.work" ] && fail "work directory left behind"
 $CHECK "$WORK/minimal/run.h5" >/dev/null || fail "check_run_file on the minimal run"
+# ... and the check sees what departs from the schema: a dataset it does not know, one of another shape
+cp "$WORK/minimal/run.h5" "$WORK/extra.h5"
+cp "$WORK/minimal/run.xdmf" "$WORK/extra.xdmf"
+$PY -c 'import h5py, sys; h5py.File(sys.argv[1], "a")["series/extra"] = [1.0]' "$WORK/extra.h5"
+$CHECK "$WORK/extra.h5" >"$WORK/extra.out" 2>&1 && fail "check_run_file took a dataset the schema does not know"
+grep -q "/series/extra: a dataset the schema does not know" "$WORK/extra.out" ||
+  fail "check_run_file did not name the unknown dataset: $(cat "$WORK/extra.out")"
+$PY -c 'import json, sys; s = json.load(open(sys.argv[1]))
+next(d for d in s["datasets"] if d["path"] == "particles/mass")["shape"] = "N,2"
+json.dump(s, open(sys.argv[2], "w"))' "$WORK/schema.json" "$WORK/other_schema.json"
+$PY "$TESTS/check_run_file.py" --schema "$WORK/other_schema.json" "$WORK/minimal/run.h5" >"$WORK/other.out" 2>&1 &&
+  fail "check_run_file ignored the schema's shape of /particles/mass"
+grep -q "/particles/mass has shape" "$WORK/other.out" || fail "check_run_file: $(cat "$WORK/other.out")"
 # with cohesion a contact pulls (fn < 0) and holds across a gap (overlap < 0): a valid run file
 sed -e 's/^walls = true/walls = true\nrolling_resistance = true\ncohesion = true/' \
   -e 's/^friction = 0.5/friction = 0.5\nrolling_friction = 0.1\nrolling_stiffness = 1e-3\ncohesion_force = 2.0\ncohesion_range = 1e-5/' \

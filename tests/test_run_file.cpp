@@ -17,6 +17,7 @@
 #include "engine/diagnostics.hpp"
 #include "io/h5.hpp"
 #include "io/run_file.hpp"
+#include "io/run_file_schema.hpp"
 #include "scene_builder.hpp"
 #include "temp_dir.hpp"
 
@@ -643,7 +644,10 @@ TEST(RunFile, PythonCheckAcceptsTheRunFile) {
     GTEST_SKIP() << "no /usr/bin/python3 with h5py and numpy";
   TempDir dir;
   run(dir.path(), 5);
-  const std::string cmd = python + " " + DEM2D_TESTS_DIR + "/check_run_file.py " + (dir.path() / "run.h5").string();
+  const fs::path schema = dir.path() / "schema.json";
+  std::ofstream(schema) << run_file_schema_json();
+  const std::string cmd = python + " " + DEM2D_TESTS_DIR + "/check_run_file.py --schema " + schema.string() + " " +
+                          (dir.path() / "run.h5").string();
   EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
 }
 

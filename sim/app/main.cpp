@@ -3,7 +3,7 @@
 //             [--generic-kernel]
 //   dem2d check SCENE.toml [--overlay FILE]... [--initial RUN.h5|CHECKPOINT.h5] [--json]
 //   dem2d bench [--scene FILE] [--steps N] [--threads 1,2]
-//   dem2d inspect RUN.h5
+//   dem2d inspect RUN.h5 | --schema   (--schema: the run file's layout, JSON)
 //   dem2d --list-effects   the effects this build knows (JSON: key, bit, needs, what)
 // Exit codes: 0 done, 1 run failed, 2 bad input, 3 interrupted (checkpoint written).
 #include <unistd.h>
@@ -29,6 +29,7 @@
 #include "core/effects.hpp"
 #include "core/version.hpp"
 #include "engine/kernel_sets.hpp"
+#include "io/run_file_schema.hpp"
 #include "io/toml_reader.hpp"  // did_you_mean, show_key
 #include "run/run.hpp"
 #include "run/thread_choice.hpp"
@@ -198,7 +199,11 @@ int main(int argc, char** argv) {
   std::string inspect_path;
   auto* inspect = app.add_subcommand("inspect", "Read a whole run file with every check the analyses apply, and "
                                                 "say what it holds (exit 2 if it is damaged)");
-  inspect->add_option("run", inspect_path, "Run file (run.h5)")->required();
+  inspect->add_option("run", inspect_path, "Run file (run.h5)");
+  bool inspect_schema = false;
+  inspect->add_flag("--schema", inspect_schema,
+                    "Print the run file's schema instead (JSON: attributes, datasets with type, shape, unit and "
+                    "meaning, the energy ledger's terms, the effects) and exit");
 
   // A misspelt command: say which, and the nearest (CLI11 says only that one is required).
   if (argc > 1 && argv[1][0] != '-') {
@@ -222,6 +227,11 @@ int main(int argc, char** argv) {
     if (*run) return cmd_run(scene_path, extra, run_opt, threads, generic_kernel);
     if (*check) return cmd_check(scene_path, extra, check_json);
     if (*bench) return dem2d::run_bench(bench_opt);
+    if (*inspect && inspect_schema) return std::printf("%s", dem2d::run_file_schema_json().c_str()) < 0;
+    if (*inspect && inspect_path.empty()) {
+      std::fprintf(stderr, "dem2d: inspect: give a run file (dem2d inspect RUN.h5), or --schema\n");
+      return kExitBadInput;
+    }
     if (*inspect) return dem2d::inspect_run_file(inspect_path);
   } catch (const dem2d::SceneError& e) {
     std::fprintf(stderr, "dem2d: %s\n", e.what());
