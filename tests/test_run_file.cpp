@@ -17,7 +17,7 @@
 #include "engine/diagnostics.hpp"
 #include "io/h5.hpp"
 #include "io/run_file.hpp"
-#include "io/run_file_schema.hpp"
+#include "io/run_file_describe.hpp"
 #include "scene_builder.hpp"
 #include "temp_dir.hpp"
 

@@ -29,7 +29,7 @@
 #include "core/effects.hpp"
 #include "core/version.hpp"
 #include "engine/kernel_sets.hpp"
-#include "io/run_file_schema.hpp"
+#include "io/run_file_describe.hpp"
 #include "io/toml_reader.hpp"  // did_you_mean, show_key
 #include "run/run.hpp"
 #include "run/thread_choice.hpp"

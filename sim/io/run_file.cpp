@@ -16,7 +16,7 @@
 #include "engine/energy_ledger.hpp"
 #include "io/h5.hpp"
 #include "io/h5_seal.hpp"
-#include "io/run_file_schema.hpp"
+#include "io/run_file_describe.hpp"
 #include "io/run_parameters.hpp"
 #include "io/run_xdmf.hpp"
 

@@ -1,14 +1,7 @@
 #include "io/run_file_schema.hpp"
 
-#include <nlohmann/json.hpp>
-
+#include <stdexcept>
 #include <string>
-
-#include "core/effects.hpp"
-#include "engine/energy_ledger.hpp"
-#include "io/h5.hpp"
-#include "io/run_format.hpp"
-#include "shape/shape_kinds.hpp"
 
 namespace dem2d {
 
@@ -48,8 +41,6 @@ constexpr AttributeSchema kAttributes[] = {
     {"wall_seconds", "f8", "wall-clock time the run took, summed over resumed invocations (s)"},
     {"displacement_window", "f8", "the window of /snapshots/displacement (s), 0 if not recorded"},
 };
-
-constexpr std::string_view kEnergyWhen = "output.energy_balance";
 
 constexpr DatasetSchema kDatasets[] = {
     {"particles/id", "i4", "N", "-", "particle index 0..N-1, its identity for the whole run", ""},
@@ -102,57 +93,37 @@ constexpr DatasetSchema kDatasets[] = {
     {"xdmf/body_outline", "i4", "B,K+1", "-", "each body's vertices in body_vertices, closed for polygons: its polyline in run.xdmf", ""},
 };
 
-constexpr DatasetSchema kEnergy{"series/energy/", "f8", "T", "J/m", "energy ledger term (docs/energy.md)", kEnergyWhen};
-
-// The ledger's terms, one row each (from the ledger's own list).
-template <class Fn>
-void for_each_energy_row(Fn&& fn) {
-  for (const auto& [term, value] : EnergyBalance{}.terms()) {
-    const std::string path = std::string(kEnergy.path) + term;
-    fn(path, kEnergy);
-  }
-}
-
 }  // namespace
 
 std::span<const AttributeSchema> run_file_attributes() { return kAttributes; }
 std::span<const DatasetSchema> run_file_datasets() { return kDatasets; }
 std::span<const DimensionSchema> run_file_dimensions() { return kDimensions; }
 
-void describe_run_file(const h5::File& f) {
-  const auto describe = [&](const std::string& path, std::string_view units, const std::string& description) {
-    if (!h5::exists(f, path)) return;
-    h5::write_attr(f, path, "units", std::string(units));
-    h5::write_attr(f, path, "description", description);
-  };
-  std::string kinds;  // from the registry: a new kind is named without an edit here
-  for (const ShapeKind& k : shape_kinds()) kinds += (kinds.empty() ? "" : ", ") + std::string(k.name);
+const DatasetSchema* find_dataset(std::string_view path) {
   for (const DatasetSchema& d : kDatasets)
-    describe(std::string(d.path), d.units,
-             d.path == "bodies/shape" ? "the scene's shape kind: " + kinds : std::string(d.description));
-  for_each_energy_row([&](const std::string& path, const DatasetSchema& d) {
-    describe(path, d.units, std::string(d.description));
-  });
+    if (d.path == path) return &d;
+  return nullptr;
 }
 
-std::string run_file_schema_json() {
-  using Json = nlohmann::ordered_json;
-  Json out{{"format", kRunFileFormat}};
-  Json& dims = out["dimensions"] = Json::object();
-  for (const DimensionSchema& d : kDimensions) dims[std::string(d.symbol)] = d.meaning;
-  Json& attrs = out["attributes"] = Json::array();
-  for (const AttributeSchema& a : kAttributes)
-    attrs.push_back({{"name", a.name}, {"type", a.type}, {"description", a.description}});
-  Json& sets = out["datasets"] = Json::array();
-  const auto row = [&](const std::string& path, const DatasetSchema& d) {
-    sets.push_back({{"path", path}, {"type", d.type}, {"shape", d.shape}, {"units", d.units},
-                    {"description", d.description}, {"when", d.when}});
-  };
-  for (const DatasetSchema& d : kDatasets) row(std::string(d.path), d);
-  for_each_energy_row(row);
-  Json& effects = out["effects"] = Json::array();
-  for (const EffectName& e : kEffectNames) effects.push_back(e.key);
-  return out.dump(2) + "\n";
+std::vector<std::uint64_t> schema_shape(const DatasetSchema& d, const std::map<char, std::uint64_t>& sizes) {
+  std::vector<std::uint64_t> out;
+  std::string_view shape = d.shape;
+  while (!shape.empty()) {
+    const std::size_t comma = shape.find(',');
+    const std::string_view part = shape.substr(0, comma);
+    if (part.front() >= '0' && part.front() <= '9') {
+      out.push_back(std::stoull(std::string(part)));
+    } else {
+      const auto size = sizes.find(part.front());
+      if (size == sizes.end())
+        throw std::logic_error("run-file schema: /" + std::string(d.path) + "'s dimension " + std::string(part) +
+                               " is not known yet");
+      out.push_back(size->second + (part.size() > 2 ? std::stoull(std::string(part.substr(2))) : 0));
+    }
+    if (comma == std::string_view::npos) break;
+    shape.remove_prefix(comma + 1);
+  }
+  return out;
 }
 
 }  // namespace dem2d

@@ -1,21 +1,19 @@
 // The run file's schema, once: every root attribute and every dataset with
-// its type, shape, unit and a one-line description. The writer puts the unit
-// and description on each dataset (a reader needs nothing else to know what
-// it holds); `dem2d inspect --schema` prints the whole table as JSON, with
-// the energy ledger's terms and the effects, for the checkers and readers
-// that are not this program (tests/check_run_file.py); docs/run_file.md
-// explains it.
+// its type, shape, unit and a one-line description. The reader checks a
+// file's datasets against it (io/run_reader.cpp); the writer puts the unit
+// and description on each dataset, and `dem2d inspect --schema` prints the
+// whole table as JSON, with the energy ledger's terms and the effects, for
+// the checkers and readers that are not this program (io/run_file_describe.hpp);
+// docs/run_file.md explains it.
 #pragma once
 
+#include <cstdint>
+#include <map>
 #include <span>
-#include <string>
 #include <string_view>
+#include <vector>
 
 namespace dem2d {
-
-namespace h5 {
-class File;
-}
 
 // A root attribute: its name, type (str, i8, f8) and meaning.
 struct AttributeSchema {
@@ -37,11 +35,12 @@ std::span<const AttributeSchema> run_file_attributes();
 std::span<const DatasetSchema> run_file_datasets();
 std::span<const DimensionSchema> run_file_dimensions();
 
-// Writes `units` and `description` on every dataset of the schema that f holds.
-void describe_run_file(const h5::File& f);
+// The schema's row of a dataset; nullptr if it has none (the energy ledger's
+// terms: io/run_file_describe.hpp).
+const DatasetSchema* find_dataset(std::string_view path);
 
-// The schema as JSON: format, dimensions, attributes, datasets (the energy
-// ledger's terms among them, one row each), effects.
-std::string run_file_schema_json();
+// Its shape with the file's sizes (symbol -> size); std::logic_error for a
+// symbol not among them.
+std::vector<std::uint64_t> schema_shape(const DatasetSchema& d, const std::map<char, std::uint64_t>& sizes);
 
 }  // namespace dem2d

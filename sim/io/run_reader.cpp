@@ -10,6 +10,7 @@
 
 #include "core/body_roles.hpp"
 #include "core/number_text.hpp"
+#include "io/run_file_schema.hpp"
 #include "io/run_format.hpp"
 #include "io/run_parameters.hpp"
 
@@ -152,6 +153,17 @@ void RunReader::check_dataset(const std::string& name, const std::vector<hsize_t
   if (!dtype_ok(type, dtype)) fail("dataset /" + name + " holds " + type + ", expected " + dtype);
 }
 
+std::vector<hsize_t> RunReader::schema_dims(const std::string& name) const {
+  const DatasetSchema* d = find_dataset(name);
+  if (d == nullptr) throw std::logic_error("run-file schema: no dataset " + name);
+  const std::vector<std::uint64_t> dims = schema_shape(*d, sizes_);
+  return {dims.begin(), dims.end()};
+}
+
+void RunReader::check_dataset(const std::string& name) const {
+  check_dataset(name, schema_dims(name), std::string(find_dataset(name)->type));
+}
+
 void RunReader::check_finite(const std::string& name, const std::vector<double>& v, std::size_t per_row,
                              const char* row_word, std::size_t row0) const {
   for (std::size_t k = 0; k < v.size(); ++k)
@@ -163,6 +175,8 @@ void RunReader::check_finite(const std::string& name, const std::vector<double>&
 
 template <class T>
 std::vector<T> RunReader::checked(const std::string& name, const std::vector<hsize_t>& dims) const {
+  if (const DatasetSchema* d = find_dataset(name); d != nullptr && d->type != native_dtype<T>())
+    throw std::logic_error("run-file schema: /" + name + " is " + std::string(d->type) + ", read as " + native_dtype<T>());
   check_dataset(name, dims, native_dtype<T>());
   std::vector<T> v = h5::read<T>(file_, name);
   if constexpr (std::is_floating_point_v<T>) {
@@ -199,15 +213,17 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
   };
   need("bodies/name");
   const hsize_t N = length("particles/diameter");
-  diameter_ = checked<double>("particles/diameter", {N});
-  mass_ = checked<double>("particles/mass", {N});
+  sizes_['N'] = N;
+  diameter_ = checked<double>("particles/diameter");
+  mass_ = checked<double>("particles/mass");
   for (std::size_t i = 0; i < N; ++i)
     if (!(diameter_[i] > 0.0) || !(mass_[i] > 0.0))
       fail("grain " + std::to_string(i) + " has diameter " + shortest(diameter_[i]) + " m and mass " +
            shortest(mass_[i]) + " kg/m in /particles: both must be > 0");
   body_names_ = h5::read_strings(file_, "bodies/name");
   const hsize_t B = body_names_.size();
-  thickness_ = checked<double>("bodies/thickness", {B});
+  sizes_['B'] = B;
+  thickness_ = checked<double>("bodies/thickness");
   for (std::size_t b = 0; b < B; ++b)
     if (thickness_[b] < 0.0) fail("dataset /bodies/thickness: body " + std::to_string(b) + " has a negative thickness");
   need("bodies/role");
@@ -216,12 +232,13 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
   need("bodies/shape");
   body_shapes_ = h5::read_strings(file_, "bodies/shape");
   if (body_shapes_.size() != B) fail("/bodies/shape must have one entry per body (" + std::to_string(B) + ")");
-  vertex_count_ = checked<std::int32_t>("bodies/vertex_count", {B});
+  vertex_count_ = checked<std::int32_t>("bodies/vertex_count");
   for (const std::int32_t n : vertex_count_) {
     if (n < 1 || n > Shape::kMaxVertices)
       fail("/bodies/vertex_count has " + std::to_string(n) + ", expected 1.." + std::to_string(Shape::kMaxVertices));
     max_vertices_ = std::max<hsize_t>(max_vertices_, static_cast<hsize_t>(n));
   }
+  sizes_['K'] = max_vertices_;
   for (const auto& [attr, count, what] : {std::tuple<const char*, hsize_t, const char*>{"n_particles", N, " grains (/particles)"},
                                           {"n_bodies", B, " bodies (/bodies)"}}) {
     if (!h5::has_attr(file_, "/", attr)) continue;
@@ -231,64 +248,63 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
            std::to_string(count) + what);
   }
   const hsize_t S = length("snapshots/time");
-  times_ = checked<double>("snapshots/time", {S});
-  steps_ = checked<std::int64_t>("snapshots/step", {S});
-  contact_start_ = checked<std::int64_t>("snapshots/contact_start", {S + 1});
+  sizes_['S'] = S;
+  times_ = checked<double>("snapshots/time");
+  steps_ = checked<std::int64_t>("snapshots/step");
+  contact_start_ = checked<std::int64_t>("snapshots/contact_start");
   check_increasing("snapshots/time", times_);
   for (std::size_t k = 1; k < S; ++k)
     if (steps_[k] <= steps_[k - 1]) fail("dataset /snapshots/step is not strictly increasing (row " + std::to_string(k) + ")");
   if (contact_start_.front() != 0 || !std::is_sorted(contact_start_.begin(), contact_start_.end()))
     fail("/snapshots/contact_start is not a non-decreasing index starting at 0");
-  const auto C = static_cast<hsize_t>(contact_start_.back());
-  for (const auto& [name, dims, type] : std::vector<std::tuple<std::string, std::vector<hsize_t>, std::string>>{
-           {"snapshots/position", {S, N, 2}, "f8"}, {"snapshots/velocity", {S, N, 2}, "f8"},
-           {"snapshots/omega", {S, N}, "f8"}, {"snapshots/active", {S, N}, "u1"},
-           {vertices_dataset("snapshots"), vertices_dims(S), "f8"},
-           {"contacts/i", {C}, "i4"}, {"contacts/j", {C}, "i4"}, {"contacts/fn", {C}, "f8"}, {"contacts/ft", {C}, "f8"},
-           {"contacts/overlap", {C}, "f8"}, {"contacts/nx", {C}, "f8"}, {"contacts/ny", {C}, "f8"},
-           {"contacts/mr", {C}, "f8"}, {"contacts/sliding", {C}, "u1"}})
-    check_dataset(name, dims, type);
+  sizes_['C'] = static_cast<hsize_t>(contact_start_.back());
+  for (const char* name : {"snapshots/position", "snapshots/velocity", "snapshots/omega", "snapshots/active",
+                           "snapshots/body_vertices", "contacts/i", "contacts/j", "contacts/fn", "contacts/ft",
+                           "contacts/overlap", "contacts/nx", "contacts/ny", "contacts/mr", "contacts/sliding"})
+    check_dataset(name);
   if (h5::exists(file_, "series/time")) {
-    series_times_ = checked<double>("series/time", {length("series/time")});
+    sizes_['T'] = length("series/time");
+    series_times_ = checked<double>("series/time");
     check_increasing("series/time", series_times_);
   }
-  check_records(N, S);
+  check_records(N);
 }
 
 // What no stage reads but a run file holds (grain ids, the lost grains, jam
 // times, rotation angles): checked too, so that no damaged file passes for
 // a good one. Files written before these existed lack them.
-void RunReader::check_records(hsize_t N, hsize_t S) const {
+void RunReader::check_records(hsize_t N) {
   const auto has = [&](const char* name) { return h5::exists(file_, name); };
   const auto rows = [&](const char* name) {  // a 1-D record's length (the shape check refuses any other rank)
     const std::vector<hsize_t> dims = h5::shape(file_, name);
     return dims.empty() ? hsize_t{0} : dims[0];
   };
   if (has("particles/id")) {
-    const std::vector<std::int32_t> id = checked<std::int32_t>("particles/id", {N});
+    const std::vector<std::int32_t> id = checked<std::int32_t>("particles/id");
     for (std::size_t i = 0; i < id.size(); ++i)
       if (id[i] != static_cast<std::int32_t>(i)) fail("dataset /particles/id: row " + std::to_string(i) + " holds " + std::to_string(id[i]));
   }
   if (has("particles/inertia")) {  // > 0; +infinity for a grain that does not rotate
-    check_dataset("particles/inertia", {N}, "f8");
+    check_dataset("particles/inertia");
     for (const double v : h5::read<double>(file_, "particles/inertia"))
       if (!(v > 0.0)) fail("dataset /particles/inertia holds " + shortest(v) + ": moments of inertia are > 0");
   }
-  if (has("snapshots/theta")) check_dataset("snapshots/theta", {S, N}, "f8");
-  if (has("bodies/velocity")) check_dataset("bodies/velocity", {static_cast<hsize_t>(body_names_.size()), 2}, "f8");
-  if (has("snapshots/displacement")) check_dataset("snapshots/displacement", {S, N, 2}, "f8");
-  const auto C = static_cast<hsize_t>(contact_start_.back());
-  if (has("contacts/mu_star")) check_dataset("contacts/mu_star", {C}, "f8");  // (NaN without friction)
-  if (has("contacts/line")) check_dataset("contacts/line", {C, 2, 2}, "f8");
+  for (const char* name : {"snapshots/theta", "bodies/velocity", "snapshots/displacement",
+                           "contacts/mu_star",  // (NaN without friction)
+                           "contacts/line"})
+    if (has(name)) check_dataset(name);
   if (has("lost/id")) {
-    const hsize_t L = rows("lost/id");
-    for (const std::int32_t i : checked<std::int32_t>("lost/id", {L}))
+    sizes_['L'] = rows("lost/id");
+    for (const std::int32_t i : checked<std::int32_t>("lost/id"))
       if (i < 0 || static_cast<hsize_t>(i) >= N) fail("dataset /lost/id holds " + std::to_string(i) + ", not a grain");
-    checked<std::int64_t>("lost/step", {L});
-    checked<double>("lost/x", {L});
-    checked<double>("lost/y", {L});
+    checked<std::int64_t>("lost/step");
+    checked<double>("lost/x");
+    checked<double>("lost/y");
   }
-  if (has("events/jam_time")) check_increasing("events/jam_time", checked<double>("events/jam_time", {rows("events/jam_time")}));
+  if (has("events/jam_time")) {
+    sizes_['J'] = rows("events/jam_time");
+    check_increasing("events/jam_time", checked<double>("events/jam_time"));
+  }
 }
 
 void RunReader::check_increasing(const std::string& name, const std::vector<double>& t) const {

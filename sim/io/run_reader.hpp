@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -165,14 +166,19 @@ class RunReader {
   [[noreturn]] void fail(const std::string& what) const;
   // dataset `name` exists with this shape and element type ("f8", "i4", ...)
   void check_dataset(const std::string& name, const std::vector<hsize_t>& dims, const std::string& dtype) const;
+  // ... with the shape and type of the run file's schema (io/run_file_schema.hpp), its sizes from sizes_
+  void check_dataset(const std::string& name) const;
+  std::vector<hsize_t> schema_dims(const std::string& name) const;
   // every value finite; the error names the row (`row_word` row0 + k / per_row)
   void check_finite(const std::string& name, const std::vector<double>& v, std::size_t per_row,
                     const char* row_word, std::size_t row0) const;
-  void check_records(hsize_t N, hsize_t S) const;
+  void check_records(hsize_t N);
   void check_increasing(const std::string& name, const std::vector<double>& t) const;
   // the whole dataset, checked (shape, type, finite values for floats)
   template <class T>
   std::vector<T> checked(const std::string& name, const std::vector<hsize_t>& dims) const;
+  template <class T>
+  std::vector<T> checked(const std::string& name) const { return checked<T>(name, schema_dims(name)); }
 
   h5::File file_;
   // group's body outline dataset, [rows, B, K, 2]
@@ -185,6 +191,7 @@ class RunReader {
   std::vector<std::string> body_names_, body_roles_, body_shapes_;
   std::vector<std::int32_t> vertex_count_;
   hsize_t max_vertices_ = 1;
+  std::map<char, std::uint64_t> sizes_;  // the file's sizes by the schema's symbols (N, B, K, S, C, T, L, J), once known
   std::vector<double> times_, series_times_;
   std::vector<std::int64_t> steps_, contact_start_;
 };
