@@ -56,6 +56,7 @@ def main(argv: list) -> int:
             if key == "seed":
                 value = value + k * SEED_STEP
             lines.append(f"{key} = {toml_value(value)}")
+    # its own layout, values through the one writer: these bytes decide whether every member's fill is made again
     write_if_changed(out, "\n".join(lines) + "\n")  # unchanged: what depends on it stays up to date
     return 0
 

@@ -25,9 +25,9 @@
 #include "app/inspect.hpp"
 #include "core/share_dir.hpp"
 #include "core/thread_limit.hpp"
-#include "run/output_dir.hpp"
 #include "core/effects.hpp"
 #include "core/version.hpp"
+#include "run/output_dir.hpp"
 #include "engine/kernel_sets.hpp"
 #include "io/run_file_describe.hpp"
 #include "io/toml_reader.hpp"  // did_you_mean, show_key
@@ -123,9 +123,7 @@ int cmd_run(const std::string& path, const dem2d::SceneSources& extra, dem2d::Ru
 void list_effects() {
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (const dem2d::EffectName& e : dem2d::kEffectNames) {
-    nlohmann::ordered_json needs;  // null: none
-    for (const dem2d::EffectName& n : dem2d::kEffectNames)
-      if (n.bit == e.needs) needs = n.key;
+    const nlohmann::ordered_json needs = e.needs ? nlohmann::ordered_json(dem2d::effect_names(e.needs)) : nullptr;
     out.push_back({{"key", e.key}, {"bit", e.bit}, {"needs", needs}, {"what", e.what}});
   }
   std::printf("%s\n", out.dump(2).c_str());
@@ -227,7 +225,10 @@ int main(int argc, char** argv) {
     if (*run) return cmd_run(scene_path, extra, run_opt, threads, generic_kernel);
     if (*check) return cmd_check(scene_path, extra, check_json);
     if (*bench) return dem2d::run_bench(bench_opt);
-    if (*inspect && inspect_schema) return std::printf("%s", dem2d::run_file_schema_json().c_str()) < 0;
+    if (*inspect && inspect_schema) {
+      std::fputs(dem2d::run_file_schema_json().c_str(), stdout);
+      return 0;
+    }
     if (*inspect && inspect_path.empty()) {
       std::fprintf(stderr, "dem2d: inspect: give a run file (dem2d inspect RUN.h5), or --schema\n");
       return kExitBadInput;

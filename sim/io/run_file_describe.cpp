@@ -26,22 +26,25 @@ void for_each_energy_row(Fn&& fn) {
   }
 }
 
+// A dataset's one-line description; the body shapes' names the kinds the registry has (a new kind is named
+// without an edit here).
+std::string description_of(const DatasetSchema& d) {
+  if (d.path != "bodies/shape") return std::string(d.description);
+  std::string kinds;
+  for (const ShapeKind& k : shape_kinds()) kinds += (kinds.empty() ? "" : ", ") + std::string(k.name);
+  return std::string(d.description) + ": " + kinds;
+}
+
 }  // namespace
 
 void describe_run_file(const h5::File& f) {
-  const auto describe = [&](const std::string& path, std::string_view units, const std::string& description) {
+  const auto describe = [&](const std::string& path, const DatasetSchema& d) {
     if (!h5::exists(f, path)) return;
-    h5::write_attr(f, path, "units", std::string(units));
-    h5::write_attr(f, path, "description", description);
+    h5::write_attr(f, path, "units", std::string(d.units));
+    h5::write_attr(f, path, "description", description_of(d));
   };
-  std::string kinds;  // from the registry: a new kind is named without an edit here
-  for (const ShapeKind& k : shape_kinds()) kinds += (kinds.empty() ? "" : ", ") + std::string(k.name);
-  for (const DatasetSchema& d : run_file_datasets())
-    describe(std::string(d.path), d.units,
-             d.path == "bodies/shape" ? "the scene's shape kind: " + kinds : std::string(d.description));
-  for_each_energy_row([&](const std::string& path, const DatasetSchema& d) {
-    describe(path, d.units, std::string(d.description));
-  });
+  for (const DatasetSchema& d : run_file_datasets()) describe(std::string(d.path), d);
+  for_each_energy_row(describe);
 }
 
 std::string run_file_schema_json() {
@@ -55,7 +58,7 @@ std::string run_file_schema_json() {
   Json& sets = out["datasets"] = Json::array();
   const auto row = [&](const std::string& path, const DatasetSchema& d) {
     sets.push_back({{"path", path}, {"type", d.type}, {"shape", d.shape}, {"units", d.units},
-                    {"description", d.description}, {"when", d.when}});
+                    {"description", description_of(d)}, {"when", d.when}});
   };
   for (const DatasetSchema& d : run_file_datasets()) row(std::string(d.path), d);
   for_each_energy_row(row);
