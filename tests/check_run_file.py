@@ -12,36 +12,25 @@ and numpy. Prints every problem found and exits 1 if there is any, 0 otherwise.
 import argparse
 import json
 import os
-import re
 import sys
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import h5py
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))  # the tree's reader: its shape syntax
+from dem2d.checks import dtype_code  # noqa: E402
+from dem2d.schema import shape_of  # noqa: E402
+
 ATTRIBUTE_TYPES = {"str": str, "i8": np.int64, "f8": np.float64}
 ENERGY = "series/energy/"
-
-
-def shape_of(shape: str, dims: dict) -> tuple:
-    """A schema shape ("S,N,2", "S+1", "B,K+1") with the file's dimensions."""
-    out = []
-    for part in shape.split(","):
-        m = re.fullmatch(r"([A-Z])(?:\+(\d+))?|(\d+)", part)
-        out.append(int(m.group(3)) if m.group(3) else dims[m.group(1)] + int(m.group(2) or 0))
-    return tuple(out)
 
 
 def datasets(f):
     names = []
     f.visititems(lambda name, obj: names.append(name) if isinstance(obj, h5py.Dataset) else None)
     return names
-
-
-def dtype_code(ds):
-    if h5py.check_string_dtype(ds.dtype) is not None:
-        return "str"
-    return ds.dtype.kind + str(ds.dtype.itemsize)
 
 
 def check_run_file(f, schema, errors):

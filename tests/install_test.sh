@@ -24,7 +24,7 @@ print(" ".join(sorted({f"libexec/dem2d/{s.program}" for s in stages.load()}
   { echo "FAIL: the stage registry cannot be read"; exit 1; }
 [ -n "$registered" ] || { echo "FAIL: the stage registry lists no stage"; exit 1; }
 for f in bin/dem2d $registered share/dem2d/data/study.toml share/dem2d/data/bench/settled_bed.toml \
-  share/dem2d/code_version.txt share/dem2d/python/dem2d/run.py; do
+  share/dem2d/code_version.txt share/dem2d/python/dem2d/run.py share/dem2d/python/dem2d/run_file_schema.json; do
   [ -e "$I/$f" ] || fail "not installed: $f"
 done
 "$I/bin/dem2d" bench --help | grep -q -- "--scene TEXT=$I/share/dem2d/data/bench/settled_bed.toml" ||

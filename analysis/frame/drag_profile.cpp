@@ -12,7 +12,7 @@ DragProfile read_drag_profile(const RunReader& run) {
   DragProfile p;
   p.time = run.series_times();
   if (p.time.empty()) throw std::runtime_error(run.path() + ": the run has no time series (output.series_interval = 0?)");
-  const auto force = run.series("body_force_mean", {nb, 2});  // [T, B, 2]
+  const auto force = run.series("body_force_mean");  // [T, B, 2]
   const std::vector<Body> intruder = run.body_rows("series", b), floor = run.body_rows("series", run.body_with_role("floor"));
   for (std::size_t k = 0; k < p.time.size(); ++k) {
     p.height.push_back(intruder[k].centre().y - floor[k].ymax());
@@ -31,7 +31,7 @@ double static_load(const RunReader& bed) {
   const std::size_t nb = bed.bodies();
   if (bed.series_rows() == 0 || nb == 0)
     throw std::runtime_error(bed.path() + ": the run has no time series to take the intruder's load at rest from");
-  const auto force = bed.series("body_force_mean", {nb, 2});  // [T, B, 2]
+  const auto force = bed.series("body_force_mean");  // [T, B, 2]
   return -force[force.size() - 2 * nb + 2 * b + 1];
 }
 

@@ -12,8 +12,9 @@ from __future__ import annotations
 import h5py
 import numpy as np
 
-FORMATS = ("dem2d-run-2",)
-MAX_VERTICES = 16  # a body's core outline has 1 to 16 vertices (docs/run_file.md)
+from . import schema
+
+FORMATS = (schema.schema()["format"],)
 
 
 class RunFileError(ValueError):
@@ -71,10 +72,14 @@ class Checker:
             self.fail(f"dataset /{name}: {row_word} {row0 + k} holds {what}: a run file holds finite numbers only")
         return values
 
-    def checked(self, name, shape, dtype):
-        """The whole dataset, its shape and type checked, floats finite."""
-        data = self.dataset(name, shape, dtype)[...]
-        return self.finite(name, data) if dtype == "f8" else data
+    def schema_dataset(self, name, sizes):
+        """The dataset, its shape and type checked against the schema's row (with the file's sizes)."""
+        return self.dataset(name, schema.shape(name, sizes), schema.dtype(name))
+
+    def checked(self, name, sizes):
+        """The whole dataset, its shape and type the schema's, floats finite."""
+        data = self.schema_dataset(name, sizes)[...]
+        return self.finite(name, data) if schema.dtype(name) == "f8" else data
 
     def increasing(self, name, t, unit=" s"):
         for k in np.flatnonzero(~(np.diff(t) > 0))[:1]:
@@ -116,46 +121,44 @@ def check_structure(c: Checker) -> dict:
                "run files)")
     c.need("bodies/name")
     N = c.length("particles/diameter")
-    diameter = c.checked("particles/diameter", (N,), "f8")
-    mass = c.checked("particles/mass", (N,), "f8")
+    sizes = {"N": N}
+    diameter = c.checked("particles/diameter", sizes)
+    mass = c.checked("particles/mass", sizes)
     for i in np.flatnonzero(~((diameter > 0) & (mass > 0)))[:1]:
         c.fail(f"grain {i} has diameter {diameter[i]:g} m and mass {mass[i]:g} kg/m in /particles: both must be > 0")
-    B = len(c.strings("bodies/name"))
-    thickness = c.checked("bodies/thickness", (B,), "f8")
+    B = sizes["B"] = len(c.strings("bodies/name"))
+    thickness = c.checked("bodies/thickness", sizes)
     for b in np.flatnonzero(thickness < 0)[:1]:
         c.fail(f"dataset /bodies/thickness: body {b} has a negative thickness")
     c.strings("bodies/role", B)
     c.strings("bodies/shape", B)
-    counts = c.checked("bodies/vertex_count", (B,), "i4")
-    for n in counts[(counts < 1) | (counts > MAX_VERTICES)][:1]:
-        c.fail(f"/bodies/vertex_count has {n}, expected 1..{MAX_VERTICES}")
-    K = int(max([1, *counts]))
+    counts = c.checked("bodies/vertex_count", sizes)
+    most = schema.schema()["max_vertices"]
+    for n in counts[(counts < 1) | (counts > most)][:1]:
+        c.fail(f"/bodies/vertex_count has {n}, expected 1..{most}")
+    sizes["K"] = int(max([1, *counts]))
     for attr, count, what in (("n_particles", N, "grains (/particles)"), ("n_bodies", B, "bodies (/bodies)")):
         if (n := root_scalar(c, attr, True)) is not None and n != count:
             c.fail(f"root attribute {attr} is {n}, but the file holds {count} {what}")
-    S = c.length("snapshots/time")
-    times = c.checked("snapshots/time", (S,), "f8")
-    steps = c.checked("snapshots/step", (S,), "i8")
-    start = c.checked("snapshots/contact_start", (S + 1,), "i8")
+    sizes["S"] = c.length("snapshots/time")
+    times = c.checked("snapshots/time", sizes)
+    steps = c.checked("snapshots/step", sizes)
+    start = c.checked("snapshots/contact_start", sizes)
     c.increasing("snapshots/time", times)
     for k in np.flatnonzero(np.diff(steps) <= 0)[:1]:
         c.fail(f"dataset /snapshots/step is not strictly increasing (row {k + 1})")
     if start[0] != 0 or np.any(np.diff(start) < 0):
         c.fail("/snapshots/contact_start is not a non-decreasing index starting at 0")
-    C = int(start[-1])
-    for name, shape, dtype in (("snapshots/position", (S, N, 2), "f8"), ("snapshots/velocity", (S, N, 2), "f8"),
-                               ("snapshots/omega", (S, N), "f8"), ("snapshots/active", (S, N), "u1"),
-                               ("snapshots/body_vertices", (S, B, K, 2), "f8"),
-                               *((f"contacts/{q}", (C,), "i4") for q in ("i", "j")),
-                               *((f"contacts/{q}", (C,), "f8") for q in ("fn", "ft", "overlap", "nx", "ny", "mr")),
-                               ("contacts/sliding", (C,), "u1")):
-        c.dataset(name, shape, dtype)
-    T, series_times = 0, np.zeros(0)
+    sizes["C"] = int(start[-1])
+    for d in schema.schema()["datasets"]:  # every snapshot and contact dataset a run file holds
+        if required(d) and d["path"].startswith(("snapshots/", "contacts/")):
+            c.schema_dataset(d["path"], sizes)
+    sizes["T"], series_times = 0, np.zeros(0)
     if "series/time" in f:
-        T = c.length("series/time")
-        series_times = c.checked("series/time", (T,), "f8")
+        sizes["T"] = c.length("series/time")
+        series_times = c.checked("series/time", sizes)
         c.increasing("series/time", series_times)
-    check_records(c, N, B, S, C)
+    check_records(c, sizes)
     # the run's end (C++: RunReader::end_time): finite, at or after the last snapshot and series row
     end = root_scalar(c, "end_time", False)
     if end is None:
@@ -167,38 +170,44 @@ def check_structure(c: Checker) -> dict:
     if len(times) and end != float(times[-1]):  # (C++: the final state always ends the file)
         c.fail(f"root attribute end_time = {end:g}: must be the time of the run's last snapshot ({float(times[-1]):g} s), "
                "the state every run file ends with")
-    return {"N": N, "B": B, "K": K, "S": S, "C": C, "T": T, "times": times, "start": start}
+    return {**sizes, "times": times, "start": start}
 
 
-def check_records(c: Checker, N, B, S, C):
+def required(d: dict) -> bool:
+    """Whether every run file holds the schema's dataset d (with /series/time, for the series)."""
+    return not d["when"] and not d["optional"]
+
+
+def check_records(c: Checker, sizes):
     """What no snapshot read needs but a run file holds; files written before these existed lack them."""
-    f = c.f
+    f, N = c.f, sizes["N"]
+    for name, symbol in (("lost/id", "L"), ("events/jam_time", "J")):
+        if name in f:
+            sizes[symbol] = c.length(name)
+    for d in schema.schema()["datasets"]:  # the others' shapes and types (the series: Series)
+        if d["optional"] and not d["path"].startswith("series/") and d["path"] in f and \
+                all(not ch.isupper() or ch in sizes for ch in d["shape"]):  # (lost/x without lost/id: not read)
+            c.schema_dataset(d["path"], sizes)
     if "particles/id" in f:
-        ids = c.checked("particles/id", (N,), "i4")
+        ids = c.checked("particles/id", sizes)
         for i in np.flatnonzero(ids != np.arange(N))[:1]:
             c.fail(f"dataset /particles/id: row {i} holds {ids[i]}")
     if "particles/inertia" in f:  # > 0; +infinity for a grain that does not rotate
-        inertia = c.dataset("particles/inertia", (N,), "f8")[...]
+        inertia = f["particles/inertia"][...]
         for v in inertia[~(inertia > 0)][:1]:
             c.fail(f"dataset /particles/inertia holds {v:g}: moments of inertia are > 0")
     # the displacement window (C++: RunReader::displacement_window): a finite number of seconds >= 0
     w = root_scalar(c, "displacement_window", False, 0.0)
     if not (np.isfinite(w) and w >= 0.0):
         c.fail(f"root attribute displacement_window = {w:g}: must be a finite number of seconds >= 0 (0: none)")
-    for name, shape in (("snapshots/theta", (S, N)), ("bodies/velocity", (B, 2)), ("snapshots/displacement", (S, N, 2)),
-                        ("contacts/mu_star", (C,)), ("contacts/line", (C, 2, 2))):
-        if name in f:
-            c.dataset(name, shape, "f8")
     if "lost/id" in f:
-        L = c.length("lost/id")
-        ids = c.checked("lost/id", (L,), "i4")
+        ids = c.checked("lost/id", sizes)
         for i in ids[(ids < 0) | (ids >= N)][:1]:
             c.fail(f"dataset /lost/id holds {i}, not a grain")
-        c.checked("lost/step", (L,), "i8")
-        c.checked("lost/x", (L,), "f8")
-        c.checked("lost/y", (L,), "f8")
+        for name in ("lost/step", "lost/x", "lost/y"):
+            c.checked(name, sizes)
     if "events/jam_time" in f:
-        c.increasing("events/jam_time", c.checked("events/jam_time", (c.length("events/jam_time"),), "f8"))
+        c.increasing("events/jam_time", c.checked("events/jam_time", sizes))
 
 
 def check_contacts(c: Checker, k, first, rows: dict, N, B):
@@ -215,25 +224,29 @@ def check_contacts(c: Checker, k, first, rows: dict, N, B):
                "/contacts/sliding 0 or 1")
 
 
-SERIES = ("step", "contacts", "body_force", "body_force_mean", "body_torque", "body_torque_mean", "body_vertices",
-          "kinetic_energy", "max_overlap")  # what /series holds in every run file
-SERIES_COUNTS = ("step", "contacts")    # integers (i8); every other series holds floats
+SERIES = [name for name in schema.group("series/") if name != "time"]  # what /series holds in every run file
 
 
-def check_series_dataset(c: Checker, name, T):
-    """/series/<name>: T rows; i8 for the counts, finite floats for the rest."""
-    ds = c.need(f"series/{name}")
-    if ds.ndim == 0 or ds.shape[0] != T:
-        c.fail(f"dataset /series/{name} has shape {list(ds.shape)}, expected {T} rows (one per /series/time)")
-    if name in SERIES_COUNTS:
-        return c.checked(f"series/{name}", ds.shape, "i8")
-    return c.checked(f"series/{name}", ds.shape, "f8")
+def check_series_dataset(c: Checker, name, sizes):
+    """/series/<name>: one row per /series/time; the schema's shape and type (finite floats), or floats of
+    any row shape for a column the schema does not list."""
+    path = f"series/{name}"
+    ds = c.need(path)
+    if ds.ndim == 0 or ds.shape[0] != sizes["T"]:
+        c.fail(f"dataset /{path} has shape {list(ds.shape)}, expected {sizes['T']} rows (one per /series/time)")
+    try:
+        return c.checked(path, sizes)
+    except KeyError:  # not in the schema
+        return c.finite(path, c.dataset(path, ds.shape, "f8")[...])
 
 
 def obeys_rule(rule: str, v: float):
-    """Whether v obeys a rule as the writer spells it ("finite", "> 0", ">= 0", "in (0, 1]"); None if unknown."""
+    """Whether v obeys a rule as the writer spells it ("finite", "> 0", ">= 0", "0 or 1", "in (0, 1]");
+    None if unknown."""
     if rule == "finite":
         return bool(np.isfinite(v))
+    if rule == "0 or 1":
+        return v in (0.0, 1.0)
     if rule == "> 0":
         return bool(np.isfinite(v) and v > 0)
     if rule == ">= 0":
@@ -247,9 +260,6 @@ def obeys_rule(rule: str, v: float):
     return bool(np.isfinite(v) and (v > lo if rule[3] == "(" else v >= lo) and (v < hi if rule[-1] == ")" else v <= hi))
 
 
-# /parameters values that are not one number (docs/run_file.md): their sizes; "vertices" holds any number of (x, y)
-PARAMETER_VECTORS = {"g": 2, "domain": 4, "velocity": 2, "amplitude": 2, "pivot": 2, "tap_velocity": 2, "vertices": None}
-PARAMETER_FLAGS = ("dt_forced", "energy_balance")  # and every /parameters/effects value: 1 (on) or 0 (off)
 
 
 def check_parameter_keys(c: Checker, g: h5py.Group):
@@ -264,19 +274,19 @@ def check_parameter_keys(c: Checker, g: h5py.Group):
 
 
 def check_parameter(c: Checker, ds: h5py.Dataset):
-    """A /parameters value: float64, one number or a vector of its size, each number obeying the rule
-    stored with it (attribute `valid`); flags 1 or 0."""
+    """A /parameters value: float64, one number or of its shape in the schema, each number obeying the rule
+    stored with it (attribute `valid`; flags: "0 or 1")."""
     name = ds.name.lstrip("/")
     if dtype_code(ds) != "f8":
         c.fail(f"/{name}: not float64")
-    key = name.rsplit("/", 1)[-1]
+    shape = schema.parameters()["shapes"].get(name.rsplit("/", 1)[-1])
     values = np.asarray(ds[()], dtype=float).reshape(-1)
-    if key not in PARAMETER_VECTORS and ds.ndim != 0:
+    if shape is None and ds.ndim != 0:
         c.fail(f"/{name}: not a scalar")
-    if PARAMETER_VECTORS.get(key) and values.size != PARAMETER_VECTORS[key]:
-        c.fail(f"/{name}: {values.size} values, expected {PARAMETER_VECTORS[key]}")
-    if (key in PARAMETER_FLAGS or name.startswith("parameters/effects/")) and values[0] not in (0.0, 1.0):
-        c.fail(f"/{name}: {values[0]:g}: must be 1 (on) or 0 (off)")
+    if shape == "n,2" and (ds.ndim != 2 or ds.shape[1] != 2):
+        c.fail(f"/{name}: not a list of (x, y)")
+    if shape not in (None, "n,2") and values.size != int(shape):
+        c.fail(f"/{name}: {values.size} values, expected {shape}")
     rule = ds.attrs.get("valid", "finite")
     rule = rule.decode() if isinstance(rule, bytes) else str(rule)
     for v in values:

@@ -9,6 +9,7 @@ from functools import cached_property
 import h5py
 import numpy as np
 
+from . import schema
 from .checks import FORMATS, SERIES, Checker, RunFileError, check_contacts, check_parameter, check_parameter_keys, \
     check_series_dataset, check_structure
 
@@ -85,18 +86,12 @@ class Parameters:
         raise KeyError(f"no body has the role {role!r} (roles: {sorted({b['role'] for b in self.bodies})})")
 
 
-PARAMETERS_FORMAT = "dem2d-parameters-1"
-# a motion segment's kinds and the values each must have (C++: core/motion.hpp's kMotionKinds, read by
-# io/run_parameters.cpp; a last constant segment without a duration goes on for ever)
-MOTION_KINDS = {"hold": ("duration",), "constant": ("velocity", "duration"), "ramp": ("velocity", "duration"),
-                "sine": ("amplitude", "period", "cycles"), "triangle": ("amplitude", "period", "cycles")}
-MAX_MOTION_PIECES = 1_000_000  # (C++: kMaxMotionPieces)
-
-
 def motion_count(c: Checker, name: str, v: float) -> int:
-    """A motion's cycles or motion_repeat: a whole number from 1 to MAX_MOTION_PIECES (the scene's range)."""
-    if not (1 <= v <= MAX_MOTION_PIECES and float(v).is_integer()):
-        c.fail(f"/{name}: {v:g}: must be a whole number from 1 to {MAX_MOTION_PIECES}")
+    """A motion's cycles or motion_repeat: a whole number from 1 to the schema's max_motion_pieces (the
+    scene's range)."""
+    most = schema.parameters()["max_motion_pieces"]
+    if not (1 <= v <= most and float(v).is_integer()):
+        c.fail(f"/{name}: {v:g}: must be a whole number from 1 to {most}")
     return int(v)
 
 
@@ -121,9 +116,9 @@ def _parameters(c: Checker, g: h5py.Group) -> Parameters:
                 units[v.name[len("/parameters/"):]] = v.attrs.get("units", "-")
         return out
 
-    fmt = g.attrs.get("format")
-    if fmt != PARAMETERS_FORMAT:
-        c.fail(f"/parameters has format {fmt!r}; this reader knows {PARAMETERS_FORMAT}")
+    fmt, known = g.attrs.get("format"), schema.parameters()["format"]
+    if fmt != known:
+        c.fail(f"/parameters has format {fmt!r}; this reader knows {known}")
     check_parameter_keys(c, g)
     if "free_time" in g["stop"] and "body_free" not in g["stop"].attrs:
         c.fail("/parameters/stop@body_free: missing (the body whose freedom ends the run)")
@@ -137,9 +132,10 @@ def _parameters(c: Checker, g: h5py.Group) -> Parameters:
                         for j in range(int(b["motion"].attrs["segments"]))] if "motion" in b else [])
         for j, seg in enumerate(d["motion"]):
             where = f"/parameters/bodies/{k}/motion/{j}"
-            if seg["kind"] not in MOTION_KINDS:
+            kinds = schema.parameters()["motion_kinds"]  # the values each kind must have (a last constant
+            if seg["kind"] not in kinds:                 # segment without a duration goes on for ever)
                 c.fail(f"{where}@kind: unknown motion kind {seg['kind']!r}")
-            for key in MOTION_KINDS[seg["kind"]]:
+            for key in kinds[seg["kind"]]:
                 forever = key == "duration" and seg["kind"] == "constant" and j + 1 == len(d["motion"])
                 if key not in seg and not forever:
                     c.fail(f"{where}/{key}: missing")
@@ -214,21 +210,14 @@ class Series:
     """The time series (one row per series interval): time (s), step, and per body force/torque.
     Every dataset handed out is checked: one row per series time, numbers, floats finite."""
 
-    def __init__(self, checker: Checker, time, n_bodies):
-        self._c, self.time, self._B = checker, time, n_bodies
+    def __init__(self, checker: Checker, time, sizes):
+        self._c, self.time, self._sizes = checker, time, sizes
         self._g = checker.f["series"] if "series" in checker.f else {}
         self.step = self["step"] if "series/step" in checker.f else np.zeros(0, dtype=np.int64)
 
     def __getitem__(self, name):
         """Any series dataset by name, e.g. series["kinetic_energy"] or series["energy/sliding"]."""
-        return check_series_dataset(self._c, name, len(self.time))
-
-    def _rows(self, name, row_shape):
-        data = self[name]
-        if data.shape[1:] != tuple(row_shape):
-            self._c.fail(f"dataset /series/{name} has shape {list(data.shape)}, expected "
-                         f"{[len(self.time), *row_shape]}")
-        return data
+        return check_series_dataset(self._c, name, self._sizes)
 
     def names(self):
         out = []
@@ -239,15 +228,14 @@ class Series:
     def body_force(self, body: Body, mean=True):
         """[T, 2] force (fx, fy) of the grains on `body` (N/m): the mean over each interval, or the
         value at the row's step (mean=False)."""
-        return self._rows("body_force_mean" if mean else "body_force", (self._B, 2))[:, body.index, :]
+        return self["body_force_mean" if mean else "body_force"][:, body.index, :]
 
     def body_torque(self, body: Body, mean=True):
-        return self._rows("body_torque_mean" if mean else "body_torque", (self._B,))[:, body.index]
+        return self["body_torque_mean" if mean else "body_torque"][:, body.index]
 
     def body_vertices(self, body: Body):
         """[T, vertex_count, 2] core vertices of `body` (m)."""
-        K = self._c.f["snapshots/body_vertices"].shape[2]
-        return self._rows("body_vertices", (self._B, K, 2))[:, body.index, :body.vertex_count, :]
+        return self["body_vertices"][:, body.index, :body.vertex_count, :]
 
 
 class Run:
@@ -378,7 +366,7 @@ class Run:
     def series(self) -> Series:
         """The time series; empty (no rows) if the run wrote none."""
         time = self._checked(lambda: self.file["series/time"][...]) if "series/time" in self.file else np.zeros(0)
-        return self._checked(Series, self._c, time, self._dims["B"])
+        return self._checked(Series, self._c, time, self._dims)
 
     def units(self, path: str) -> str:
         """The unit of a dataset, e.g. units("contacts/fn") == "N/m"."""

@@ -14,7 +14,8 @@
 
 namespace dem2d {
 
-enum class Rule { finite, positive, non_negative, unit_open_closed, interval };
+// flag: an on/off value stored as a number, 1 (on) or 0 (off)
+enum class Rule { finite, positive, non_negative, unit_open_closed, flag, interval };
 
 struct Num {
   const char* what;  // "normal stiffness"
@@ -25,9 +26,9 @@ struct Num {
   bool lo_open = false, hi_open = false;
 };
 
-// "> 0", "in [0, 1)"
+// "> 0", "in [0, 1)", "0 or 1"
 inline std::string rule_text(const Num& n) {
-  constexpr const char* kText[] = {"finite", "> 0", ">= 0", "in (0, 1]"};
+  constexpr const char* kText[] = {"finite", "> 0", ">= 0", "in (0, 1]", "0 or 1"};
   if (n.rule != Rule::interval) return kText[static_cast<int>(n.rule)];
   std::ostringstream os;
   os << "in " << (n.lo_open ? "(" : "[") << n.lo << ", " << n.hi << (n.hi_open ? ")" : "]");
@@ -40,18 +41,18 @@ inline bool obeys(const Num& n, double v) {
     case Rule::positive: return std::isfinite(v) && v > 0.0;
     case Rule::non_negative: return std::isfinite(v) && v >= 0.0;
     case Rule::unit_open_closed: return v > 0.0 && v <= 1.0;
+    case Rule::flag: return v == 0.0 || v == 1.0;
     case Rule::interval:
       return std::isfinite(v) && (n.lo_open ? v > n.lo : v >= n.lo) && (n.hi_open ? v < n.hi : v <= n.hi);
   }
   return false;
 }
 
-// The rule rule_text spells ("finite", "> 0", ">= 0", "in (0, 1]", "in [lo, hi)"), to check values
-// with obeys(); nothing if the text is none of these.
+// The rule rule_text spells ("finite", "> 0", ">= 0", "0 or 1", "in (0, 1]", "in [lo, hi)"), to check
+// values with obeys(); nothing if the text is none of these.
 inline std::optional<Num> rule_from_text(const std::string& rule) {
-  constexpr const char* kText[] = {"finite", "> 0", ">= 0"};
-  for (const Rule r : {Rule::finite, Rule::positive, Rule::non_negative})
-    if (rule == kText[static_cast<int>(r)]) return Num{"", "", r};
+  for (const Rule r : {Rule::finite, Rule::positive, Rule::non_negative, Rule::flag})
+    if (rule == rule_text(Num{"", "", r})) return Num{"", "", r};
   if (rule.size() < 8 || rule.compare(0, 3, "in ") != 0 || (rule[3] != '(' && rule[3] != '[') ||
       (rule.back() != ')' && rule.back() != ']'))
     return std::nullopt;

@@ -233,7 +233,8 @@ bool exists(const File& f, const std::string& name) {
 
 namespace {
 
-void collect_datasets(const File& f, hid_t group, const std::string& prefix, std::vector<std::string>& out) {
+// The datasets (or, with `groups`, the groups) under `group`, their paths relative to it after `prefix`.
+void collect(const File& f, hid_t group, const std::string& prefix, std::vector<std::string>& out, bool groups) {
   H5G_info_t info;
   if (H5Gget_info(group, &info) < 0) throw std::runtime_error(f.path() + ": cannot list group " + prefix);
   for (hsize_t k = 0; k < info.nlinks; ++k) {
@@ -244,8 +245,12 @@ void collect_datasets(const File& f, hid_t group, const std::string& prefix, std
     name.resize(static_cast<std::size_t>(size));
     Handle obj(H5Oopen(group, name.c_str(), H5P_DEFAULT), H5Oclose);
     if (obj.id() < 0) throw std::runtime_error(f.path() + ": cannot open " + prefix + name);
-    if (H5Iget_type(obj) == H5I_GROUP) collect_datasets(f, obj, prefix + name + "/", out);
-    else if (H5Iget_type(obj) == H5I_DATASET) out.push_back(prefix + name);
+    if (H5Iget_type(obj) == H5I_GROUP) {
+      if (groups) out.push_back(prefix + name);
+      collect(f, obj, prefix + name + "/", out, groups);
+    } else if (H5Iget_type(obj) == H5I_DATASET && !groups) {
+      out.push_back(prefix + name);
+    }
   }
 }
 
@@ -254,7 +259,14 @@ void collect_datasets(const File& f, hid_t group, const std::string& prefix, std
 std::vector<std::string> datasets_under(const File& f, const std::string& group) {
   Handle g = check(H5Gopen2(f.id(), group.c_str(), H5P_DEFAULT), H5Gclose, f, "no group " + group);
   std::vector<std::string> out;
-  collect_datasets(f, g, "", out);
+  collect(f, g, "", out, false);
+  return out;
+}
+
+std::vector<std::string> groups_under(const File& f, const std::string& group) {
+  Handle g = check(H5Gopen2(f.id(), group.c_str(), H5P_DEFAULT), H5Gclose, f, "no group " + group);
+  std::vector<std::string> out;
+  collect(f, g, "", out, true);
   return out;
 }
 

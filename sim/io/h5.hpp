@@ -95,6 +95,8 @@ std::vector<hsize_t> shape(const File& f, const std::string& name);
 bool exists(const File& f, const std::string& name);
 // The datasets in `group` and its subgroups, as paths relative to it ("energy/kinetic"), in name order.
 std::vector<std::string> datasets_under(const File& f, const std::string& group);
+// Its subgroups at every depth, the same way ("bodies", "bodies/0", ...).
+std::vector<std::string> groups_under(const File& f, const std::string& group);
 // Element type of a dataset as numpy spells it: "f8", "i4", "i8", "u1", ..., "str" or "other".
 std::string dtype(const File& f, const std::string& name);
 

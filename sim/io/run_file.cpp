@@ -164,7 +164,7 @@ std::vector<RunRecorder::Column> RunRecorder::columns() {
   if (energy_) {
     const auto names = EnergyBalance{}.terms();
     for (std::size_t k = 0; k < names.size(); ++k)
-      out.push_back({std::string("series/energy/") + names[k].first, {}, &series_.energy[k], t});
+      out.push_back({"series/energy/" + std::string(names[k].first), {}, &series_.energy[k], t});
   }
   return out;
 }

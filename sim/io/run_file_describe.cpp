@@ -3,12 +3,16 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <utility>
 
 #include "core/effects.hpp"
+#include "core/motion.hpp"
 #include "engine/energy_ledger.hpp"
 #include "io/h5.hpp"
 #include "io/run_file_schema.hpp"
 #include "io/run_format.hpp"
+#include "io/run_parameters.hpp"
+#include "shape/shape.hpp"
 #include "shape/shape_kinds.hpp"
 
 namespace dem2d {
@@ -21,7 +25,7 @@ constexpr DatasetSchema kEnergy{"series/energy/", "f8", "T", "J/m", "energy ledg
 template <class Fn>
 void for_each_energy_row(Fn&& fn) {
   for (const auto& [term, value] : EnergyBalance{}.terms()) {
-    const std::string path = std::string(kEnergy.path) + term;
+    const std::string path = std::string(kEnergy.path) + std::string(term);
     fn(path, kEnergy);
   }
 }
@@ -58,12 +62,25 @@ std::string run_file_schema_json() {
   Json& sets = out["datasets"] = Json::array();
   const auto row = [&](const std::string& path, const DatasetSchema& d) {
     sets.push_back({{"path", path}, {"type", d.type}, {"shape", d.shape}, {"units", d.units},
-                    {"description", description_of(d)}, {"when", d.when}});
+                    {"description", description_of(d)}, {"when", d.when}, {"optional", d.optional}});
   };
   for (const DatasetSchema& d : run_file_datasets()) row(std::string(d.path), d);
   for_each_energy_row(row);
   Json& effects = out["effects"] = Json::array();
   for (const EffectName& e : kEffectNames) effects.push_back(e.key);
+  out["max_vertices"] = Shape::kMaxVertices;
+  // /parameters: its layout's name, the values that are not one number, the motion kinds' values
+  Json& params = out["parameters"] = {{"format", kParametersFormat}};
+  Json& shapes = params["shapes"] = Json::object();
+  for (const ParameterShape& p : parameter_shapes()) shapes[std::string(p.key)] = p.shape;
+  Json& kinds = params["motion_kinds"] = Json::object();
+  for (const MotionKindSpec& k : kMotionKinds) {
+    Json& keys = kinds[std::string(k.name)] = Json::array();
+    for (const auto& [key, used] : {std::pair{"velocity", k.velocity}, {"duration", k.duration},
+                                    {"amplitude", k.amplitude}, {"period", k.period}, {"cycles", k.cycles}})
+      if (used) keys.push_back(key);
+  }
+  params["max_motion_pieces"] = kMaxMotionPieces;
   return out.dump(2) + "\n";
 }
 

@@ -14,7 +14,8 @@ class File;
 // Writes `units` and `description` on every dataset of the schema that f holds.
 void describe_run_file(const h5::File& f);
 
-// The schema as JSON: format, dimensions, attributes, datasets, effects.
+// The schema as JSON: format, dimensions, attributes, datasets, effects, the most vertices of a
+// body's core, and /parameters' layout (its format, the values' shapes, the motion kinds' values).
 std::string run_file_schema_json();
 
 }  // namespace dem2d

@@ -43,17 +43,17 @@ constexpr AttributeSchema kAttributes[] = {
 };
 
 constexpr DatasetSchema kDatasets[] = {
-    {"particles/id", "i4", "N", "-", "particle index 0..N-1, its identity for the whole run", ""},
+    {"particles/id", "i4", "N", "-", "particle index 0..N-1, its identity for the whole run", "", true},
     {"particles/diameter", "f8", "N", "m", "grain diameter", ""},
     {"particles/mass", "f8", "N", "kg/m", "grain mass per unit depth, rho pi d^2 / 4", ""},
-    {"particles/inertia", "f8", "N", "kg m", "moment of inertia per unit depth, m d^2 / 8", ""},
+    {"particles/inertia", "f8", "N", "kg m", "moment of inertia per unit depth, m d^2 / 8", "", true},
     {"bodies/name", "str", "B", "-", "body name from the scene", ""},
     {"bodies/role", "str", "B", "-", "body role from the scene: intruder, floor, left_wall, right_wall, hopper, or empty", ""},
     {"bodies/shape", "str", "B", "-", "the scene's shape kind", ""},  // (the kinds: io/run_file_describe.cpp)
     {"bodies/vertex_count", "i4", "B", "-", "vertices of the body's core (2: a segment; >= 3: a polygon, counter-clockwise)", ""},
     {"bodies/thickness", "f8", "B", "m", "rounding diameter: the body is every point within thickness/2 of its core", ""},
-    {"bodies/velocity", "f8", "B,2", "m/s", "prescribed velocity (vx, vy) at the end of the run", ""},
-    {"series/time", "f8", "T", "s", "time of the series row", ""},
+    {"bodies/velocity", "f8", "B,2", "m/s", "prescribed velocity (vx, vy) at the end of the run", "", true},
+    {"series/time", "f8", "T", "s", "time of the series row", "", true},
     {"series/step", "i8", "T", "-", "step of the series row", ""},
     {"series/body_force", "f8", "T,B,2", "N/m", "force (fx, fy) the grains exert on each body at that step", ""},
     {"series/body_force_mean", "f8", "T,B,2", "N/m", "mean force (fx, fy) on each body over the steps since the previous row", ""},
@@ -67,9 +67,9 @@ constexpr DatasetSchema kDatasets[] = {
     {"snapshots/step", "i8", "S", "-", "step of the snapshot", ""},
     {"snapshots/position", "f8", "S,N,2", "m", "grain centre (x, y)", ""},
     {"snapshots/velocity", "f8", "S,N,2", "m/s", "grain velocity (vx, vy)", ""},
-    {"snapshots/displacement", "f8", "S,N,2", "m", "grain displacement over displacement_window before the snapshot; NaN: not recorded", ""},
+    {"snapshots/displacement", "f8", "S,N,2", "m", "grain displacement over displacement_window before the snapshot; NaN: not recorded", "", true},
     {"snapshots/omega", "f8", "S,N", "rad/s", "grain angular velocity, counter-clockwise", ""},
-    {"snapshots/theta", "f8", "S,N", "rad", "grain orientation (integrated omega)", ""},
+    {"snapshots/theta", "f8", "S,N", "rad", "grain orientation (integrated omega)", "", true},
     {"snapshots/active", "u1", "S,N", "-", "1, or 0 once the grain has left the domain", ""},
     {"snapshots/body_vertices", "f8", "S,B,K,2", "m", "core vertices (x, y) of each body, padded by repeating the last", ""},
     {"snapshots/contact_start", "i8", "S+1", "-", "contacts of snapshot k: rows contact_start[k] .. contact_start[k+1]-1 of /contacts", ""},
@@ -82,15 +82,20 @@ constexpr DatasetSchema kDatasets[] = {
     {"contacts/ny", "f8", "C", "-", "y of the unit normal from the partner to grain i", ""},
     {"contacts/mr", "f8", "C", "N", "rolling moment on grain i (the partner receives -mr)", ""},
     {"contacts/sliding", "u1", "C", "-", "1 if the tangential force is on the Coulomb cone |ft| >= mu F_load", ""},
-    {"contacts/mu_star", "f8", "C", "-", "friction mobilisation |ft| / (mu F_load); NaN without friction or load", ""},
-    {"contacts/line", "f8", "C,2,2", "m", "the contact's line for drawing: grain i's centre to the partner grain's centre, or to the contact point on a body", ""},
-    {"lost/id", "i4", "L", "-", "particle that left the domain", ""},
-    {"lost/step", "i8", "L", "-", "step at which it was removed", ""},
-    {"lost/x", "f8", "L", "m", "its last x", ""},
-    {"lost/y", "f8", "L", "m", "its last y", ""},
-    {"events/jam_time", "f8", "J", "s", "times a jam of the hopper outlet was detected and tapped", ""},
+    {"contacts/mu_star", "f8", "C", "-", "friction mobilisation |ft| / (mu F_load); NaN without friction or load", "", true},
+    {"contacts/line", "f8", "C,2,2", "m", "the contact's line for drawing: grain i's centre to the partner grain's centre, or to the contact point on a body", "", true},
+    {"lost/id", "i4", "L", "-", "particle that left the domain", "", true},
+    {"lost/step", "i8", "L", "-", "step at which it was removed", "", true},
+    {"lost/x", "f8", "L", "m", "its last x", "", true},
+    {"lost/y", "f8", "L", "m", "its last y", "", true},
+    {"events/jam_time", "f8", "J", "s", "times a jam of the hopper outlet was detected and tapped", "", true},
     {"xdmf/sequence", "i4", "Q", "-", "0, 1, 2, ...: connectivity of the contact lines in run.xdmf", ""},
     {"xdmf/body_outline", "i4", "B,K+1", "-", "each body's vertices in body_vertices, closed for polygons: its polyline in run.xdmf", ""},
+};
+
+constexpr ParameterShape kParameterShapes[] = {
+    {"g", "2"}, {"domain", "4"}, {"velocity", "2"}, {"amplitude", "2"}, {"pivot", "2"}, {"tap_velocity", "2"},
+    {"vertices", "n,2"},
 };
 
 }  // namespace
@@ -98,6 +103,13 @@ constexpr DatasetSchema kDatasets[] = {
 std::span<const AttributeSchema> run_file_attributes() { return kAttributes; }
 std::span<const DatasetSchema> run_file_datasets() { return kDatasets; }
 std::span<const DimensionSchema> run_file_dimensions() { return kDimensions; }
+std::span<const ParameterShape> parameter_shapes() { return kParameterShapes; }
+
+const ParameterShape* find_parameter_shape(std::string_view key) {
+  for (const ParameterShape& p : kParameterShapes)
+    if (p.key == key) return &p;
+  return nullptr;
+}
 
 const DatasetSchema* find_dataset(std::string_view path) {
   for (const DatasetSchema& d : kDatasets)

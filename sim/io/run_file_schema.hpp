@@ -7,6 +7,7 @@
 // docs/run_file.md explains it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <span>
@@ -22,18 +23,37 @@ struct AttributeSchema {
 
 // A dataset. `shape`: its dimensions, comma-separated, each a number or one
 // of the symbols of kRunFileDimensions (e.g. "S,N,2"; "S+1"); `when`: the
-// scene setting it depends on ("" : always written).
+// scene setting it depends on ("" : always written); `optional`: readers take
+// a file without it (files written before it existed lack it; a run file
+// without series rows has no /series at all, whose other datasets a file
+// with /series/time must hold).
 struct DatasetSchema {
   std::string_view path, type, shape, units, description, when;
+  bool optional = false;
+  // Held by every run file (with /series/time, for the series).
+  bool required() const { return when.empty() && !optional; }
 };
 
 struct DimensionSchema {
   std::string_view symbol, meaning;
 };
 
+// A /parameters value that is not one number (the rest are scalars): its key,
+// the last part of its path (parameters/bodies/0/velocity: velocity), and its
+// shape: its count of numbers ("2", "4"), or "n,2" for any number of (x, y).
+struct ParameterShape {
+  std::string_view key, shape;
+  // The numbers it holds: its count, 0 for any (then in pairs).
+  std::size_t count() const { return shape == "n,2" ? 0 : static_cast<std::size_t>(shape.front() - '0'); }
+};
+
 std::span<const AttributeSchema> run_file_attributes();
 std::span<const DatasetSchema> run_file_datasets();
 std::span<const DimensionSchema> run_file_dimensions();
+std::span<const ParameterShape> parameter_shapes();
+
+// The shape of the /parameters value with this key; nullptr for a scalar.
+const ParameterShape* find_parameter_shape(std::string_view key);
 
 // The schema's row of a dataset; nullptr if it has none (the energy ledger's
 // terms: io/run_file_describe.hpp).

@@ -1,6 +1,7 @@
 // Reading /parameters (io/run_parameters.hpp).
 #include "io/run_parameters.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -8,6 +9,7 @@
 #include <string>
 
 #include "core/motion.hpp"
+#include "io/run_file_schema.hpp"
 #include "scene/scene_keys.hpp"
 
 namespace dem2d {
@@ -51,13 +53,18 @@ class Reader {
       fail(name, shortest(v) + ": must be a whole number from 1 to " + std::to_string(kMaxMotionPieces));
     return static_cast<int>(v);
   }
-  std::vector<double> values(const std::string& name, std::size_t n) const {
+  // a value of the schema's parameter_shapes (io/run_file_schema.hpp), in its shape there
+  std::vector<double> values(const std::string& name) const {
     if (!has(name)) fail(name, "missing");
-    const std::vector<double> v = read_as_double(name, nullptr);
-    if (v.size() != n) fail(name, std::to_string(v.size()) + " values, expected " + std::to_string(n));
+    const ParameterShape* shape = find_parameter_shape(name.substr(name.rfind('/') + 1));
+    if (!shape) throw std::logic_error("/" + name + " is a scalar in the run-file schema");
+    std::vector<hsize_t> dims;
+    const std::vector<double> v = read_as_double(name, &dims);
+    if (shape->count() && v.size() != shape->count())
+      fail(name, std::to_string(v.size()) + " values, expected " + std::to_string(shape->count()));
+    if (!shape->count() && (dims.size() != 2 || dims[1] != 2)) fail(name, "not a list of (x, y)");
     return v;
   }
-  std::vector<double> any_values(const std::string& name) const { return read_as_double(name, nullptr); }
   std::string text(const std::string& object, const std::string& attr) const {
     if (!h5::has_attr(f_, object, attr)) fail(object + "@" + attr, "missing");
     return h5::read_attr_string(f_, object, attr);
@@ -122,12 +129,12 @@ std::vector<MotionSegment> read_motion(const Reader& r, const std::string& group
                        ? std::numeric_limits<double>::infinity()
                        : r.number(g + "/duration");
     if (spec->velocity) {
-      const std::vector<double> v = r.values(g + "/velocity", 2);
+      const std::vector<double> v = r.values(g + "/velocity");
       m.vx = v[0], m.vy = v[1];
       m.w = r.number_or(g + "/angular_velocity", 0.0);
     }
     if (spec->amplitude) {
-      const std::vector<double> a = r.values(g + "/amplitude", 2);
+      const std::vector<double> a = r.values(g + "/amplitude");
       m.ax = a[0], m.ay = a[1];
       m.aw = r.number_or(g + "/angle", 0.0);
     }
@@ -147,15 +154,15 @@ std::vector<BodySpec> read_bodies(const Reader& r) {
     b.name = r.text(g, "name");
     b.role = r.text(g, "role");
     b.shape = r.text(g, "shape");
-    const std::vector<double> xy = r.any_values(g + "/vertices");
+    const std::vector<double> xy = r.values(g + "/vertices");
     for (std::size_t v = 0; v + 1 < xy.size(); v += 2) b.vertices.push_back({xy[v], xy[v + 1]});
     b.thickness = r.number(g + "/thickness");
-    const std::vector<double> vel = r.values(g + "/velocity", 2);
+    const std::vector<double> vel = r.values(g + "/velocity");
     b.vx = vel[0], b.vy = vel[1];
     b.remove_at = r.number_or(g + "/remove_at", -1.0);
     b.motion = read_motion(r, g);
     if (r.has(g + "/pivot")) {
-      const std::vector<double> p = r.values(g + "/pivot", 2);
+      const std::vector<double> p = r.values(g + "/pivot");
       b.pivot = Point{p[0], p[1]};
     }
     b.motion_repeat = r.has(g + "/motion_repeat") ? r.count(g + "/motion_repeat") : 1;
@@ -174,10 +181,32 @@ int RunParameters::find_role(std::string_view role) const {
 
 bool has_parameters(const h5::File& f) { return h5::exists(f, "parameters"); }
 
+namespace {
+
+// Every value a group lists in its attribute `keys` is there (a reader that skips an optional value it
+// misses would take a file with one deleted for one written without it).
+void check_keys(const h5::File& f, const Reader& r) {
+  std::vector<std::string> groups = {"parameters"};
+  for (const std::string& g : h5::groups_under(f, "parameters")) groups.push_back("parameters/" + g);
+  for (const std::string& g : groups) {
+    if (!h5::has_attr(f, g, "keys")) continue;
+    const std::string keys = h5::read_attr_string(f, g, "keys");
+    for (std::size_t at = 0; at < keys.size();) {
+      const std::size_t comma = std::min(keys.find(',', at), keys.size());
+      const std::string key = keys.substr(at, comma - at);
+      if (!key.empty() && !r.has(g + "/" + key)) r.fail(g + "/" + key, "missing");
+      at = comma + 1;
+    }
+  }
+}
+
+}  // namespace
+
 RunParameters read_parameters(const h5::File& f) {
   const Reader r(f);
   if (r.text("parameters", "format") != kParametersFormat)
     r.fail("parameters@format", std::string("'") + r.text("parameters", "format") + "', this reader knows " + kParametersFormat);
+  check_keys(f, r);
   RunParameters p;
   p.name = r.text("parameters", "scene");
   for (const EffectName& e : kEffectNames)
@@ -186,7 +215,7 @@ RunParameters read_parameters(const h5::File& f) {
   p.dt_forced = r.flag("parameters/time/dt_forced");
   p.density = r.checked("parameters/material/density", scene_key::density);
   if (has(p.effects, effect::gravity)) {
-    const std::vector<double> g = r.values("parameters/gravity/g", 2);
+    const std::vector<double> g = r.values("parameters/gravity/g");
     p.gx = g[0], p.gy = g[1];
   }
   p.grain_grain = read_law(r, "parameters/contact/grain_grain", p.effects);
@@ -197,7 +226,7 @@ RunParameters read_parameters(const h5::File& f) {
   p.output.checkpoint_interval = r.number("parameters/output/checkpoint_interval");
   p.output.displacement_window = r.number("parameters/output/displacement_window");
   p.output.energy_balance = r.flag("parameters/output/energy_balance");
-  const std::vector<double> d = r.values("parameters/domain", 4);
+  const std::vector<double> d = r.values("parameters/domain");
   p.domain = {d[0], d[1], d[2], d[3]};
   p.skin = r.number("parameters/neighbour/skin");
   p.bodies = read_bodies(r);
@@ -208,7 +237,7 @@ RunParameters read_parameters(const h5::File& f) {
     c.start_time = r.number("parameters/jam/start_time");
     c.no_flow_time = r.number("parameters/jam/no_flow_time");
     c.check_interval = r.number("parameters/jam/check_interval");
-    const std::vector<double> v = r.values("parameters/jam/tap_velocity", 2);
+    const std::vector<double> v = r.values("parameters/jam/tap_velocity");
     c.tap_vx = v[0], c.tap_vy = v[1];
     c.tap_duration = r.number("parameters/jam/tap_duration");
     c.max_taps = static_cast<int>(r.number("parameters/jam/max_taps"));

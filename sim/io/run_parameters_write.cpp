@@ -2,10 +2,12 @@
 // holds the engine's contact law (its layout follows the law's list of terms).
 #include <cmath>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "core/motion.hpp"
+#include "io/run_file_schema.hpp"
 #include "io/run_parameters.hpp"
 #include "scene/scene_keys.hpp"
 
@@ -25,14 +27,17 @@ void number(const h5::File& f, const std::string& name, double v, const Num& spe
   describe(f, name, spec);
 }
 
-void vector(const h5::File& f, const std::string& name, const std::vector<double>& v, const Num& spec,
-            std::vector<hsize_t> dims = {}) {
-  h5::write(f, name, v, std::move(dims));
+// A value of the schema's parameter_shapes (io/run_file_schema.hpp), in its shape there.
+void vector(const h5::File& f, const std::string& name, const std::vector<double>& v, const Num& spec) {
+  const ParameterShape* shape = find_parameter_shape(name.substr(name.rfind('/') + 1));
+  if (!shape || (shape->count() ? v.size() != shape->count() : v.size() % 2 != 0))
+    throw std::logic_error("/" + name + ": " + std::to_string(v.size()) + " numbers, not a shape of the run-file schema");
+  h5::write(f, name, v, shape->count() ? std::vector<hsize_t>{} : std::vector<hsize_t>{v.size() / 2, 2});
   describe(f, name, spec);
 }
 
 void flag(const h5::File& f, const std::string& name, bool on, const char* what) {
-  number(f, name, on ? 1.0 : 0.0, {what, "", Rule::finite});
+  number(f, name, on ? 1.0 : 0.0, {what, "", Rule::flag});
 }
 
 // The law's keys in use under `effects` (those a scene must give), each with its unit.
@@ -85,7 +90,7 @@ void bodies(const h5::File& f, const std::vector<BodySpec>& all) {
     const std::string g = "parameters/bodies/" + std::to_string(k);
     std::vector<double> xy;
     for (const Point& p : b.vertices) xy.insert(xy.end(), {p.x, p.y});
-    vector(f, g + "/vertices", xy, scene_key::vertex, {b.vertices.size(), 2});
+    vector(f, g + "/vertices", xy, scene_key::vertex);
     number(f, g + "/thickness", b.thickness, scene_key::thickness);
     vector(f, g + "/velocity", {b.vx, b.vy}, scene_key::body_velocity);
     if (b.remove_at >= 0.0) number(f, g + "/remove_at", b.remove_at, scene_key::remove_at);

@@ -1,6 +1,7 @@
 #include "io/run_reader.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <limits>
 #include <cmath>
@@ -258,14 +259,15 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
   if (contact_start_.front() != 0 || !std::is_sorted(contact_start_.begin(), contact_start_.end()))
     fail("/snapshots/contact_start is not a non-decreasing index starting at 0");
   sizes_['C'] = static_cast<hsize_t>(contact_start_.back());
-  for (const char* name : {"snapshots/position", "snapshots/velocity", "snapshots/omega", "snapshots/active",
-                           "snapshots/body_vertices", "contacts/i", "contacts/j", "contacts/fn", "contacts/ft",
-                           "contacts/overlap", "contacts/nx", "contacts/ny", "contacts/mr", "contacts/sliding"})
-    check_dataset(name);
+  for (const DatasetSchema& d : run_file_datasets())  // every snapshot and contact dataset a run file holds
+    if (d.required() && (d.path.starts_with("snapshots/") || d.path.starts_with("contacts/")))
+      check_dataset(std::string(d.path));
   if (h5::exists(file_, "series/time")) {
     sizes_['T'] = length("series/time");
     series_times_ = checked<double>("series/time");
     check_increasing("series/time", series_times_);
+  } else {
+    sizes_['T'] = 0;  // (no rows)
   }
   check_records(N);
 }
@@ -284,17 +286,19 @@ void RunReader::check_records(hsize_t N) {
     for (std::size_t i = 0; i < id.size(); ++i)
       if (id[i] != static_cast<std::int32_t>(i)) fail("dataset /particles/id: row " + std::to_string(i) + " holds " + std::to_string(id[i]));
   }
+  if (has("lost/id")) sizes_['L'] = rows("lost/id");
+  if (has("events/jam_time")) sizes_['J'] = rows("events/jam_time");
+  const auto sized = [&](const DatasetSchema& d) {  // (lost/x without lost/id: not read)
+    return std::ranges::all_of(d.shape, [&](char c) { return !std::isupper(static_cast<unsigned char>(c)) || sizes_.contains(c); });
+  };
+  for (const DatasetSchema& d : run_file_datasets())  // the others' shapes and types (series: check_rest)
+    if (d.optional && !d.path.starts_with("series/") && has(std::string(d.path).c_str()) && sized(d))
+      check_dataset(std::string(d.path));
   if (has("particles/inertia")) {  // > 0; +infinity for a grain that does not rotate
-    check_dataset("particles/inertia");
     for (const double v : h5::read<double>(file_, "particles/inertia"))
       if (!(v > 0.0)) fail("dataset /particles/inertia holds " + shortest(v) + ": moments of inertia are > 0");
   }
-  for (const char* name : {"snapshots/theta", "bodies/velocity", "snapshots/displacement",
-                           "contacts/mu_star",  // (NaN without friction)
-                           "contacts/line"})
-    if (has(name)) check_dataset(name);
   if (has("lost/id")) {
-    sizes_['L'] = rows("lost/id");
     for (const std::int32_t i : checked<std::int32_t>("lost/id"))
       if (i < 0 || static_cast<hsize_t>(i) >= N) fail("dataset /lost/id holds " + std::to_string(i) + ", not a grain");
     checked<std::int64_t>("lost/step");
@@ -302,7 +306,6 @@ void RunReader::check_records(hsize_t N) {
     checked<double>("lost/y");
   }
   if (has("events/jam_time")) {
-    sizes_['J'] = rows("events/jam_time");
     check_increasing("events/jam_time", checked<double>("events/jam_time"));
   }
 }
@@ -314,10 +317,9 @@ void RunReader::check_increasing(const std::string& name, const std::vector<doub
            shortest(t[k]) + " s after " + shortest(t[k - 1]) + " s");
 }
 
-std::vector<double> RunReader::series(const std::string& name, const std::vector<hsize_t>& row_shape) const {
-  std::vector<hsize_t> dims = {series_rows()};
-  dims.insert(dims.end(), row_shape.begin(), row_shape.end());
-  return checked<double>("series/" + name, dims);
+std::vector<double> RunReader::series(const std::string& name) const {
+  const std::string path = "series/" + name;
+  return checked<double>(path, find_dataset(path) ? schema_dims(path) : std::vector<hsize_t>{series_rows()});
 }
 
 void RunReader::check_rest() const {
@@ -327,26 +329,25 @@ void RunReader::check_rest() const {
   if (h5::exists(file_, "contacts/line"))  // (its shape: checked on opening)
     check_finite("contacts/line", h5::read<double>(file_, "contacts/line"), 4, "row", 0);
   if (!h5::exists(file_, "series")) return;
-  for (const char* name : {"step", "contacts", "body_force", "body_force_mean", "body_torque", "body_torque_mean",
-                           "body_vertices", "kinetic_energy", "max_overlap"})
-    if (!h5::exists(file_, "series/" + std::string(name))) fail("dataset /series/" + std::string(name) + " is missing");
+  for (const DatasetSchema& d : run_file_datasets())
+    if (d.required() && d.path.starts_with("series/") && !h5::exists(file_, std::string(d.path)))
+      fail("dataset /" + std::string(d.path) + " is missing");
   for (const std::string& member : h5::datasets_under(file_, "series")) {
     const std::string name = "series/" + member;
-    std::vector<hsize_t> dims = h5::shape(file_, name);
+    const std::vector<hsize_t> dims = h5::shape(file_, name);
     if (dims.empty() || dims[0] != series_rows())
       fail("dataset /" + name + " has shape " + show(dims) + ", expected " + std::to_string(series_rows()) +
            " rows (one per /series/time)");
-    if (member == "step" || member == "contacts") {  // counts; every other series holds floats
-      check_dataset(name, dims, "i8");
-    } else {
-      dims.erase(dims.begin());
-      series(member, dims);
-    }
+    const DatasetSchema* d = find_dataset(name);
+    if (d && d->type != "f8") check_dataset(name);  // (the counts)
+    else if (d) series(member);                      // floats, finite
+    else checked<double>(name, dims);                // a column the schema has no row for (the energy
+                                                     // ledger's terms: io/run_file_describe.hpp): floats
   }
 }
 
 std::vector<Vec2> RunReader::body_velocities() const {
-  const std::vector<double> v = checked<double>("bodies/velocity", {bodies(), 2});
+  const std::vector<double> v = checked<double>("bodies/velocity");
   std::vector<Vec2> out(bodies());
   for (std::size_t b = 0; b < bodies(); ++b) out[b] = {v[2 * b], v[2 * b + 1]};
   return out;
@@ -354,7 +355,6 @@ std::vector<Vec2> RunReader::body_velocities() const {
 
 std::string RunReader::vertices_dataset(const std::string& group) const { return group + "/body_vertices"; }
 
-std::vector<hsize_t> RunReader::vertices_dims(hsize_t rows) const { return {rows, bodies(), max_vertices_, 2}; }
 
 Body RunReader::body_of(const std::vector<double>& flat, std::size_t row, std::size_t b) const {
   Body body;
@@ -380,8 +380,7 @@ std::vector<Body> RunReader::body_rows(const std::string& group, std::size_t b) 
   // of any other length is refused here (it was taken at its own length, and a row short crashed a stage)
   if (group != "series" && group != "snapshots") fail("no body outlines under /" + group);
   const hsize_t rows = group == "series" ? series_rows() : snapshots();
-  const std::vector<hsize_t> want = vertices_dims(rows);
-  const std::vector<double> flat = checked<double>(name, want);
+  const std::vector<double> flat = checked<double>(name);
   std::vector<Body> out;
   out.reserve(rows);
   for (hsize_t r = 0; r < rows; ++r) out.push_back(body_of(flat, r, b));
@@ -482,7 +481,7 @@ std::vector<Vec2> RunReader::displacement(std::size_t k) const {
   std::vector<Vec2> out(n, Vec2{nan, nan});
   const std::string name = "snapshots/displacement";
   if (!h5::exists(file_, name)) return out;
-  check_dataset(name, {snapshots(), n, 2}, "f8");  // (NaN is allowed: not recorded)
+  check_dataset(name);  // (NaN is allowed: not recorded)
   const std::vector<double> flat = read_rows<double>(file_, name, k, 1);
   for (std::size_t i = 0; i < n; ++i) out[i] = {flat[2 * i], flat[2 * i + 1]};
   return out;

@@ -128,9 +128,11 @@ class RunReader {
   // [T], strictly increasing; empty if the run wrote no series.
   std::size_t series_rows() const { return series_times_.size(); }
   const std::vector<double>& series_times() const { return series_times_; }
-  // Dataset /series/<name>, checked to be [T, row_shape...] float64 with finite
-  // values, flattened row-major; e.g. series("body_force_mean", {bodies(), 2}).
-  std::vector<double> series(const std::string& name, const std::vector<hsize_t>& row_shape = {}) const;
+  // Dataset /series/<name>, checked to be float64 of the schema's shape
+  // (io/run_file_schema.cpp; [T] for a column without a row there: the energy
+  // ledger's terms) with finite values, flattened row-major; e.g.
+  // series("body_force_mean"): [T, B, 2].
+  std::vector<double> series(const std::string& name) const;
   // What reading the snapshots does not check: every dataset under /series
   // (energy/ included) has T rows and finite floats; /contacts/line and
   // /bodies/velocity hold finite values. (dem2d inspect: the whole file.)
@@ -183,7 +185,6 @@ class RunReader {
   h5::File file_;
   // group's body outline dataset, [rows, B, K, 2]
   std::string vertices_dataset(const std::string& group) const;
-  std::vector<hsize_t> vertices_dims(hsize_t rows) const;  // its shape for `rows` rows
   // body b at `row` of such a dataset, read as `flat`
   Body body_of(const std::vector<double>& flat, std::size_t row, std::size_t b) const;
 

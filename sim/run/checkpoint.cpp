@@ -137,7 +137,7 @@ void write_checkpoint(const std::string& path, const System& sys, std::span<Cont
     h5::write(f, "bodies/torque_sum", sys.state.body_torque_sum);
     h5::write_attr(f, "/", "body_sum_steps", sys.state.body_sum_steps);
     write_lost(f, sys.state.lost);
-    for (const auto& [name, v] : accumulators(sys.state.energy)) h5::write(f, std::string("energy/") + name, *v);
+    for (const auto& [name, v] : accumulators(sys.state.energy)) h5::write(f, "energy/" + std::string(name), *v);
     h5::write_attr(f, "/", "energy_removed", sys.state.energy.removed);
     h5::write_attr(f, "/", "energy_error_offset", sys.state.energy.error_offset);
     h5::seal(f);
@@ -193,7 +193,7 @@ double read_checkpoint(const std::string& path, System& sys, std::span<Controlle
   read_history(f, "pairs", sys.state.lists.pairs, sys.state.lists, false);
   if (has(sys.config.effects, effect::walls)) read_history(f, "walls", sys.state.lists.walls, sys.state.lists, true);
   for (const auto& [name, v] : accumulators(sys.state.energy)) {
-    const std::vector<double> column = h5::read<double>(f, std::string("energy/") + name);
+    const std::vector<double> column = h5::read<double>(f, "energy/" + std::string(name));
     v->assign(column.begin(), column.end());
   }
   sys.state.energy.removed = h5::read_attr_double(f, "/", "energy_removed");
