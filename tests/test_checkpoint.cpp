@@ -59,7 +59,7 @@ void expect_same_datasets(const std::string& a, const std::string& b, bool ledge
                            "contacts/nx", "contacts/ny", "contacts/mr", "lost/x", "lost/y"};
   std::vector<std::string> names(std::begin(numeric), std::end(numeric));
   if (ledger)
-    for (const auto& [term, v] : EnergyBalance{}.terms()) names.push_back(std::string("series/energy/") + term);
+    for (const auto& [term, v] : EnergyBalance{}.terms()) names.push_back("series/energy/" + std::string(term));
   for (const std::string& name : names) {
     const auto va = h5::read<double>(fa, name), vb = h5::read<double>(fb, name);
     ASSERT_EQ(va.size(), vb.size()) << name;

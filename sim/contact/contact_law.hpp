@@ -17,6 +17,7 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -151,6 +152,89 @@ inline double friction_load(const LawCoefficients& c, EffectSet effects, double 
     if constexpr (requires { T::pull(c, -overlap); }) load += T::pull(c, -overlap);
   });
   return load;
+}
+
+// The energy ledger's dissipation columns: every term's (`dissipates`), in
+// the list's order, whatever the effects (engine/energy_ledger.hpp).
+template <class T>
+constexpr std::size_t dissipation_count() {
+  if constexpr (requires { T::dissipates; }) return T::dissipates.size();
+  else return 0;
+}
+template <class... T>
+constexpr auto dissipation_columns_of(TermList<T...>) {
+  std::array<std::string_view, (dissipation_count<T>() + ... + 0)> out{};
+  std::size_t k = 0;
+  (
+      [&] {
+        if constexpr (requires { T::dissipates; })
+          for (const std::string_view column : T::dissipates) out[k++] = column;
+      }(),
+      ...);
+  return out;
+}
+inline constexpr auto kDissipationColumns = dissipation_columns_of(LawTerms{});
+using Dissipation = std::array<double, kDissipationColumns.size()>;  // J/m, by column
+
+// What the terms compiled in for `effects` dissipated at one touching contact
+// over a step, by column. `normal_work`: the normal force's non-elastic work,
+// (Stored::fn - F_n) vn dt, shared among the terms with a normal dashpot in
+// proportion to what each takes off F_n (the first of them takes it all
+// where none does: F_n clamped at 0).
+template <class... T>
+Dissipation dissipated_of(TermList<T...>, const ContactLaw& law, const LawCoefficients& c, EffectSet effects,
+                          ContactStep s, double normal_work) {
+  double dashpots = 0.0;
+  for_each_term_of(TermList<T...>{}, effects, [&]<class U>() {
+    if constexpr (requires { U::normal_dashpot(c, s.k, effects); }) dashpots += U::normal_dashpot(c, s.k, effects);
+  });
+  Dissipation out{};
+  std::size_t column = 0;
+  bool taken = false;
+  (
+      [&] {
+        if constexpr (requires { T::dissipates; }) {
+          if (term_active<T>(effects)) {
+            s.normal_share = 0.0;
+            if constexpr (requires { T::normal_dashpot(c, s.k, effects); }) {
+              const double own = T::normal_dashpot(c, s.k, effects);
+              s.normal_share = dashpots == 0.0 ? (taken ? 0.0 : normal_work)
+                               : own == dashpots ? normal_work
+                                                 : normal_work * (own / dashpots);
+              taken = true;
+            }
+            T::dissipated(law, c, effects, s, &out[column]);
+          }
+          column += T::dissipates.size();
+        }
+      }(),
+      ...);
+  return out;
+}
+inline Dissipation dissipated(const ContactLaw& law, const LawCoefficients& c, EffectSet effects, const ContactStep& s,
+                              double normal_work) {
+  return dissipated_of(LawTerms{}, law, c, effects, s, normal_work);
+}
+
+// A contact that opened this step: what its springs held (`before`) goes to
+// the columns of the terms that release it (their sliders), by column.
+template <class... T>
+Dissipation released_of(TermList<T...>, const ContactLaw& law, EffectSet effects, const StoredState& before) {
+  Dissipation out{};
+  std::size_t column = 0;
+  (
+      [&] {
+        if constexpr (requires { T::dissipates; }) {
+          if constexpr (requires { T::released(law, effects, before, &out[column]); })
+            if (term_active<T>(effects)) T::released(law, effects, before, &out[column]);
+          column += T::dissipates.size();
+        }
+      }(),
+      ...);
+  return out;
+}
+inline Dissipation released(const ContactLaw& law, EffectSet effects, const StoredState& before) {
+  return released_of(LawTerms{}, law, effects, before);
 }
 
 // The slip state as the run file reports it: the tangential force sits on the cone.

@@ -23,6 +23,20 @@
 // the list folds (contact/contact_law.hpp). A term without them stores no
 // energy, adds no spring or dashpot, and pulls nothing.
 //
+// A term that dissipates declares where to, and how much:
+//   static constexpr std::array<std::string_view, N> dissipates;  // its energy-ledger columns
+//   static void dissipated(const Params&, const Coeffs&, EffectSet, const ContactStep&, double* out);
+// with, where it has them,
+//   static double normal_dashpot(const Coeffs&, const ContactKinematics&, EffectSet);  // its push along n (N/m)
+//   static void released(const Params&, EffectSet, const StoredState&, double* out);   // a contact that opened
+// `out` is its own columns, in the order declared (J/m over the step). The
+// ledger's columns are the list's (run files: /series/energy/<column>,
+// checkpoints, `dem2d inspect --schema`), and it checks the balance with
+// them (engine/energy_ledger.hpp). The normal force's non-elastic work is
+// shared among the terms with a normal dashpot in proportion to their pushes
+// (exact while F_n is not clamped at 0); ContactStep::normal_share is the
+// term's share.
+//
 // Parameter and coefficient names must be unique across terms (ContactLaw
 // and LawCoefficients inherit every term's, so a clash does not compile).
 // Within apply, `if (applies<E>(scene, ...))` tests an effect the term
@@ -148,6 +162,39 @@ struct Rows {
   double kn = 0.0, kt = 0.0, kr = 0.0;
   double cn = 0.0, ct = 0.0, cr = 0.0;
 };
+
+// A touching contact over one step, as the energy ledger sees it after the
+// force evaluation: what a term's `dissipated` reads.
+struct ContactStep {
+  ContactKinematics k;  // at the step's end (delta, vn, vt, spin, sqrt_m, sqrt_i)
+  double dt;            // (s)
+  double normal_share;  // the term's share of (Stored::fn - F_n) vn dt, the normal force's non-elastic work (J/m)
+  double ft, spring_t, spring_t_prev;  // the tangential force on the grain; its spring now and at the start (N/m)
+  double mr, spring_r, spring_r_prev;  // the rolling moment on the grain; its spring now and at the start (N)
+};
+
+// What a spring-slider with a dashpot beside it (capped_spring below)
+// dissipated over a step: `force` acts on the grain at the step's end, `rate`
+// is the relative motion its spring integrated (v_t or the relative spin),
+// `spring`/`spring_prev` its stored value at the end and the start, k its
+// stiffness. The slider takes what the cap cut from the spring,
+// 1/2 (S_prev + S)(S_trial - S)/k (the return mapping, weighted as the ledger
+// weighs the work: trapezoid); the dashpot the power of the force's
+// non-spring part, -(F - S) rate dt. Both are >= 0 (docs/energy.md).
+struct SliderLoss {
+  double dashpot = 0.0, slip = 0.0;
+};
+
+inline SliderLoss slider_loss(double force, double rate, double spring, double spring_prev, double k, double k_dt,
+                              double dt) {
+  SliderLoss c;
+  if (k > 0.0) {
+    const double trial = spring_prev - k_dt * rate;
+    c.slip = 0.5 * (spring_prev + spring) * (trial - spring) / k;
+  }
+  c.dashpot = -(force - spring) * rate * dt;
+  return c;
+}
 
 template <class... Terms>
 struct TermList {};

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cmath>
+#include <string_view>
 
 #include "contact/law_terms.hpp"
 
@@ -58,6 +59,16 @@ struct NormalLaw {
   static void rows(const Params& p, EffectSet e, const Inertia& m, Rows& out) {
     out.kn += p.kn;
     if (has(e, effect::normal_damping)) out.cn += 2.0 * damping_ratio(p.restitution) * std::sqrt(m.mass * p.kn);
+  }
+
+  // its dissipation: the normal force's non-elastic work (what its dashpot takes off F_n, and all of it
+  // where F_n is clamped at 0 and no dashpot pushes)
+  static constexpr std::array<std::string_view, 1> dissipates{"normal_damping"};
+  static double normal_dashpot(const Coeffs& c, const ContactKinematics& k, EffectSet e) {
+    return has(e, effect::normal_damping) ? c.damp * k.sqrt_m * k.vn : 0.0;
+  }
+  static void dissipated(const Params&, const Coeffs&, EffectSet, const ContactStep& s, double* out) {
+    out[0] = s.normal_share;
   }
 
   template <EffectSet E>

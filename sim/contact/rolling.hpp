@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cmath>
+#include <string_view>
 
 #include "contact/law_terms.hpp"
 
@@ -48,6 +49,19 @@ struct Rolling {
     out.kr += p.rolling_stiffness;
     if (has(e, effect::rolling_damping))
       out.cr += 2.0 * p.rolling_damping_ratio * std::sqrt(m.inertia * p.rolling_stiffness);
+  }
+
+  // its dissipation: the dashpot's and the slider's, as the tangential term's
+  static constexpr std::array<std::string_view, 2> dissipates{"rolling_damping", "rolling_slip"};
+  static void dissipated(const Params& p, const Coeffs& c, EffectSet e, const ContactStep& s, double* out) {
+    const SliderLoss l = slider_loss(s.mr, s.k.spin, s.spring_r, s.spring_r_prev, p.rolling_stiffness, c.kr_dt, s.dt);
+    if (has(e, effect::rolling_damping)) out[0] = l.dashpot;
+    out[1] = l.slip;
+  }
+  static void released(const Params& p, EffectSet e, const StoredState& before, double* out) {
+    Stored u;
+    stored(p, e, before, u);
+    out[1] = u.rolling;
   }
 
   template <EffectSet E>

@@ -20,6 +20,7 @@
 
 #include <array>
 #include <cmath>
+#include <string_view>
 
 #include "contact/law_terms.hpp"
 
@@ -55,6 +56,20 @@ struct Tangential {
   static void rows(const Params& p, EffectSet e, const Inertia& m, Rows& out) {
     out.kt += p.kt;
     if (has(e, effect::tangential_damping)) out.ct += 2.0 * p.tangential_damping_ratio * std::sqrt(m.mass * p.kt);
+  }
+
+  // its dissipation: the dashpot's and the slider's (slider_loss); a contact that opens hands its spring's
+  // energy to the slider
+  static constexpr std::array<std::string_view, 2> dissipates{"tangential_damping", "sliding"};
+  static void dissipated(const Params& p, const Coeffs& c, EffectSet e, const ContactStep& s, double* out) {
+    const SliderLoss l = slider_loss(s.ft, s.k.vt, s.spring_t, s.spring_t_prev, p.kt, c.kt_dt, s.dt);
+    if (has(e, effect::tangential_damping)) out[0] = l.dashpot;
+    out[1] = l.slip;
+  }
+  static void released(const Params& p, EffectSet e, const StoredState& before, double* out) {
+    Stored u;
+    stored(p, e, before, u);
+    out[1] = u.tangential;
   }
 
   template <EffectSet E>

@@ -84,12 +84,28 @@ struct Bodies {
   void set_shape(std::size_t b, const Shape& s);
   void move_to(std::size_t b, double x, double y);  // vertex 0 to (x, y) (m), turned by angle[b]
   // The body's velocity at the point (x, y) (m/s): its pivot's plus omega x (point - pivot).
-  std::array<double, 2> velocity_at(std::size_t b, double x, double y) const {
-    return {vx[b] - omega[b] * (y - pivot_y[b]), vy[b] + omega[b] * (x - pivot_x[b])};
-  }
+  std::array<double, 2> velocity_at(std::size_t b, double x, double y) const;
 
  private:
   void shape_changed(std::size_t b);  // line and centre from shape[b]
 };
+
+// A grain's velocity (vx, vy) relative to a body's surface at the point
+// (x, y), in m/s: less the body's velocity (bvx, bvy) where it moves, less
+// omega x (point - pivot) where it turns. The one formula of a body's surface
+// motion: the contact kernel, the energy ledger and Bodies::velocity_at.
+constexpr std::array<double, 2> relative_to_surface(double vx, double vy, bool moving, bool rotating, double bvx,
+                                                     double bvy, double omega, double pivot_x, double pivot_y,
+                                                     double x, double y) {
+  if (moving) vx -= bvx, vy -= bvy;
+  if (rotating) vx += omega * (y - pivot_y), vy -= omega * (x - pivot_x);
+  return {vx, vy};
+}
+
+inline std::array<double, 2> Bodies::velocity_at(std::size_t b, double x, double y) const {
+  const std::array<double, 2> r =
+      relative_to_surface(0.0, 0.0, true, true, vx[b], vy[b], omega[b], pivot_x[b], pivot_y[b], x, y);
+  return {-r[0], -r[1]};
+}
 
 }  // namespace dem2d

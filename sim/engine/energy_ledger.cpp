@@ -41,81 +41,43 @@ Motion pair_motion(const Particles& p, std::size_t i, std::size_t j, double over
 Motion wall_motion(const System& s, std::size_t i, std::size_t b, double overlap) {
   const Particles& p = s.state.p;
   const Proximity g = closest_point(s.state.bodies.shape[b], p.x[i], p.y[i]);
-  double rvx = p.vx[i], rvy = p.vy[i];
   const double a = p.radius[i] - 0.5 * overlap;
-  if (has(s.config.effects, effect::moving_bodies)) {  // the body's surface at the contact point
-    const std::array<double, 2> v = s.state.bodies.velocity_at(b, p.x[i] - a * g.nx, p.y[i] - a * g.ny);
-    rvx -= v[0];
-    rvy -= v[1];
-  }
+  const Bodies& B = s.state.bodies;
+  const EffectSet e = s.config.effects;
+  const auto [rvx, rvy] =  // (the kernel's flags: turning bodies need moving ones, core/effects.hpp)
+      relative_to_surface(p.vx[i], p.vy[i], has(e, effect::moving_bodies), has(e, effect::rotating_bodies), B.vx[b],
+                          B.vy[b], B.omega[b], B.pivot_x[b], B.pivot_y[b], p.x[i] - a * g.nx, p.y[i] - a * g.ny);
   return {grain_body_motion(rvx, rvy, g.nx, g.ny, a, p.omega[i]), -g.ny, g.nx, a};
 }
 
-// What the dashpots and caps took this step from one touching contact.
-struct Dissipated {
-  double normal = 0.0, tangential = 0.0, sliding = 0.0, rolling = 0.0, rolling_slip = 0.0;
-  double total() const { return normal + tangential + sliding + rolling + rolling_slip; }
-};
-
-// One spring-slider-dashpot channel (tangential or rolling) over the step:
-// `force` acts on the grain at the step's end, `rate` is the relative motion
-// the spring integrated (v_t or the relative spin), `spring`/`spring_prev`
-// its stored value at the end and the start, k its stiffness. The slider
-// takes what the cap cut from the spring, 1/2 (S_prev + S)(S_trial - S)/k
-// (the return mapping, weighted as the ledger weighs the work: trapezoid);
-// the dashpot the power of the force's non-spring part, -(F - S) rate dt.
-// Both are >= 0 (contact_law.hpp).
-struct Channel {
-  double dashpot = 0.0, slip = 0.0;
-};
-
-Channel channel(double force, double rate, double spring, double spring_prev, double k, double k_dt, double dt) {
-  Channel c;
-  if (k > 0.0) {
-    const double trial = spring_prev - k_dt * rate;
-    c.slip = 0.5 * (spring_prev + spring) * (trial - spring) / k;
-  }
-  c.dashpot = -(force - spring) * rate * dt;
-  return c;
+// What a touching contact's terms dissipated this step (contact/contact_law.hpp: dissipated): `fn`, `ft`,
+// `moment` act on the grain at the step's end (from the slot's force and torques); `elastic_fn` is what
+// the springs push with (Stored::fn); sqrt_m, sqrt_i the slot's effective mass and inertia roots.
+Dissipation dissipated_at(const System& s, const ContactLaw& law, const LawCoefficients& c, const Motion& m,
+                          double overlap, double sqrt_m, double sqrt_i, double elastic_fn, double fn, double ft,
+                          double moment, double spring_t, double spring_t_prev, double spring_r, double spring_r_prev) {
+  const double dt = s.config.dt;
+  const ContactStep step{{-overlap, m.vn, m.vt, m.spin, sqrt_m, sqrt_i}, dt, 0.0, ft, spring_t, spring_t_prev,
+                         moment, spring_r, spring_r_prev};
+  return dissipated(law, c, s.config.effects, step, (elastic_fn - fn) * m.vn * dt);
 }
 
-// `ft`: the tangential force on the grain, `moment`: the rolling moment on it
-// (both at the step's end, from the slot's force and torques); `elastic_fn`:
-// what the springs push with (contact_law.hpp: Stored::fn).
-Dissipated dissipated(const System& s, const ContactLaw& law, const LawCoefficients& c, const Motion& m,
-                      double elastic_fn, double fn, double ft, double moment, double spring_t, double spring_t_prev,
-                      double spring_r, double spring_r_prev) {
-  Dissipated d;
-  // the normal force's non-elastic part, -c vn unless the force is clamped at 0
-  d.normal = (elastic_fn - fn) * m.vn * s.config.dt;
-  if (has(s.config.effects, effect::friction)) {
-    const Channel t = channel(ft, m.vt, spring_t, spring_t_prev, law.kt, c.kt_dt, s.config.dt);
-    if (has(s.config.effects, effect::tangential_damping)) d.tangential = t.dashpot;
-    d.sliding = t.slip;
-  }
-  if (has(s.config.effects, effect::rolling_resistance)) {
-    const Channel r = channel(moment, m.spin, spring_r, spring_r_prev, law.rolling_stiffness, c.kr_dt, s.config.dt);
-    if (has(s.config.effects, effect::rolling_damping)) d.rolling = r.dashpot;
-    d.rolling_slip = r.slip;
-  }
-  return d;
+double sum(const Dissipation& d) {
+  double total = 0.0;
+  for (const double v : d) total += v;
+  return total;
 }
 
 // A contact that opened this step: the kernel zeroed its springs, whose
-// energy the slider and the rolling slip take (the cap fell to 0 with F_n).
+// energy the terms' sliders take (the cap fell to 0 with F_n).
 void release(EnergyLedger& e, std::size_t i, const ContactLaw& law, EffectSet effects, double ft_prev, double mr_prev) {
-  const Stored u = spring_energy(law, effects, 0.0, ft_prev, mr_prev);
-  e.sliding[i] += u.tangential;
-  e.rolling_slip[i] += u.rolling;
-  e.error[i] -= u.tangential + u.rolling;
+  const Dissipation d = released(law, effects, {0.0, ft_prev, mr_prev});
+  for (std::size_t k = 0; k < d.size(); ++k) e.dissipated[k][i] += d[k];
+  e.error[i] -= sum(d);
 }
 
-void add(EnergyLedger& e, std::size_t i, const Dissipated& d) {
-  e.normal_damping[i] += d.normal;
-  e.tangential_damping[i] += d.tangential;
-  e.sliding[i] += d.sliding;
-  e.rolling_damping[i] += d.rolling;
-  e.rolling_slip[i] += d.rolling_slip;
+void add(EnergyLedger& e, std::size_t i, const Dissipation& d) {
+  for (std::size_t k = 0; k < d.size(); ++k) e.dissipated[k][i] += d[k];
 }
 
 // Visits this thread's rows of the pair and wall lists, in order.
@@ -202,10 +164,11 @@ void close_step(System& s) {
         const Motion m = pair_motion(s.state.p, i, static_cast<std::size_t>(L.partner[sl]), L.overlap[sl]);
         const double ft = L.fx[sl] * m.tx + L.fy[sl] * m.ty;  // T_i = -a_i F_t + M_r
         const Stored u = spring_energy(s.config.law_pp, s.config.effects, L.overlap[sl], L.ft[sl], L.mr[sl]);
-        const Dissipated d = dissipated(s, s.config.law_pp, s.config.pp, m, u.fn, L.fn[sl], ft, L.ti[sl] + m.a * ft, L.ft[sl],
-                                        L.ft_prev[sl], L.mr[sl], L.mr_prev[sl]);
+        const Dissipation d = dissipated_at(s, s.config.law_pp, s.config.pp, m, L.overlap[sl], L.sqrt_meff[sl],
+                                            L.sqrt_ieff[sl], u.fn, L.fn[sl], ft, L.ti[sl] + m.a * ft, L.ft[sl],
+                                            L.ft_prev[sl], L.mr[sl], L.mr_prev[sl]);
         add(e, i, d);
-        e.error[i] -= u.total() + w.relative + d.total();
+        e.error[i] -= u.total() + w.relative + sum(d);
       },
       [&](std::size_t i, std::size_t sl) {
         if (!(W.overlap[sl] > 0.0)) return release(e, i, s.config.law_pw, s.config.effects, W.ft_prev[sl], W.mr_prev[sl]);
@@ -213,11 +176,12 @@ void close_step(System& s) {
         const Motion m = wall_motion(s, i, static_cast<std::size_t>(W.body[sl]), W.overlap[sl]);
         const double ft = W.fx[sl] * m.tx + W.fy[sl] * m.ty;
         const Stored u = spring_energy(s.config.law_pw, s.config.effects, W.overlap[sl], W.ft[sl], W.mr[sl]);
-        const Dissipated d = dissipated(s, s.config.law_pw, s.config.pw, m, u.fn, W.fn[sl], ft, W.tq[sl] + m.a * ft, W.ft[sl],
-                                        W.ft_prev[sl], W.mr[sl], W.mr_prev[sl]);
+        const Dissipation d = dissipated_at(s, s.config.law_pw, s.config.pw, m, W.overlap[sl], W.sqrt_m[sl], W.sqrt_i[sl],
+                                            u.fn, W.fn[sl], ft, W.tq[sl] + m.a * ft, W.ft[sl], W.ft_prev[sl],
+                                            W.mr[sl], W.mr_prev[sl]);
         add(e, i, d);
         e.body_work[i] += w.body;
-        e.error[i] -= u.total() + w.relative + d.total();
+        e.error[i] -= u.total() + w.relative + sum(d);
       });
 }
 
@@ -260,11 +224,7 @@ EnergyBalance balance(const System& s) {
   if (e.error.size() == p.size())
     for (std::size_t i = 0; i < p.size(); ++i) {
       out.body_work += e.body_work[i];
-      out.normal_damping += e.normal_damping[i];
-      out.tangential_damping += e.tangential_damping[i];
-      out.sliding += e.sliding[i];
-      out.rolling_damping += e.rolling_damping[i];
-      out.rolling_slip += e.rolling_slip[i];
+      for (std::size_t k = 0; k < out.dissipated.size(); ++k) out.dissipated[k] += e.dissipated[k][i];
       out.integration_error += e.error[i];
     }
   out.removed = e.removed;

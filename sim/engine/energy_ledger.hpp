@@ -1,7 +1,9 @@
 // The energy ledger: where the energy of a run goes, step by step, so that
 //   kinetic + elastic (normal, tangential, rolling) + gravity
-//   + dissipated (normal damping, tangential damping, sliding, rolling
-//     damping, rolling slip) + removed + integration error - work of the bodies
+//   + dissipated (one column per channel the contact law's terms declare:
+//     normal damping, tangential damping, sliding, rolling damping, rolling
+//     slip; contact/contact_law.hpp, kDissipationColumns)
+//   + removed + integration error - work of the bodies
 // stays equal to its value at the start (to round-off).
 //
 // How each term is measured (derivation: docs/energy.md):
@@ -9,9 +11,10 @@
 //   1/2 (F^n + F^(n+1)) . (relative displacement dt v^(n+1/2)) of the kernel's
 //   own contact forces and torques; with velocity Verlet this is exactly the
 //   change of the grains' "shadow" kinetic energy 1/2 m v^(n-1/2).v^(n+1/2).
-// - What a contact receives goes into its springs (their energy change), its
-//   dashpots (c v^2 dt), sliding and rolling slip (the spring energy the caps
-//   cut off, 1/2 (S_trial^2 - S^2)/k), or is left over: that remainder, per
+// - What a contact receives goes into its springs (their energy change), what
+//   its terms dissipate (each term says how much, into its own columns:
+//   dashpots c v^2 dt, sliders the spring energy the caps cut off,
+//   1/2 (S_trial^2 - S^2)/k), or is left over: that remainder, per
 //   contact, is the integration error, with the difference between the
 //   physical and the shadow kinetic energy. It vanishes as dt -> 0 (second
 //   order for elastic contacts); it is not defined as what closes the balance.
@@ -28,8 +31,10 @@
 
 #include <array>
 #include <cstddef>
+#include <string_view>
 #include <utility>
 
+#include "contact/contact_law.hpp"
 #include "core/aligned_vector.hpp"
 
 namespace dem2d {
@@ -40,24 +45,22 @@ struct EnergyLedger {
   bool on = false;
   // per grain (J/m): the contacts of its rows; each written only by the
   // thread that owns the grain
-  AlignedVector<double> error, normal_damping, tangential_damping, sliding, rolling_damping, rolling_slip,
-      body_work;
+  AlignedVector<double> error, body_work;
+  std::array<AlignedVector<double>, kDissipationColumns.size()> dissipated;  // by column
   double removed = 0.0;        // energy taken out with lost grains and removed bodies' contacts (J/m)
   double error_offset = 0.0;   // the integration error's part not kept per grain (J/m): its value
                                // at the start, less the energy of contacts removed with their grains or bodies
 
 };
 
-// The per-grain accumulators by name (checkpoints); Ledger may be const.
+// The per-grain accumulators by name (checkpoints: energy/<name>); Ledger may be const.
 template <class Ledger>
 auto accumulators(Ledger& e) {
-  return std::array{std::pair{"error", &e.error},
-                    std::pair{"normal_damping", &e.normal_damping},
-                    std::pair{"tangential_damping", &e.tangential_damping},
-                    std::pair{"sliding", &e.sliding},
-                    std::pair{"rolling_damping", &e.rolling_damping},
-                    std::pair{"rolling_slip", &e.rolling_slip},
-                    std::pair{"body_work", &e.body_work}};
+  std::array<std::pair<std::string_view, decltype(&e.error)>, kDissipationColumns.size() + 2> out;
+  out[0] = {"error", &e.error};
+  for (std::size_t k = 0; k < kDissipationColumns.size(); ++k) out[k + 1] = {kDissipationColumns[k], &e.dissipated[k]};
+  out.back() = {"body_work", &e.body_work};
+  return out;
 }
 
 // Every term of the balance at the current (full) step, in J/m.
@@ -66,23 +69,34 @@ struct EnergyBalance {
   double elastic_normal = 0.0, elastic_tangential = 0.0, elastic_rolling = 0.0;
   double gravity = 0.0;                                                   // -sum m g.x of the active grains
   double body_work = 0.0;                                                 // done on the grains by moving bodies
-  double normal_damping = 0.0, tangential_damping = 0.0, sliding = 0.0;   // dissipated
-  double rolling_damping = 0.0, rolling_slip = 0.0;                       // dissipated
+  Dissipation dissipated{};                                               // by column (kDissipationColumns)
   double removed = 0.0;
   double integration_error = 0.0;
   // The terms by name (run files: /series/energy/<name>), in this order.
-  static constexpr std::size_t kTerms = 13;
-  std::array<std::pair<const char*, double>, kTerms> terms() const {
-    return {{{"kinetic", kinetic}, {"elastic_normal", elastic_normal}, {"elastic_tangential", elastic_tangential},
-             {"elastic_rolling", elastic_rolling}, {"gravity", gravity}, {"body_work", body_work},
-             {"normal_damping", normal_damping}, {"tangential_damping", tangential_damping}, {"sliding", sliding},
-             {"rolling_damping", rolling_damping}, {"rolling_slip", rolling_slip}, {"removed", removed},
-             {"integration_error", integration_error}}};
+  static constexpr std::size_t kTerms = 8 + kDissipationColumns.size();
+  std::array<std::pair<std::string_view, double>, kTerms> terms() const {
+    std::array<std::pair<std::string_view, double>, kTerms> out;
+    std::size_t k = 0;
+    for (const auto& term : {std::pair<std::string_view, double>{"kinetic", kinetic}, {"elastic_normal", elastic_normal},
+                             {"elastic_tangential", elastic_tangential}, {"elastic_rolling", elastic_rolling},
+                             {"gravity", gravity}, {"body_work", body_work}})
+      out[k++] = term;
+    for (std::size_t c = 0; c < dissipated.size(); ++c) out[k++] = {kDissipationColumns[c], dissipated[c]};
+    out[k++] = {"removed", removed};
+    out[k++] = {"integration_error", integration_error};
+    return out;
+  }
+  // The dissipation column with this name (0 if the law has none by it).
+  double dissipated_in(std::string_view column) const {
+    for (std::size_t c = 0; c < dissipated.size(); ++c)
+      if (kDissipationColumns[c] == column) return dissipated[c];
+    return 0.0;
   }
   // constant over a run (to round-off)
   double total() const {
-    return kinetic + elastic_normal + elastic_tangential + elastic_rolling + gravity + normal_damping +
-           tangential_damping + sliding + rolling_damping + rolling_slip + removed + integration_error - body_work;
+    double sum = kinetic + elastic_normal + elastic_tangential + elastic_rolling + gravity;
+    for (const double d : dissipated) sum += d;
+    return sum + removed + integration_error - body_work;
   }
 };
 

@@ -230,16 +230,9 @@ DEM2D_HOT inline void wall_forces(System& s, const ContactModel<E> model) {  // 
     const double ri = rad[i];
     const double delta = g.dist - (ri + brad[b]);
     const bool acts = delta < model.range();
-    double rvx = vx[i], rvy = vy[i];
-    if (moving) {
-      rvx -= bvx[b];
-      rvy -= bvy[b];
-    }
     const double a = ri + 0.5 * delta;  // centre to contact point (m)
-    if (rotating) {  // the body's surface there: omega x (contact point - pivot)
-      rvx += bw[b] * (y[i] - a * g.ny - bpy[b]);
-      rvy -= bw[b] * (x[i] - a * g.nx - bpx[b]);
-    }
+    const auto [rvx, rvy] = relative_to_surface(vx[i], vy[i], moving, rotating, bvx[b], bvy[b], bw[b], bpx[b], bpy[b],
+                                                x[i] - a * g.nx, y[i] - a * g.ny);
     const double tx = -g.ny, ty = g.nx;
     const ContactMotion m = grain_body_motion(rvx, rvy, g.nx, g.ny, a, w[i]);
     double vt = 0.0, spin = 0.0, sqrt_i = 0.0;
