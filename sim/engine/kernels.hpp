@@ -231,8 +231,8 @@ DEM2D_HOT inline void wall_forces(System& s, const ContactModel<E> model) {  // 
     const double delta = g.dist - (ri + brad[b]);
     const bool acts = delta < model.range();
     const double a = ri + 0.5 * delta;  // centre to contact point (m)
-    const auto [rvx, rvy] = relative_to_surface(vx[i], vy[i], moving, rotating, bvx[b], bvy[b], bw[b], bpx[b], bpy[b],
-                                                x[i] - a * g.nx, y[i] - a * g.ny);
+    const double px = rotating ? x[i] - a * g.nx : 0.0, py = rotating ? y[i] - a * g.ny : 0.0;  // contact point (turning)
+    const auto [rvx, rvy] = relative_to_surface(vx[i], vy[i], moving, rotating, bvx[b], bvy[b], bw[b], bpx[b], bpy[b], px, py);
     const double tx = -g.ny, ty = g.nx;
     const ContactMotion m = grain_body_motion(rvx, rvy, g.nx, g.ny, a, w[i]);
     double vt = 0.0, spin = 0.0, sqrt_i = 0.0;
