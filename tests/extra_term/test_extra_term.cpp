@@ -84,6 +84,20 @@ TEST(ExtraTerm, EnergyLedgerCountsItsEnergy) {
 // inner_pull_damping, none of it in normal_damping, up to the ledger's
 // integration error, which for dashpots is first order in dt
 // (docs/energy.md); and the run file and the schema have the column.
+// The run file of `sys` (scene s) with a snapshot after each of `snapshots` advances of `every` seconds.
+std::string record_run(System& sys, Scene& s, const TempDir& dir, int snapshots, double every) {
+  RunRecorder rec(sys, dir.path().string());
+  for (int k = 0; k < snapshots; ++k) {
+    run_for(sys, every);
+    rec.record_snapshot(sys);
+  }
+  const std::string out = (dir.path() / "run.h5").string();
+  RunInfo info;
+  info.scene = &s;
+  rec.finish(sys, info, out, "duration");
+  return out;
+}
+
 struct Collision {
   double e, kinetic0, lost, column, normal, drift, error;
 };
@@ -139,14 +153,7 @@ TEST(ExtraTerm, RunFileAndSchemaHaveItsColumn) {
   set_dt_fraction(s, 50.0);
   System sys(s);
   const TempDir dir("extra_term_column");
-  RunRecorder rec(sys, dir.path().string());
-  sys.advance(1);
-  rec.record_snapshot(sys);
-  const std::string out = (dir.path() / "run.h5").string();
-  RunInfo info;
-  info.scene = &s;
-  rec.finish(sys, info, out, "duration");
-  const RunReader run(out);
+  const RunReader run(record_run(sys, s, dir, 1, s.dt));
   EXPECT_EQ(run.series("energy/inner_pull_damping").size(), run.series_rows());
   EXPECT_NE(run_file_schema_json().find("\"series/energy/inner_pull_damping\""), std::string::npos);
 }
@@ -165,16 +172,7 @@ TEST(ExtraTerm, RunFileFrictionLoadIncludesItsPull) {
   set_dt_fraction(s, 50.0);
   System sys(s);
   const TempDir dir("extra_term");
-  RunRecorder rec(sys, dir.path().string());
-  for (int k = 0; k < 5; ++k) {
-    run_for(sys, 2e-4);
-    rec.record_snapshot(sys);
-  }
-  const std::string out = (dir.path() / "run.h5").string();
-  RunInfo info;
-  info.scene = &s;
-  rec.finish(sys, info, out, "duration");
-  const RunReader run(out);
+  const RunReader run(record_run(sys, s, dir, 5, 2e-4));
   const std::vector<double> mu_star = read_rows<double>(run.file(), "contacts/mu_star", 0, 5);
   for (std::size_t k = 0; k < run.snapshots(); ++k) {
     const Contacts c = run.snapshot(k).contacts;
