@@ -230,6 +230,11 @@ TEST_F(RunReaderChecks, NonFiniteValuesAreRefusedWhereTheyAreRead) {
   const RunReader run(pos);  // snapshot values are checked when read
   EXPECT_NO_THROW(run.snapshot(0));
   EXPECT_ERROR(run.snapshot(1), pos, "/snapshots/position at snapshot 1: grain 3 holds NaN");
+  // a finite position far outside the domain (the engine keeps no active grain there): refused, naming it
+  const std::string far = with_value(*dir_, valid_, "far_position", "snapshots/position", 2 * (30 + 3), 1e300);
+  EXPECT_NO_THROW(RunReader{far}.snapshot(0));
+  EXPECT_ERROR(RunReader{far}.snapshot(1), far,
+               "/snapshots/position at snapshot 1: grain 3 at (1e+300, ");
   const std::string d = with_value(*dir_, valid_, "nan_diameter", "particles/diameter", 7, kNaN);
   EXPECT_ERROR(RunReader{d}, d, "dataset /particles/diameter: row 7 holds NaN");
   const std::string t = with_value(*dir_, valid_, "inf_thickness", "bodies/thickness", 1, HUGE_VAL);

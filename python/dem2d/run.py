@@ -395,8 +395,15 @@ class Run:
         omega = c.finite("snapshots/omega" + at, s["omega"][k], "grain")
         theta = c.finite("snapshots/theta" + at, s["theta"][k], "grain") if "theta" in s else np.zeros_like(omega)
         outlines = c.finite("snapshots/body_vertices" + at, s["body_vertices"][k], "body")
-        return Snapshot(k, float(self.times[k]), int(s["step"][k]), position, velocity, omega, theta,
-                        s["active"][k].astype(bool), outlines, self.contacts(k))
+        active = s["active"][k].astype(bool)
+        xmin, ymin, xmax, ymax = self.parameters.domain  # (the engine removes a grain whose centre leaves it)
+        outside = active & ((position[:, 0] < xmin) | (position[:, 0] > xmax) | (position[:, 1] < ymin) |
+                            (position[:, 1] > ymax))
+        for i in np.flatnonzero(outside)[:1]:
+            c.fail(f"dataset /snapshots/position at snapshot {k}: grain {i} at ({position[i, 0]:g}, {position[i, 1]:g}) m "
+                   "is active outside the domain (/parameters/domain): a run keeps only grains inside it")
+        return Snapshot(k, float(self.times[k]), int(s["step"][k]), position, velocity, omega, theta, active,
+                        outlines, self.contacts(k))
 
     def snapshot_at(self, time: float) -> Snapshot:
         """The snapshot nearest to `time` (s)."""

@@ -212,6 +212,8 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
     if (dims.size() != 1) fail("dataset /" + name + " has shape " + show(dims) + ", expected one dimension");
     return dims[0];
   };
+  const Box domain = read_parameters(file_).domain;  // (every value of /parameters checked)
+  domain_ = {domain.xmin, domain.ymin, domain.xmax, domain.ymax};
   need("bodies/name");
   const hsize_t N = length("particles/diameter");
   sizes_['N'] = N;
@@ -411,13 +413,19 @@ Snapshot RunReader::snapshot(std::size_t k) const {
     return out;
   };
   s.position = vec2("snapshots/position");
+  s.active = read_rows<std::uint8_t>(file_, "snapshots/active", k, 1);
+  for (std::size_t i = 0; i < n; ++i)  // (the engine removes a grain whose centre leaves the domain, every step)
+    if (s.active[i] && !(s.position[i].x >= domain_[0] && s.position[i].x <= domain_[2] &&
+                         s.position[i].y >= domain_[1] && s.position[i].y <= domain_[3]))
+      fail("dataset /snapshots/position at snapshot " + std::to_string(k) + ": grain " + std::to_string(i) + " at (" +
+           shortest(s.position[i].x) + ", " + shortest(s.position[i].y) + ") m is active outside the domain " +
+           "(/parameters/domain): a run keeps only grains inside it");
   s.velocity = vec2("snapshots/velocity");
   s.omega = read_rows<double>(file_, "snapshots/omega", k, 1);
   check_finite("snapshots/omega at snapshot " + std::to_string(k), s.omega, 1, "grain", 0);
   if (h5::exists(file_, "snapshots/theta"))  // (files written before rotation angles lack it)
     check_finite("snapshots/theta at snapshot " + std::to_string(k), read_rows<double>(file_, "snapshots/theta", k, 1),
                  1, "grain", 0);
-  s.active = read_rows<std::uint8_t>(file_, "snapshots/active", k, 1);
   const std::vector<double> outlines = read_rows<double>(file_, vertices_dataset("snapshots"), k, 1);
   check_finite(vertices_dataset("snapshots") + " at snapshot " + std::to_string(k), outlines,
                2 * max_vertices_, "body", 0);

@@ -129,6 +129,9 @@ DAMAGE = {
                               "/snapshots/time is not strictly increasing"),
     "a NaN position": (_set("snapshots/position", lambda x: x.__setitem__((-1, 7, 0), np.nan)), "snapshot",
                        "/snapshots/position at snapshot .*: grain 7 holds NaN"),
+    "grains far outside the domain": (_set("snapshots/position", lambda x: x.__setitem__((-1, slice(None), 0), 1e300)),
+                                      "snapshot", r"/snapshots/position at snapshot .*: grain \d+ at \(1e\+300, .*"
+                                      "active outside the domain"),
     "a wrong n_particles": (lambda f: f.attrs.__setitem__("n_particles", 5), "open",
                             "root attribute n_particles is 5, but the file holds"),
     "a missing dataset": (lambda f: f.__delitem__("contacts/fn"), "open", "/contacts/fn is missing"),
