@@ -10,7 +10,7 @@ import h5py
 import numpy as np
 
 from . import schema
-from .checks import FORMATS, SERIES, Checker, RunFileError, check_contacts, check_parameter, check_parameter_keys, \
+from .checks import SERIES, Checker, RunFileError, check_contacts, check_parameter, check_parameter_keys, \
     check_series_dataset, check_structure
 
 

@@ -32,6 +32,11 @@ def dataset(path: str) -> dict:
     return _datasets()[path]
 
 
+def known(path: str) -> bool:
+    """Whether the schema has a row for this dataset."""
+    return path in _datasets()
+
+
 def dtype(path: str) -> str:
     """A dataset's element type as numpy spells it: f8, i8, i4, u1, or str."""
     return dataset(path)["type"]

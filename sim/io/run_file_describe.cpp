@@ -72,7 +72,7 @@ std::string run_file_schema_json() {
   // /parameters: its layout's name, the values that are not one number, the motion kinds' values
   Json& params = out["parameters"] = {{"format", kParametersFormat}};
   Json& shapes = params["shapes"] = Json::object();
-  for (const ParameterShape& p : parameter_shapes()) shapes[std::string(p.key)] = p.shape;
+  for (const ParameterShape& p : parameter_shapes()) shapes[std::string(p.key)] = p.text();
   Json& kinds = params["motion_kinds"] = Json::object();
   for (const MotionKindSpec& k : kMotionKinds) {
     Json& keys = kinds[std::string(k.name)] = Json::array();

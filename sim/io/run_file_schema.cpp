@@ -94,8 +94,7 @@ constexpr DatasetSchema kDatasets[] = {
 };
 
 constexpr ParameterShape kParameterShapes[] = {
-    {"g", "2"}, {"domain", "4"}, {"velocity", "2"}, {"amplitude", "2"}, {"pivot", "2"}, {"tap_velocity", "2"},
-    {"vertices", "n,2"},
+    {"g", 2}, {"domain", 4}, {"velocity", 2}, {"amplitude", 2}, {"pivot", 2}, {"tap_velocity", 2}, {"vertices", 0},
 };
 
 }  // namespace

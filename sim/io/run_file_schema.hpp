@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <map>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -39,12 +40,13 @@ struct DimensionSchema {
 };
 
 // A /parameters value that is not one number (the rest are scalars): its key,
-// the last part of its path (parameters/bodies/0/velocity: velocity), and its
-// shape: its count of numbers ("2", "4"), or "n,2" for any number of (x, y).
+// the last part of its path (parameters/bodies/0/velocity: velocity), and the
+// count of numbers it holds, 0 for any number of (x, y) (stored [n, 2]).
 struct ParameterShape {
-  std::string_view key, shape;
-  // The numbers it holds: its count, 0 for any (then in pairs).
-  std::size_t count() const { return shape == "n,2" ? 0 : static_cast<std::size_t>(shape.front() - '0'); }
+  std::string_view key;
+  std::size_t count;
+  // As the JSON schema spells it: "2", "4", "n,2".
+  std::string text() const { return count ? std::to_string(count) : "n,2"; }
 };
 
 std::span<const AttributeSchema> run_file_attributes();

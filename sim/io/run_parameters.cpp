@@ -60,9 +60,9 @@ class Reader {
     if (!shape) throw std::logic_error("/" + name + " is a scalar in the run-file schema");
     std::vector<hsize_t> dims;
     const std::vector<double> v = read_as_double(name, &dims);
-    if (shape->count() && v.size() != shape->count())
-      fail(name, std::to_string(v.size()) + " values, expected " + std::to_string(shape->count()));
-    if (!shape->count() && (dims.size() != 2 || dims[1] != 2)) fail(name, "not a list of (x, y)");
+    if (shape->count && v.size() != shape->count)
+      fail(name, std::to_string(v.size()) + " values, expected " + std::to_string(shape->count));
+    if (!shape->count && (dims.size() != 2 || dims[1] != 2)) fail(name, "not a list of (x, y)");
     return v;
   }
   std::string text(const std::string& object, const std::string& attr) const {

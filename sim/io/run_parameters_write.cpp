@@ -30,9 +30,9 @@ void number(const h5::File& f, const std::string& name, double v, const Num& spe
 // A value of the schema's parameter_shapes (io/run_file_schema.hpp), in its shape there.
 void vector(const h5::File& f, const std::string& name, const std::vector<double>& v, const Num& spec) {
   const ParameterShape* shape = find_parameter_shape(name.substr(name.rfind('/') + 1));
-  if (!shape || (shape->count() ? v.size() != shape->count() : v.size() % 2 != 0))
+  if (!shape || (shape->count ? v.size() != shape->count : v.size() % 2 != 0))
     throw std::logic_error("/" + name + ": " + std::to_string(v.size()) + " numbers, not a shape of the run-file schema");
-  h5::write(f, name, v, shape->count() ? std::vector<hsize_t>{} : std::vector<hsize_t>{v.size() / 2, 2});
+  h5::write(f, name, v, shape->count ? std::vector<hsize_t>{} : std::vector<hsize_t>{v.size() / 2, 2});
   describe(f, name, spec);
 }
 

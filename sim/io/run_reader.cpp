@@ -212,8 +212,7 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
     if (dims.size() != 1) fail("dataset /" + name + " has shape " + show(dims) + ", expected one dimension");
     return dims[0];
   };
-  const Box domain = read_parameters(file_).domain;  // (every value of /parameters checked)
-  domain_ = {domain.xmin, domain.ymin, domain.xmax, domain.ymax};
+  domain_ = read_parameters(file_).domain;  // (every value of /parameters checked)
   need("bodies/name");
   const hsize_t N = length("particles/diameter");
   sizes_['N'] = N;
@@ -278,7 +277,7 @@ RunReader::RunReader(const std::string& path) : file_(open_run_file(path)) {
 // times, rotation angles): checked too, so that no damaged file passes for
 // a good one. Files written before these existed lack them.
 void RunReader::check_records(hsize_t N) {
-  const auto has = [&](const char* name) { return h5::exists(file_, name); };
+  const auto has = [&](std::string_view name) { return h5::exists(file_, std::string(name)); };
   const auto rows = [&](const char* name) {  // a 1-D record's length (the shape check refuses any other rank)
     const std::vector<hsize_t> dims = h5::shape(file_, name);
     return dims.empty() ? hsize_t{0} : dims[0];
@@ -294,7 +293,7 @@ void RunReader::check_records(hsize_t N) {
     return std::ranges::all_of(d.shape, [&](char c) { return !std::isupper(static_cast<unsigned char>(c)) || sizes_.contains(c); });
   };
   for (const DatasetSchema& d : run_file_datasets())  // the others' shapes and types (series: check_rest)
-    if (d.optional && !d.path.starts_with("series/") && has(std::string(d.path).c_str()) && sized(d))
+    if (d.optional && !d.path.starts_with("series/") && has(d.path) && sized(d))
       check_dataset(std::string(d.path));
   if (has("particles/inertia")) {  // > 0; +infinity for a grain that does not rotate
     for (const double v : h5::read<double>(file_, "particles/inertia"))
@@ -357,7 +356,6 @@ std::vector<Vec2> RunReader::body_velocities() const {
 
 std::string RunReader::vertices_dataset(const std::string& group) const { return group + "/body_vertices"; }
 
-
 Body RunReader::body_of(const std::vector<double>& flat, std::size_t row, std::size_t b) const {
   Body body;
   body.name = body_names_[b];
@@ -415,8 +413,7 @@ Snapshot RunReader::snapshot(std::size_t k) const {
   s.position = vec2("snapshots/position");
   s.active = read_rows<std::uint8_t>(file_, "snapshots/active", k, 1);
   for (std::size_t i = 0; i < n; ++i)  // (the engine removes a grain whose centre leaves the domain, every step)
-    if (s.active[i] && !(s.position[i].x >= domain_[0] && s.position[i].x <= domain_[2] &&
-                         s.position[i].y >= domain_[1] && s.position[i].y <= domain_[3]))
+    if (s.active[i] && !domain_.contains(s.position[i].x, s.position[i].y))
       fail("dataset /snapshots/position at snapshot " + std::to_string(k) + ": grain " + std::to_string(i) + " at (" +
            shortest(s.position[i].x) + ", " + shortest(s.position[i].y) + ") m is active outside the domain " +
            "(/parameters/domain): a run keeps only grains inside it");

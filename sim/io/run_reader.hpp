@@ -11,7 +11,6 @@
 // file's path, names the dataset and says what is wrong.
 #pragma once
 
-#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <map>
@@ -19,6 +18,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/box.hpp"
 #include "io/h5.hpp"
 #include "shape/shape.hpp"
 
@@ -193,7 +193,7 @@ class RunReader {
   std::vector<std::string> body_names_, body_roles_, body_shapes_;
   std::vector<std::int32_t> vertex_count_;
   hsize_t max_vertices_ = 1;
-  std::array<double, 4> domain_{};  // /parameters/domain (xmin, ymin, xmax, ymax; m): where active grains lie
+  Box domain_;  // /parameters/domain: where every active grain lies
   std::map<char, std::uint64_t> sizes_;  // the file's sizes by the schema's symbols (N, B, K, S, C, T, L, J), once known
   std::vector<double> times_, series_times_;
   std::vector<std::int64_t> steps_, contact_start_;

@@ -10,6 +10,7 @@
 
 #include "contact/contact_law.hpp"
 #include "contact/stability.hpp"
+#include "core/box.hpp"
 #include "core/effects.hpp"
 #include "core/motion.hpp"
 #include "shape/shape.hpp"
@@ -70,11 +71,6 @@ struct JamControl {
   double tap_vx = 0.0, tap_vy = 0.0;  // (m/s)
   double tap_duration = 0.0;          // (s)
   int max_taps = 0;
-};
-
-struct Box {
-  double xmin = 0.0, ymin = 0.0, xmax = 0.0, ymax = 0.0;  // (m)
-  bool contains(double x, double y) const { return x >= xmin && x <= xmax && y >= ymin && y <= ymax; }
 };
 
 struct StopCondition {
