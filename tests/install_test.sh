@@ -94,7 +94,7 @@ out=$(DEM2D_SHARE="$P/cwd" "$I/bin/dem2d" check "$SRC/tests/scenes/valid_minimal
 mv "$I/share.away" "$I/share"
 # another project: find_package(dem2d) from the (moved) prefix, link the engine, run a scene, read it back
 for f in lib/libdem2d_core.a lib/libdem2d_runfile.a lib/cmake/dem2d/dem2dConfig.cmake include/dem2d/run/run.hpp \
-  include/dem2d/io/run_reader.hpp; do
+  include/dem2d/runfile/run_reader.hpp; do
   [ -e "$I/$f" ] || fail "not installed: $f"
 done
 if cmake -S "$SRC/tests/install_consumer" -B "$P/consumer" -DCMAKE_PREFIX_PATH="$I" -DCMAKE_BUILD_TYPE=Release \

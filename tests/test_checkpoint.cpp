@@ -15,7 +15,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 #include "run/checkpoint.hpp"
 #include "run/run.hpp"
 #include "scene_builder.hpp"

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "core/version.hpp"
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 #include "run/checkpoint.hpp"
 #include "run/output_dir.hpp"
 #include "run/run.hpp"

@@ -15,9 +15,9 @@
 
 #include "core/version.hpp"
 #include "engine/diagnostics.hpp"
-#include "io/h5.hpp"
-#include "io/run_file.hpp"
-#include "io/run_file_describe.hpp"
+#include "runfile/h5.hpp"
+#include "writer/run_file.hpp"
+#include "writer/run_file_describe.hpp"
 #include "scene_builder.hpp"
 #include "temp_dir.hpp"
 

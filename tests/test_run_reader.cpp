@@ -12,11 +12,11 @@
 #include <vector>
 
 #include "core/version.hpp"
-#include "io/h5.hpp"
-#include "io/run_file.hpp"
-#include "io/run_parameters.hpp"
+#include "runfile/h5.hpp"
+#include "writer/run_file.hpp"
+#include "runfile/run_parameters.hpp"
 #include "core/number_text.hpp"
-#include "io/run_reader.hpp"
+#include "runfile/run_reader.hpp"
 #include "frame/drag_profile.hpp"
 #include "scene_builder.hpp"
 #include "temp_dir.hpp"

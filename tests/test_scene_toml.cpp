@@ -14,7 +14,7 @@
 #include <string_view>
 
 #include "engine/kernel_sets.hpp"
-#include "io/toml_reader.hpp"
+#include "toml/toml_reader.hpp"
 #include "scene/generators.hpp"
 #include "scene/scene_toml.hpp"
 #include "scene_builder.hpp"

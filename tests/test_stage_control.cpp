@@ -8,7 +8,7 @@
 #include <filesystem>
 
 #include "engine/diagnostics.hpp"
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 #include "run/progress.hpp"
 #include "run/run.hpp"
 #include "run/thread_choice.hpp"

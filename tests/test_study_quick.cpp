@@ -15,11 +15,12 @@
 #include <unistd.h>
 
 #include "bed/bed_metrics.hpp"
-#include "io/h5.hpp"
-#include "io/run_reader.hpp"
+#include "runfile/h5.hpp"
+#include "runfile/run_reader.hpp"
 #include "pulloff/drag_cycles.hpp"
 #include "quick_study.hpp"
 #include "frame/drag_profile.hpp"
+#include "pulloff/pulloff_metrics.hpp"
 #include "run/progress.hpp"
 #include "run/run.hpp"
 #include "run/stop_criteria.hpp"

@@ -13,7 +13,7 @@
 
 #include "bed/bed_config.hpp"
 #include "frame/cell.hpp"
-#include "io/run_reader.hpp"
+#include "runfile/run_reader.hpp"
 
 namespace dem2d::analysis {
 

@@ -16,7 +16,7 @@
 
 #include "cg/cg_field.hpp"
 #include "cg/cg_measure.hpp"
-#include "io/run_reader.hpp"
+#include "runfile/run_reader.hpp"
 
 namespace {
 

@@ -15,7 +15,7 @@
 
 #include "cg/cg_config.hpp"
 #include "common/cg_kernel.hpp"
-#include "io/run_reader.hpp"
+#include "runfile/run_reader.hpp"
 
 namespace dem2d::analysis {
 

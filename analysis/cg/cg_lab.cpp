@@ -16,7 +16,7 @@
 #include "common/stage_output.hpp"   // number_or_null
 #include "common/units.hpp"
 #include "core/number_text.hpp"
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 
 namespace dem2d::analysis {
 

@@ -7,17 +7,6 @@
 
 namespace dem2d::analysis {
 
-Intruder intruder_of(const Body& b) {
-  Intruder in;
-  const Vec2 c = b.centre();
-  in.xc = c.x;
-  in.yc = c.y;
-  in.left = b.xmin();
-  in.right = b.xmax();
-  in.top = b.ymax();
-  return in;
-}
-
 std::vector<double> speed_ratio(const Velocity& v, double frame_vx, double frame_vy, double v_ref) {
   std::vector<double> s(v.vx.size());
   for (std::size_t n = 0; n < s.size(); ++n) s[n] = std::hypot(v.vx[n] - frame_vx, v.vy[n] - frame_vy) / v_ref;

@@ -11,19 +11,9 @@
 
 #include "cg/cg_field.hpp"
 #include "common/units.hpp"
+#include "frame/intruder.hpp"
 
 namespace dem2d::analysis {
-
-
-// A horizontal sphero-line intruder.
-struct Intruder {
-  double xc = 0.0, yc = 0.0;       // centre of the segment (m)
-  double left = 0.0, right = 0.0;  // x of its tips (ends of the caps)
-  double top = 0.0;                // y of its top face
-  double length() const { return right - left; }
-  Vec2 centre() const { return {xc, yc}; }
-};
-Intruder intruder_of(const Body& b);
 
 // v* = |V - V_frame| / v_ref per node, NaN where V is NaN.
 std::vector<double> speed_ratio(const Velocity& v, double frame_vx, double frame_vy, double v_ref);

@@ -16,8 +16,8 @@
 #include "common/output.hpp"
 #include "common/snapshot_loop.hpp"
 #include "common/units.hpp"
-#include "io/h5.hpp"
-#include "io/run_reader.hpp"
+#include "runfile/h5.hpp"
+#include "runfile/run_reader.hpp"
 
 namespace dem2d::analysis {
 
@@ -147,12 +147,11 @@ Setup make_setup(const SnapshotSource& run, const Snapshot& s0, const CgInput& i
   }
   su.start = intruder_of(intruder_body(s0, path));
   {
-    const std::size_t b = run.body_with_role("intruder");
-    const Vec2 v = run.body_velocities()[b];
-    su.frame_vx = v.x, su.frame_vy = v.y;
-    su.intruder_speed = std::hypot(su.frame_vx, su.frame_vy);
+    const Pull pull = pull_of(run);
+    su.frame_vx = pull.velocity.x, su.frame_vy = pull.velocity.y;
+    su.intruder_speed = pull.speed();
     su.v_ref = c.reference_speed_mm_s > 0.0 ? c.reference_speed_mm_s / kMm : su.intruder_speed;
-    if (!(su.intruder_speed > 0.0)) throw CgError(path + ": the intruder '" + run.body_names()[b] + "' does not move (/bodies/velocity = 0): no v* = |V|/V_intruder");
+    if (!(su.intruder_speed > 0.0)) throw CgError(path + ": the intruder '" + run.body_names()[pull.body] + "' does not move (/bodies/velocity = 0): no v* = |V|/V_intruder");
   }
   kernel_and_grid(in, path, s0, su);
   const double dx = su.grid.dx;
@@ -401,9 +400,25 @@ CgResult compute_cg(const SnapshotSource& run, const std::vector<RuptureEvent>* 
   Measured m = measure_all(run, su, in, has_piv, primary, fields_at, threads, made);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
 
-  StageRecord rec{std::move(su), c, std::move(m.ms), times, std::move(heights), std::move(m.piv_ok), has_piv, primary,
-                  have_events, std::move(events), std::move(pre), after, fields_at, seconds, m.cg_seconds, threads,
-                  path, in.events_path, in.config_path};
+  const StageRecord rec{.setup = std::move(su),
+                        .config = c,
+                        .ms = std::move(m.ms),
+                        .times = times,
+                        .heights = std::move(heights),
+                        .piv_ok = std::move(m.piv_ok),
+                        .has_piv = has_piv,
+                        .primary = primary,
+                        .have_events = have_events,
+                        .events = std::move(events),
+                        .pre = std::move(pre),
+                        .after = after,
+                        .fields_at = fields_at,
+                        .seconds = seconds,
+                        .cg_seconds = m.cg_seconds,
+                        .threads = threads,
+                        .run_path = path,
+                        .events_path = in.events_path,
+                        .config_path = in.config_path};
   CgResult r;
   r.metrics = {{"cg", cg_metrics(rec)}};
   r.h5 = cg_h5(rec, r.metrics);

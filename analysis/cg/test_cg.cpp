@@ -16,7 +16,7 @@
 #include "cg/cg_report.hpp"
 #include "cg/cg_stage.hpp"
 #include "cg/wall_loss.hpp"
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 #include "quick_study.hpp"
 #include "temp_dir.hpp"
 

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstddef>
 
-#include "io/run_reader.hpp"
+#include "runfile/run_reader.hpp"
 
 namespace dem2d::analysis {
 

@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "core/number_text.hpp"
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 
 namespace dem2d::analysis {
 

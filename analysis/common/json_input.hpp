@@ -1,6 +1,6 @@
 // An earlier stage's JSON output read as an input (--fill-metrics,
 // --spectrum-metrics, --cg-metrics): through the settings' bounded reader
-// (io/toml_reader.hpp: a regular file or a pipe with a writer, at most
+// (toml/toml_reader.hpp: a regular file or a pipe with a writer, at most
 // 256 MiB), then parsed. Every failure is a StageError naming the file.
 #pragma once
 

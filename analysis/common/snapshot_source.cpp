@@ -4,7 +4,7 @@
 
 #include "common/snapshot_loop.hpp"
 #include "common/stage_error.hpp"
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 
 namespace dem2d::analysis {
 

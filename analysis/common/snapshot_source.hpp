@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "io/run_reader.hpp"
+#include "runfile/run_reader.hpp"
 
 namespace dem2d::analysis {
 

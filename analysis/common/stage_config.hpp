@@ -1,5 +1,5 @@
 // Reading a stage's settings file (data/<stage>.toml, data/study.toml) through
-// the one validating TOML reader (sim/io/toml_reader.hpp): each key read with
+// the one validating TOML reader (sim/toml/toml_reader.hpp): each key read with
 // its type and range as it is asked for, then every key the stage did not ask
 // for is an error listing the allowed ones. Sub-tables ([grid], [cone], ...)
 // read the same way. Every error is a StageError "FILE:LINE:COL: key = value:
@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "common/stage_error.hpp"
-#include "io/toml_reader.hpp"
+#include "toml/toml_reader.hpp"
 
 namespace dem2d::analysis {
 

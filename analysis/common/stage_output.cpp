@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 
 namespace dem2d::analysis {
 

@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "common/stage_error.hpp"
-#include "io/run_reader.hpp"
+#include "runfile/run_reader.hpp"
 
 namespace dem2d::analysis {
 

@@ -12,7 +12,7 @@
 
 #include "frame/cell.hpp"
 #include "common/stage_error.hpp"
-#include "io/run_reader.hpp"
+#include "runfile/run_reader.hpp"
 
 namespace dem2d::analysis {
 

@@ -7,7 +7,7 @@
 #include "common/snapshot_loop.hpp"
 #include "common/stage_config.hpp"
 #include "common/units.hpp"
-#include "io/run_reader.hpp"
+#include "runfile/run_reader.hpp"
 
 namespace dem2d::analysis {
 

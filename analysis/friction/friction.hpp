@@ -14,7 +14,7 @@
 
 #include "frame/study.hpp"
 #include "contact/contact_law.hpp"
-#include "io/run_parameters.hpp"
+#include "runfile/run_parameters.hpp"
 #include "frame/height_bins.hpp"
 #include "frame/pulloff_frame.hpp"
 #include "common/stage_output.hpp"
@@ -30,7 +30,7 @@ struct FrictionLaws {
   LawCoefficients grain, wall;
 };
 
-// From the run's /parameters (io/run_parameters.hpp); mu_grain, mu_wall (if
+// From the run's /parameters (runfile/run_parameters.hpp); mu_grain, mu_wall (if
 // given) replace the laws' Coulomb coefficients. StageError "<where>: ..." if
 // the run has no friction and none is given.
 FrictionLaws friction_laws(const RunParameters& run, std::optional<double> mu_grain, std::optional<double> mu_wall,

@@ -8,7 +8,7 @@
 #include <filesystem>
 
 #include "friction/friction.hpp"
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 #include "quick_study.hpp"
 #include "stage_command.hpp"
 #include "temp_dir.hpp"

@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <numbers>
 
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 
 namespace dem2d::analysis {
 

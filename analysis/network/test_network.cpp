@@ -11,7 +11,7 @@
 
 #include <sys/stat.h>
 
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 #include "network/network_stage.hpp"
 #include "network/percolation_loss.hpp"
 #include "common/stage_config.hpp"

@@ -18,6 +18,7 @@
 #include "common/stage_output.hpp"
 #include "common/units.hpp"
 #include "frame/cell.hpp"
+#include "frame/intruder.hpp"
 #include "piv/piv_measure.hpp"
 
 namespace dem2d::analysis {
@@ -116,8 +117,9 @@ PairSetup setup(const SnapshotSource& run, const Snapshot& s0, const PivInput& i
   if (su.intruder < 0)
     throw StageError(run.path() + ": " + s0.no_body_with_role("intruder") + ": the camera follows the intruder");
   frame_interval(run, in, su);
-  su.V = run.body_velocities().at(static_cast<std::size_t>(su.intruder));
-  su.v_ref = in.cg.reference_speed_mm_s > 0.0 ? in.cg.reference_speed_mm_s / kMm : std::hypot(su.V.x, su.V.y);
+  const Pull pull = pull_of(run);
+  su.V = pull.velocity;
+  su.v_ref = in.cg.reference_speed_mm_s > 0.0 ? in.cg.reference_speed_mm_s / kMm : pull.speed();
   if (!(su.v_ref > 0.0))
     throw StageError(in.cg_config_path + ": zones.reference_speed_mm_s = 0 and the intruder does not move: v* = |v| / V "
                      "needs a speed");

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <span>
 
-#include "io/run_reader.hpp"
+#include "runfile/run_reader.hpp"
 #include "piv/piv_image.hpp"
 
 namespace dem2d::analysis {

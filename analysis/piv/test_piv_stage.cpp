@@ -13,7 +13,7 @@
 #include <fstream>
 
 #include "cg/cg_config.hpp"
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 #include "common/stage_error.hpp"
 #include "piv/piv_measure.hpp"
 #include "piv/piv_stage.hpp"

@@ -1,5 +1,5 @@
 // pulloff_metrics: the drag on the intruder along a pull-off run and the
-// run's summary (analysis/frame/drag_profile.hpp for the definitions).
+// run's summary (pulloff_metrics.hpp; drag and height: analysis/frame/drag_profile.hpp).
 //   pulloff_metrics RUN.h5 --out DIR [--bed FILL_RUN.h5] [--study data/study.toml] [--cycles]
 // writes DIR/metrics.json and DIR/drag.csv, and with --cycles (a cyclic run:
 // analysis/pulloff/drag_cycles.hpp) DIR/cycles.csv.
@@ -9,7 +9,7 @@
 #include "common/output.hpp"
 #include "common/stage_main.hpp"
 #include "pulloff/drag_cycles.hpp"
-#include "frame/drag_profile.hpp"
+#include "pulloff/pulloff_metrics.hpp"
 
 namespace {
 struct Result {

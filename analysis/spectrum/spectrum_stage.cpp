@@ -10,10 +10,11 @@
 #include "common/stage_output.hpp"
 #include "common/events.hpp"
 #include "common/json_input.hpp"
-#include "io/h5.hpp"
-#include "io/run_parameters.hpp"
-#include "io/run_reader.hpp"
+#include "runfile/h5.hpp"
+#include "runfile/run_parameters.hpp"
+#include "runfile/run_reader.hpp"
 #include "frame/drag_profile.hpp"
+#include "frame/intruder.hpp"
 
 namespace dem2d::analysis {
 
@@ -179,7 +180,7 @@ SpectrumStage compute_spectrum_stage(const SpectrumInputs& in, const SpectrumCon
   const DragProfile profile = read_drag_profile(run);
   const auto& diameter = run.diameters();
   if (diameter.empty()) fail(in.run, "the run has no particles");
-  const double body_speed = run.body_velocities()[run.body_with_role("intruder")].y;
+  const double body_speed = pull_of(run).speed();
 
   SpectrumStage st;
   st.intruder_depth = study.intruder_depth;

@@ -8,7 +8,7 @@
 #include <numeric>
 #include <random>
 
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 #include "spectrum/spectrum.hpp"
 #include "spectrum/spectrum_stage.hpp"
 #include "quick_study.hpp"

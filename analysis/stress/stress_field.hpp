@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "common/cg_kernel.hpp"
-#include "io/run_reader.hpp"
+#include "runfile/run_reader.hpp"
 
 namespace dem2d::analysis {
 

@@ -11,7 +11,7 @@
 #include "common/units.hpp"
 #include "frame/cell.hpp"
 #include "frame/pulloff_frame.hpp"
-#include "io/run_parameters.hpp"
+#include "runfile/run_parameters.hpp"
 #include "stress/stress_balance.hpp"
 
 namespace dem2d::analysis {

@@ -16,7 +16,7 @@
 #include <fstream>
 #include <random>
 
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 #include "planted/stress_scenes.hpp"
 #include "quick_study.hpp"
 #include "stress/stress_balance.hpp"

@@ -1,4 +1,4 @@
-"""The run file's rules, as the analyses' C++ reader applies them (sim/io/run_reader.cpp).
+"""The run file's rules, as the analyses' C++ reader applies them (sim/runfile/run_reader.cpp).
 
 A Run checks the file's structure when it is opened (format, counts, every
 dataset's shape and element type, the constants' values, times strictly

@@ -6,9 +6,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "io/h5.hpp"
-#include "io/run_parameters.hpp"
-#include "io/run_reader.hpp"
+#include "runfile/h5.hpp"
+#include "runfile/run_parameters.hpp"
+#include "runfile/run_reader.hpp"
 
 namespace dem2d {
 

@@ -1,5 +1,5 @@
 // `dem2d inspect RUN.h5`: reads a whole run file through the analyses' reader
-// (io/run_reader.hpp), every snapshot, contact and series row and the
+// (runfile/run_reader.hpp), every snapshot, contact and series row and the
 // parameters, with all its checks, and prints what the file holds. The
 // Python reader's check_run (python/dem2d) applies the same rules; make fuzz
 // compares their verdicts on damaged files.

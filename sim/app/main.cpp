@@ -29,8 +29,8 @@
 #include "core/version.hpp"
 #include "run/output_dir.hpp"
 #include "engine/kernel_sets.hpp"
-#include "io/run_file_describe.hpp"
-#include "io/toml_reader.hpp"  // did_you_mean, show_key
+#include "writer/run_file_describe.hpp"
+#include "toml/toml_reader.hpp"  // did_you_mean, show_key
 #include "run/run.hpp"
 #include "run/thread_choice.hpp"
 #include "scene/scene_toml.hpp"

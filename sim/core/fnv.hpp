@@ -1,5 +1,5 @@
 // FNV-1a, 64 bits: a checksum of bytes (not a cryptographic hash), for the
-// seal of the files a run resumes from (io/h5_seal.hpp) and the identity of
+// seal of the files a run resumes from (runfile/h5_seal.hpp) and the identity of
 // the state a run starts from (scene/initial_state.hpp).
 #pragma once
 

@@ -8,10 +8,10 @@
 
 #include "contact/contact_model.hpp"
 #include "core/version.hpp"
-#include "io/h5.hpp"
-#include "io/h5_seal.hpp"
-#include "io/run_file.hpp"
-#include "io/run_format.hpp"
+#include "runfile/h5.hpp"
+#include "runfile/h5_seal.hpp"
+#include "writer/run_file.hpp"
+#include "runfile/run_format.hpp"
 
 namespace dem2d {
 
@@ -118,7 +118,7 @@ void write_checkpoint(const std::string& path, const System& sys, std::span<Cont
     for (Controller* c : controllers) c->save(ControllerState(f, controller_group(c)));
     for (const auto& [name, v] : particle_arrays(sys.state.p)) h5::write(f, std::string("particles/") + name, *v);
     h5::write(f, "particles/active", sys.state.p.active);
-    // what makes a checkpoint a starting state of its own (--initial, io/checkpoint_state.hpp)
+    // what makes a checkpoint a starting state of its own (--initial, runfile/checkpoint_state.hpp)
     std::vector<double> diameter(sys.size());
     for (std::size_t i = 0; i < diameter.size(); ++i) diameter[i] = 2.0 * sys.state.p.radius[i];
     h5::write(f, "particles/diameter", diameter);

@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "core/number_text.hpp"
-#include "io/h5.hpp"
-#include "io/run_format.hpp"
+#include "runfile/h5.hpp"
+#include "runfile/run_format.hpp"
 #include "run/output_dir.hpp"
 
 namespace dem2d {

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "io/run_file.hpp"
+#include "writer/run_file.hpp"
 #include "run/controller.hpp"
 
 namespace dem2d {

@@ -10,7 +10,7 @@
 #include <fstream>
 #include <regex>
 
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 
 namespace dem2d {
 

@@ -11,7 +11,7 @@
 #include "core/version.hpp"
 #include "engine/kernel_sets.hpp"
 #include "engine/system.hpp"
-#include "io/run_file.hpp"
+#include "writer/run_file.hpp"
 #include "run/body_removals.hpp"
 #include "run/checkpoint.hpp"
 #include "run/finished_run.hpp"

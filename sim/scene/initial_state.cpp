@@ -8,8 +8,8 @@
 
 #include "core/fnv.hpp"
 #include "core/number_text.hpp"
-#include "io/checkpoint_state.hpp"
-#include "io/run_reader.hpp"
+#include "runfile/checkpoint_state.hpp"
+#include "runfile/run_reader.hpp"
 
 namespace dem2d {
 

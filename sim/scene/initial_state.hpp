@@ -1,7 +1,7 @@
 // A scene's grains taken from the final state of an earlier run (scene key
 // [initial] run, or `dem2d run --initial`): the active grains of the run
 // file's last snapshot, or of a checkpoint (an unfinished run's state, to go
-// on from with changed settings: io/checkpoint_state.hpp), with their positions, velocities, spins and the
+// on from with changed settings: runfile/checkpoint_state.hpp), with their positions, velocities, spins and the
 // contact history (tangential springs, rolling moments) of every touching
 // contact. Wall contacts keep their body's name, so they carry over to a
 // body of the same name in the new scene and are dropped otherwise.

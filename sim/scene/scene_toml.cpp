@@ -15,11 +15,11 @@
 #include <utility>
 #include <vector>
 
-#include "scene/scene_keys.hpp"
+#include "core/scene_keys.hpp"
 #include "core/body_roles.hpp"
 #include "core/key_spec.hpp"
 #include "core/step_count.hpp"
-#include "io/toml_reader.hpp"
+#include "toml/toml_reader.hpp"
 #include "neighbour/cell_grid.hpp"
 #include "scene/generators.hpp"
 #include "shape/shape_kinds.hpp"
@@ -28,7 +28,7 @@
 namespace dem2d {
 namespace {
 
-using Vec2 = std::array<double, 2>;
+using Pair = std::array<double, 2>;  // the TOML reader's [x, y]
 constexpr double kOverlapTolerance = 1e-12;  // m: exact touching is not an overlap
 
 // The scene's errors: SceneError (scene_toml.hpp), raised by the shared reader.
@@ -130,7 +130,7 @@ class SceneParser {
         effects_.fail(e.key, "needs " + effect_key(e.needs) + " = true (" + effect_key(e.bit) + " acts on what it adds)");
 
     if (has(s_.effects, effect::gravity)) {
-      const Vec2 g = top_.table("gravity", {"g"})
+      const Pair g = top_.table("gravity", {"g"})
                          .required_vec2("g", scene_key::gravity,
                                         "; required because effects.gravity is true");
       s_.gx = g[0];
@@ -298,8 +298,8 @@ class SceneParser {
           g.fail("spacing", "must be >= " + dm.path("max") + " = " + shortest(spec.d_max) + " (m)");
         spec.spacing = *sp;
       }
-      const Vec2 v =
-          g.vec2("velocity", {"initial velocity", "m/s", Rule::finite}).value_or(Vec2{0.0, 0.0});
+      const Pair v =
+          g.vec2("velocity", {"initial velocity", "m/s", Rule::finite}).value_or(Pair{0.0, 0.0});
       spec.vx = v[0];
       spec.vy = v[1];
       std::vector<ParticleInit> grains;
@@ -314,19 +314,19 @@ class SceneParser {
     }
   }
 
-  std::vector<Vec2> read_polygon(const TableReader& g) const {
+  std::vector<Pair> read_polygon(const TableReader& g) const {
     return read_points(g, "region", {"polygon vertex", "m", Rule::finite}, 3);
   }
 
   // A list of points [[x0, y0], [x1, y1], ...] of at least `min` entries.
-  std::vector<Vec2> read_points(const TableReader& g, std::string_view key, const Num& spec, std::size_t min = 1) const {
+  std::vector<Pair> read_points(const TableReader& g, std::string_view key, const Num& spec, std::size_t min = 1) const {
     const std::string what = std::string("list of points [[x0, y0], [x1, y1], ...] in ") + spec.unit + ", >= " +
                              std::to_string(min) + (min == 1 ? " point" : " points");
     const toml::node* n = g.node(key);
     if (!n) g.missing(key, what);
     const toml::array* a = n->as_array();
     if (!a || a->size() < min) g.fail(key, "must be a " + what);
-    std::vector<Vec2> pts;
+    std::vector<Pair> pts;
     for (std::size_t k = 0; k < a->size(); ++k)
       pts.push_back(g.vec2_at(*a->get(k), g.path(key) + "[" + std::to_string(k) + "]", spec));
     return pts;
@@ -369,8 +369,8 @@ class SceneParser {
       if (!kind) b.fail("shape", "unknown shape kind (allowed: " + join(kinds) + ")");
       body.thickness = b.required("thickness", scene_key::thickness);
       body.vertices = read_shape(b, *kind, body.thickness);
-      const Vec2 v =
-          b.vec2("velocity", scene_key::body_velocity).value_or(Vec2{0.0, 0.0});
+      const Pair v =
+          b.vec2("velocity", scene_key::body_velocity).value_or(Pair{0.0, 0.0});
       body.vx = v[0], body.vy = v[1];
       if ((v[0] != 0.0 || v[1] != 0.0) && !has(s_.effects, effect::moving_bodies))
         b.fail("velocity", "a non-zero velocity needs effects.moving_bodies = true");
@@ -409,11 +409,11 @@ class SceneParser {
       if (key.type == ShapeKey::number) {
         args.number[key.name] = b.number_or(key.name, spec, key.fallback);
       } else if (key.type == ShapeKey::point) {
-        const Vec2 v = b.required_vec2(key.name, spec, why);
+        const Pair v = b.required_vec2(key.name, spec, why);
         args.point[key.name] = {v[0], v[1]};
       } else {
         std::vector<Point>& pts = args.points[key.name];
-        for (const Vec2& v : read_points(b, key.name, spec)) pts.push_back({v[0], v[1]});
+        for (const Pair& v : read_points(b, key.name, spec)) pts.push_back({v[0], v[1]});
       }
     }
     try {
@@ -465,7 +465,7 @@ class SceneParser {
         if (!takes_move || !takes_turn) return;
         if (!m.has(move) && !m.has(turn))
           m.missing(move, range_text(move_spec) + why + ", or " + std::string(turn) + " (" + range_text(turn_spec) + ")");
-        const Vec2 v = m.vec2(move, move_spec).value_or(Vec2{0.0, 0.0});
+        const Pair v = m.vec2(move, move_spec).value_or(Pair{0.0, 0.0});
         x = v[0], y = v[1];
         w = m.number_or(turn, turn_spec, 0.0);
         if (w != 0.0 && !has(s_.effects, effect::rotating_bodies))
@@ -523,7 +523,7 @@ class SceneParser {
     c.bodies = j.strings("bodies", "the hopper walls tapped to clear a jam");
     for (const std::string& name : c.bodies)
       if (!has_body(name)) j.fail("bodies", "'" + name + "' names no [[body]]");
-    const Vec2 v = j.required_vec2("tap_velocity", scene_key::tap_velocity);
+    const Pair v = j.required_vec2("tap_velocity", scene_key::tap_velocity);
     c.tap_vx = v[0];
     c.tap_vy = v[1];
     c.tap_duration = j.required("tap_duration", scene_key::tap_duration);

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <exception>
 
-#include "io/run_reader.hpp"
+#include "runfile/run_reader.hpp"
 #include "run/run.hpp"
 #include "scene/scene_toml.hpp"
 

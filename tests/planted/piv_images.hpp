@@ -9,7 +9,7 @@
 #include <functional>
 #include <vector>
 
-#include "io/run_reader.hpp"
+#include "runfile/run_reader.hpp"
 #include "piv/piv_image.hpp"
 
 namespace dem2d::planted {

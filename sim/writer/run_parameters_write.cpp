@@ -1,5 +1,7 @@
-// Writing /parameters (io/run_parameters.hpp). In the engine's library: it
+// Writing /parameters (read back by runfile/run_parameters.hpp). In the engine's library: it
 // holds the engine's contact law (its layout follows the law's list of terms).
+#include "writer/run_parameters_write.hpp"
+
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -7,9 +9,9 @@
 #include <vector>
 
 #include "core/motion.hpp"
-#include "io/run_file_schema.hpp"
-#include "io/run_parameters.hpp"
-#include "scene/scene_keys.hpp"
+#include "core/scene_keys.hpp"
+#include "runfile/run_file_schema.hpp"
+#include "runfile/run_parameters.hpp"
 
 namespace dem2d {
 
@@ -27,7 +29,7 @@ void number(const h5::File& f, const std::string& name, double v, const Num& spe
   describe(f, name, spec);
 }
 
-// A value of the schema's parameter_shapes (io/run_file_schema.hpp), in its shape there.
+// A value of the schema's parameter_shapes (runfile/run_file_schema.hpp), in its shape there.
 void vector(const h5::File& f, const std::string& name, const std::vector<double>& v, const Num& spec) {
   const ParameterShape* shape = find_parameter_shape(name.substr(name.rfind('/') + 1));
   if (!shape || (shape->count ? v.size() != shape->count : v.size() % 2 != 0))

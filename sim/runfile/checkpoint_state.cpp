@@ -1,11 +1,11 @@
-#include "io/checkpoint_state.hpp"
+#include "runfile/checkpoint_state.hpp"
 
 #include <limits>
 #include <stdexcept>
 
-#include "io/h5.hpp"
-#include "io/h5_seal.hpp"
-#include "io/run_format.hpp"
+#include "runfile/h5.hpp"
+#include "runfile/h5_seal.hpp"
+#include "runfile/run_format.hpp"
 
 namespace dem2d {
 

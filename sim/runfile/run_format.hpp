@@ -1,7 +1,7 @@
 // The format names (root attribute `format`) of the run file (docs/run_file.md;
-// written by io/run_file.hpp, read by io/run_reader.hpp) and of the checkpoint
+// written by writer/run_file.hpp, read by runfile/run_reader.hpp) and of the checkpoint
 // (written and resumed from by run/checkpoint.hpp, read as a starting state
-// by io/checkpoint_state.hpp).
+// by runfile/checkpoint_state.hpp).
 #pragma once
 
 namespace dem2d {

@@ -1,16 +1,19 @@
 // The run's parameters as the engine ran them: the run file's /parameters
 // group (docs/run_file.md), every value typed and with its unit. Written
-// from the scene after validation, with the key tables the scene reader
+// from the scene after validation (writer/run_parameters_write.hpp), with the key tables the scene reader
 // validates with (the contact law's keys, core/effects.hpp, core/motion.hpp,
-// core/body_roles.hpp, scene/scene_keys.hpp); read back by RunReader and the
+// core/body_roles.hpp, core/scene_keys.hpp); read back by RunReader and the
 // Python package, so that no stage parses the scene's text.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "io/h5.hpp"
-#include "scene/scene.hpp"
+#include "contact/contact_law.hpp"
+#include "core/box.hpp"
+#include "core/effects.hpp"
+#include "core/run_spec.hpp"
+#include "runfile/h5.hpp"
 
 namespace dem2d {
 
@@ -36,9 +39,6 @@ struct RunParameters {
   // Index of the body with this role, or -1.
   int find_role(std::string_view role) const;
 };
-
-// Writes /parameters into f from a validated scene (io/run_file.cpp, at finish).
-void write_parameters(const h5::File& f, const Scene& scene);
 
 // Reads /parameters; a std::runtime_error naming the file and the dataset if
 // one is missing or malformed. `has_parameters`: whether the group exists.

@@ -1,5 +1,5 @@
-// Reading /parameters (io/run_parameters.hpp).
-#include "io/run_parameters.hpp"
+// Reading /parameters (runfile/run_parameters.hpp).
+#include "runfile/run_parameters.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,8 +9,8 @@
 #include <string>
 
 #include "core/motion.hpp"
-#include "io/run_file_schema.hpp"
-#include "scene/scene_keys.hpp"
+#include "runfile/run_file_schema.hpp"
+#include "core/scene_keys.hpp"
 
 namespace dem2d {
 
@@ -53,7 +53,7 @@ class Reader {
       fail(name, shortest(v) + ": must be a whole number from 1 to " + std::to_string(kMaxMotionPieces));
     return static_cast<int>(v);
   }
-  // a value of the schema's parameter_shapes (io/run_file_schema.hpp), in its shape there
+  // a value of the schema's parameter_shapes (runfile/run_file_schema.hpp), in its shape there
   std::vector<double> values(const std::string& name) const {
     if (!has(name)) fail(name, "missing");
     const ParameterShape* shape = find_parameter_shape(name.substr(name.rfind('/') + 1));

@@ -1,4 +1,4 @@
-#include "io/run_file_describe.hpp"
+#include "writer/run_file_describe.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -8,10 +8,10 @@
 #include "core/effects.hpp"
 #include "core/motion.hpp"
 #include "engine/energy_ledger.hpp"
-#include "io/h5.hpp"
-#include "io/run_file_schema.hpp"
-#include "io/run_format.hpp"
-#include "io/run_parameters.hpp"
+#include "runfile/h5.hpp"
+#include "runfile/run_file_schema.hpp"
+#include "runfile/run_format.hpp"
+#include "runfile/run_parameters.hpp"
 #include "shape/shape.hpp"
 #include "shape/shape_kinds.hpp"
 

@@ -1,4 +1,4 @@
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 
 #include <algorithm>
 #include <filesystem>

@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "engine/system.hpp"
-#include "io/h5.hpp"
-#include "io/run_format.hpp"
+#include "runfile/h5.hpp"
+#include "runfile/run_format.hpp"
 
 namespace dem2d {
 

@@ -1,4 +1,4 @@
-#include "io/run_reader.hpp"
+#include "runfile/run_reader.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -11,9 +11,9 @@
 
 #include "core/body_roles.hpp"
 #include "core/number_text.hpp"
-#include "io/run_file_schema.hpp"
-#include "io/run_format.hpp"
-#include "io/run_parameters.hpp"
+#include "runfile/run_file_schema.hpp"
+#include "runfile/run_format.hpp"
+#include "runfile/run_parameters.hpp"
 
 namespace dem2d {
 
@@ -343,7 +343,7 @@ void RunReader::check_rest() const {
     if (d && d->type != "f8") check_dataset(name);  // (the counts)
     else if (d) series(member);                      // floats, finite
     else checked<double>(name, dims);                // a column the schema has no row for (the energy
-                                                     // ledger's terms: io/run_file_describe.hpp): floats
+                                                     // ledger's terms: writer/run_file_describe.hpp): floats
   }
 }
 

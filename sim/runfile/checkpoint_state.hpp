@@ -3,12 +3,12 @@
 // velocities, spins, diameters and whether they are still in the domain, the
 // bodies' names, and the history (tangential spring, rolling moment) of every
 // acting contact, in the shape of a run file's snapshot. The checkpoint's
-// format is run/checkpoint.hpp's (io/run_format.hpp: kCheckpointFormat).
+// format is run/checkpoint.hpp's (runfile/run_format.hpp: kCheckpointFormat).
 #pragma once
 
 #include <string>
 
-#include "io/run_reader.hpp"
+#include "runfile/run_reader.hpp"
 
 namespace dem2d {
 

@@ -1,4 +1,4 @@
-#include "io/run_file.hpp"
+#include "writer/run_file.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -14,11 +14,11 @@
 #include "contact/contact_model.hpp"
 #include "engine/diagnostics.hpp"
 #include "engine/energy_ledger.hpp"
-#include "io/h5.hpp"
-#include "io/h5_seal.hpp"
-#include "io/run_file_describe.hpp"
-#include "io/run_parameters.hpp"
-#include "io/run_xdmf.hpp"
+#include "runfile/h5.hpp"
+#include "runfile/h5_seal.hpp"
+#include "writer/run_file_describe.hpp"
+#include "writer/run_parameters_write.hpp"
+#include "writer/run_xdmf.hpp"
 
 namespace dem2d {
 

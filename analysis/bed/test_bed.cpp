@@ -16,8 +16,8 @@
 #include "bed/bed_metrics.hpp"
 #include "core/version.hpp"
 #include "common/output.hpp"
-#include "io/run_reader.hpp"
-#include "io/run_file.hpp"
+#include "runfile/run_reader.hpp"
+#include "writer/run_file.hpp"
 #include "scene_builder.hpp"
 #include "temp_dir.hpp"
 

@@ -1,4 +1,4 @@
-#include "io/run_xdmf.hpp"
+#include "writer/run_xdmf.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -6,7 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 
 namespace dem2d {
 

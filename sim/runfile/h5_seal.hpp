@@ -8,7 +8,7 @@
 
 #include <cstdint>
 
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 
 namespace dem2d::h5 {
 

@@ -1,7 +1,7 @@
 // What the scene's keys outside the contact law mean: what each is, its unit
 // and its range. The scene reader validates with them (scene/scene_toml.cpp)
 // and the run file's /parameters describes its values with them
-// (io/run_parameters.cpp), so the two cannot drift apart. The law's keys are
+// (runfile/run_parameters.cpp), so the two cannot drift apart. The law's keys are
 // its terms' (contact/contact_law.hpp: contact_law_keys), the motion kinds'
 // core/motion.hpp, the shapes' shape/shape_kinds.hpp.
 #pragma once

@@ -1,9 +1,9 @@
 // The run file's schema, once: every root attribute and every dataset with
 // its type, shape, unit and a one-line description. The reader checks a
-// file's datasets against it (io/run_reader.cpp); the writer puts the unit
+// file's datasets against it (runfile/run_reader.cpp); the writer puts the unit
 // and description on each dataset, and `dem2d inspect --schema` prints the
 // whole table as JSON, with the energy ledger's terms and the effects, for
-// the checkers and readers that are not this program (io/run_file_describe.hpp);
+// the checkers and readers that are not this program (writer/run_file_describe.hpp);
 // docs/run_file.md explains it.
 #pragma once
 
@@ -58,7 +58,7 @@ std::span<const ParameterShape> parameter_shapes();
 const ParameterShape* find_parameter_shape(std::string_view key);
 
 // The schema's row of a dataset; nullptr if it has none (the energy ledger's
-// terms: io/run_file_describe.hpp).
+// terms: writer/run_file_describe.hpp).
 const DatasetSchema* find_dataset(std::string_view path);
 
 // Its shape with the file's sizes (symbol -> size); std::logic_error for a

@@ -1,4 +1,4 @@
-#include "io/h5_seal.hpp"
+#include "runfile/h5_seal.hpp"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,4 +1,4 @@
-#include "io/run_file_schema.hpp"
+#include "runfile/run_file_schema.hpp"
 
 #include <stdexcept>
 #include <string>
@@ -49,7 +49,7 @@ constexpr DatasetSchema kDatasets[] = {
     {"particles/inertia", "f8", "N", "kg m", "moment of inertia per unit depth, m d^2 / 8", "", true},
     {"bodies/name", "str", "B", "-", "body name from the scene", ""},
     {"bodies/role", "str", "B", "-", "body role from the scene: intruder, floor, left_wall, right_wall, hopper, or empty", ""},
-    {"bodies/shape", "str", "B", "-", "the scene's shape kind", ""},  // (the kinds: io/run_file_describe.cpp)
+    {"bodies/shape", "str", "B", "-", "the scene's shape kind", ""},  // (the kinds: writer/run_file_describe.cpp)
     {"bodies/vertex_count", "i4", "B", "-", "vertices of the body's core (2: a segment; >= 3: a polygon, counter-clockwise)", ""},
     {"bodies/thickness", "f8", "B", "m", "rounding diameter: the body is every point within thickness/2 of its core", ""},
     {"bodies/velocity", "f8", "B,2", "m/s", "prescribed velocity (vx, vy) at the end of the run", "", true},

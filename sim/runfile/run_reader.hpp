@@ -19,12 +19,12 @@
 #include <vector>
 
 #include "core/box.hpp"
-#include "io/h5.hpp"
+#include "runfile/h5.hpp"
 #include "shape/shape.hpp"
 
 namespace dem2d {
 
-struct RunParameters;  // io/run_parameters.hpp
+struct RunParameters;  // runfile/run_parameters.hpp
 
 struct Vec2 {
   double x = 0.0, y = 0.0;
@@ -108,7 +108,7 @@ class RunReader {
   explicit RunReader(const std::string& path);
 
   const std::string& path() const { return file_.path(); }
-  // For what this class does not wrap (/series, root attributes): sim/io/h5.hpp.
+  // For what this class does not wrap (/series, root attributes): sim/runfile/h5.hpp.
   const h5::File& file() const { return file_; }
 
   // The run's parameters (/parameters: the law per pair, the bodies and
@@ -130,7 +130,7 @@ class RunReader {
   std::size_t series_rows() const { return series_times_.size(); }
   const std::vector<double>& series_times() const { return series_times_; }
   // Dataset /series/<name>, checked to be float64 of the schema's shape
-  // (io/run_file_schema.cpp; [T] for a column without a row there: the energy
+  // (runfile/run_file_schema.cpp; [T] for a column without a row there: the energy
   // ledger's terms) with finite values, flattened row-major; e.g.
   // series("body_force_mean"): [T, B, 2].
   std::vector<double> series(const std::string& name) const;
@@ -169,7 +169,7 @@ class RunReader {
   [[noreturn]] void fail(const std::string& what) const;
   // dataset `name` exists with this shape and element type ("f8", "i4", ...)
   void check_dataset(const std::string& name, const std::vector<hsize_t>& dims, const std::string& dtype) const;
-  // ... with the shape and type of the run file's schema (io/run_file_schema.hpp), its sizes from sizes_
+  // ... with the shape and type of the run file's schema (runfile/run_file_schema.hpp), its sizes from sizes_
   void check_dataset(const std::string& name) const;
   std::vector<hsize_t> schema_dims(const std::string& name) const;
   // every value finite; the error names the row (`row_word` row0 + k / per_row)
