@@ -133,8 +133,9 @@ def check_run_file(f, schema, errors):
 def check_energy(f, schema, errors):
     """The ledger's terms (shapes and types checked with the layout), and their sum constant to round-off
     (docs/energy.md)."""
-    terms = {d["path"][len(ENERGY):]: f[d["path"]][...] for d in schema["datasets"] if d["path"].startswith(ENERGY)}
-    total = sum(v for t, v in terms.items() if t != "body_work") - terms["body_work"]
+    signs = schema["energy_balance"]  # each term's sign in the conserved total
+    terms = {t: f[ENERGY + t][...] for t in signs}
+    total = sum(signs[t] * v for t, v in terms.items())
     scale = max(np.max(np.abs(v)) for v in terms.values())
     if scale > 0 and np.max(np.abs(total - total[0])) > 1e-9 * scale:
         errors.append(f"the energy balance does not close: its total moves by {np.max(np.abs(total - total[0])):.3g} J/m "

@@ -672,7 +672,7 @@ void add_setup(json& m, const StageRecord& r) {
                {"mask_phi", su.min_phi},
                {"frame", "fixed grid (lab frame); intruder-frame velocities are V - V_intruder on the same nodes"}};
   m["intruder"] = true;
-  m["intruder_speed_mm_s"] = su.intruder_speed * kMm;
+  m["intruder_speed_mm_s"] = su.pull.speed() * kMm;
   m["reference_speed_mm_s"] = su.v_ref * kMm;
   m["displacement_window_s"] = su.window;
   m["snapshots"] = r.ms.size();

@@ -31,7 +31,7 @@ std::vector<float> tip_window(const Setup& su, const Velocity& v, const Intruder
       if (i < 0 || j < 0 || i >= static_cast<double>(g.nx) || j >= static_cast<double>(g.ny)) continue;
       const std::size_t n = g.at(static_cast<std::size_t>(i), static_cast<std::size_t>(j));
       out[b * su.tip_nx + a] =
-          static_cast<float>(vertical ? v.vy[n] - su.frame_vy : v.vx[n] - su.frame_vx);
+          static_cast<float>(vertical ? v.vy[n] - su.pull.velocity.y : v.vx[n] - su.pull.velocity.x);
     }
   return out;
 }

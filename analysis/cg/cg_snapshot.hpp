@@ -26,8 +26,7 @@ struct Setup {
   double d = 0.0;             // mean grain diameter (m)
   double grain_density = 0.0; // kg/m^3: rho = grain_density * phi
   double v_ref = 0.0;         // V_ref of v* = |V| / V_ref (m/s): zones.reference_speed_mm_s, or the intruder's speed
-  double intruder_speed = 0.0;  // (m/s)
-  double frame_vx = 0.0, frame_vy = 0.0;  // intruder velocity (m/s)
+  Pull pull;                  // the intruder's velocity V (m/s): the frame of the profiles
   double phi_ref = 0.0;       // bulk solid fraction at snapshot 0 (the last one without an intruder)
   double min_phi = 0.0;       // nodes below have no velocity
   double window = 0.0;        // PIV window (s)

@@ -147,11 +147,9 @@ Setup make_setup(const SnapshotSource& run, const Snapshot& s0, const CgInput& i
   }
   su.start = intruder_of(intruder_body(s0, path));
   {
-    const Pull pull = pull_of(run);
-    su.frame_vx = pull.velocity.x, su.frame_vy = pull.velocity.y;
-    su.intruder_speed = pull.speed();
-    su.v_ref = c.reference_speed_mm_s > 0.0 ? c.reference_speed_mm_s / kMm : su.intruder_speed;
-    if (!(su.intruder_speed > 0.0)) throw CgError(path + ": the intruder '" + run.body_names()[pull.body] + "' does not move (/bodies/velocity = 0): no v* = |V|/V_intruder");
+    su.pull = pull_of(run);
+    su.v_ref = c.reference_speed_mm_s > 0.0 ? c.reference_speed_mm_s / kMm : su.pull.speed();
+    if (!(su.pull.speed() > 0.0)) throw CgError(path + ": the intruder '" + run.body_names()[su.pull.body] + "' does not move (/bodies/velocity = 0): no v* = |V|/V_intruder");
   }
   kernel_and_grid(in, path, s0, su);
   const double dx = su.grid.dx;

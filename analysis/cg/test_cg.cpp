@@ -2,7 +2,7 @@
 // and sheared velocities, one grain, no grain, walls), bad parameters, the
 // cone fit on a synthetic v* field with a known cone, the cone statistics
 // leaving out edges that narrow upwards, the wall-mobility step fit, the events contract, the config file, and the stage on the quick
-// pull-off run (results/quick/pulloff/run.h5, skipped if absent).
+// pull-off run (the quick study's, tests/quick_study.hpp: a failure if it is absent).
 #include <gtest/gtest.h>
 
 #include <cmath>

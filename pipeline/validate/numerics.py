@@ -36,9 +36,12 @@ def crystal(name: str, law: dict, effects: dict, duration: float, spacing: float
             "output": {"series_interval": duration / 100}, "particle": parts, "body": walls}
 
 
-def energy_terms(dem2d: str, r) -> dict:
-    """The energy ledger's terms in r, every one the program names (its run-file schema)."""
-    return {t: r.read(f"series/energy/{t}") for t in ledger_terms(dem2d)}
+def energy_total(dem2d: str, r) -> tuple:
+    """The energy ledger's terms in r, every one the program names (its run-file schema), and their conserved
+    total (each term with its sign in it)."""
+    signs = ledger_terms(dem2d)
+    terms = {t: r.read(f"series/energy/{t}") for t in signs}
+    return terms, sum(signs[t] * v for t, v in terms.items())
 
 
 def elastic_gas(ctx) -> list:
@@ -54,8 +57,7 @@ def elastic_gas(ctx) -> list:
         scene["time"]["dt_over_critical"] = 1.0 / divisor
         scene["output"]["energy_balance"] = True
         r = run(ctx.dem2d, scene, ctx.out / "numerics" / f"gas_{divisor}")
-        e = energy_terms(ctx.dem2d, r)
-        total = sum(v for k, v in e.items() if k != "body_work") - e["body_work"]
+        e, total = energy_total(ctx.dem2d, r)
         scale = max(np.max(np.abs(v)) for v in e.values())
         closure = max(closure, float(np.max(np.abs(total - total[0])) / scale))
         errors[divisor] = float(np.max(np.abs(e["integration_error"])) / e["kinetic"][0])

@@ -69,13 +69,13 @@ def run_stage(dem2d: str, name: str, run_file: Path, out: Path, config: Path) ->
         raise RuntimeError(f"{' '.join(cmd)} failed ({done.returncode}):\n{done.stderr[-2000:]}")
 
 
-def ledger_terms(dem2d: str) -> list:
-    """The energy ledger's terms as the program names them (dem2d inspect --schema: /series/energy/<term>)."""
+def ledger_terms(dem2d: str) -> dict:
+    """The energy ledger's terms as the program names them (/series/energy/<term>), each with the sign it enters
+    the conserved total with (dem2d inspect --schema: energy_balance)."""
     done = subprocess.run([dem2d, "inspect", "--schema"], capture_output=True, text=True)
     if done.returncode != 0:
         raise RuntimeError(f"{dem2d} inspect --schema failed: {done.stderr.strip()}")
-    prefix = "series/energy/"
-    return [d["path"][len(prefix):] for d in json.loads(done.stdout)["datasets"] if d["path"].startswith(prefix)]
+    return json.loads(done.stdout)["energy_balance"]
 
 
 def check(dem2d: str, scene: dict, out: Path) -> dict:

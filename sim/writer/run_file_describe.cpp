@@ -66,6 +66,8 @@ std::string run_file_schema_json() {
   };
   for (const DatasetSchema& d : run_file_datasets()) row(std::string(d.path), d);
   for_each_energy_row(row);
+  Json& balance = out["energy_balance"] = Json::object();  // the ledger's terms: their signs in its total
+  for (const auto& [term, value] : EnergyBalance{}.terms()) balance[std::string(term)] = EnergyBalance::sign_of(term);
   Json& effects = out["effects"] = Json::array();
   for (const EffectName& e : kEffectNames) effects.push_back(e.key);
   out["max_vertices"] = Shape::kMaxVertices;
