@@ -38,6 +38,23 @@ doc = open(sys.argv[2]).read()
 listed = doc[doc.index("### `[effects]`"):doc.index("(the bits of")].split("default `false`:", 1)[1]
 assert re.findall(r"`(\w+)`", listed) == keys, (keys, listed)
 PYEOF
+# the run-file format's page names the program's effects and ledger terms, and the ledger's page its balance,
+# each term with the sign the schema gives it (energy_balance)
+$PY - "$WORK/schema.json" "$TESTS/../docs/run_file.md" "$TESTS/../docs/energy.md" <<'PYEOF' || fail "docs/run_file.md or docs/energy.md: not the program's lists"
+import json, re, sys
+schema = json.load(open(sys.argv[1]))
+lines = open(sys.argv[2]).read().splitlines()
+effects = next(l for l in lines if l.startswith("| `effects` |")).split("comma-separated:", 1)[1].split("(`sim/", 1)[0]
+assert re.findall(r"`(\w+)`", effects) == schema["effects"], (effects, schema["effects"])
+signs = schema["energy_balance"]
+energy = next(l for l in lines if l.startswith("| `energy/<term>` |"))
+count, names = re.search(r"(\d+) terms \(([^;]*);", energy).groups()
+assert int(count) == len(signs) and re.findall(r"`(\w+)`", names) == list(signs), (energy, signs)
+doc = open(sys.argv[3]).read()
+balance = doc[doc.index("with\n\n") + 6:doc.index("=  constant")]
+written = {name: -1 if sign == "−" else 1 for sign, name in re.findall(r"(^|[+−])\s*(\w+)", balance.strip(), re.M)}
+assert written == signs, (written, signs)
+PYEOF
 sed 's/^kn = .*/kn = -5.0/' "$TESTS/scenes/valid_minimal.toml" >"$WORK/bad.toml"
 expect 2 "bad.toml:[0-9]*:[0-9]*: contact.kn = -5: must be > 0" -- "$DEM2D" check "$WORK/bad.toml"
 expect 2 "bad.toml:[0-9]*:[0-9]*: contact.kn = -5" -- "$DEM2D" run "$WORK/bad.toml" --out "$WORK/bad"
