@@ -172,6 +172,30 @@ TEST(Determinism, OneTwoAndThreeThreadsAreBitwiseIdentical) {
   }
 }
 
+// A run whose thread count changes between calls of advance (the run loop's
+// ThreadGovernor, run/thread_governor.hpp) has the bits of a run on one thread.
+TEST(Determinism, ChangingTheThreadCountMidRunKeepsTheBits) {
+  Scene s = boxed_bed(kFull, 200, 0.03);
+  System a(s);
+  s.threads = 3;
+  System b(s);
+  ASSERT_EQ(b.config.threads, 3);
+  const std::int64_t steps = static_cast<std::int64_t>(std::llround(0.1 / s.dt));
+  const int schedule[] = {3, 1, 2, 3, 1, 3, 2, 1};
+  for (std::size_t k = 0; k < std::size(schedule); ++k) {
+    b.set_threads(schedule[k]);
+    EXPECT_EQ(b.work.part.size(), static_cast<std::size_t>(schedule[k]) + 1);
+    EXPECT_EQ(b.work.drift.size(), static_cast<std::size_t>(schedule[k]));
+    const std::int64_t n = steps / 8 + (k == 0 ? steps % 8 : 0);
+    a.advance(n);
+    b.advance(n);
+  }
+  EXPECT_GT(b.state.lists.rebuild_count, 5);
+  EXPECT_TRUE(bitwise_equal(state_of(a), state_of(b)));
+  EXPECT_THROW(b.set_threads(4), std::invalid_argument);  // more than it was set up for
+  EXPECT_THROW(b.set_threads(0), std::invalid_argument);
+}
+
 // Where OpenMP makes parallel regions inactive (OMP_MAX_ACTIVE_LEVELS=0, or a System made inside a parallel
 // region) a team has one thread: the System splits the work for it instead of waiting at its barriers for
 // a second thread that never comes (it hung there), and the results are the same

@@ -354,7 +354,7 @@ void initial_forces(System& s) {
   ContactModel<E> pp{s.config.pp, scene}, pw{s.config.pw, scene};  // no spring increments: there is no previous step
   pp.c.kt_dt = pp.c.kr_dt = pw.c.kt_dt = pw.c.kr_dt = 0.0;
   const bool walls = applies<E>(scene, effect::walls);
-#pragma omp parallel num_threads(s.config.threads)
+#pragma omp parallel num_threads(s.work.threads)
   {
     pair_forces<E>(s, pp);
     if constexpr (compiles<E>(effect::walls))
@@ -382,10 +382,10 @@ void advance(System& s, std::int64_t steps) {
   if (steps <= 0) return;
   bool failed = false;
   StepBarrier barrier;  // the step's phases (step_barrier.hpp: its waiters sleep when the cores are taken)
-  barrier.reset(s.config.threads);
+  barrier.reset(s.work.threads);
   const EffectSet scene = s.config.effects;
   const bool walls = applies<E>(scene, effect::walls);
-#pragma omp parallel num_threads(s.config.threads)
+#pragma omp parallel num_threads(s.work.threads)
   {
     // every thread keeps the same displacement bound, from the same numbers
     double moved = s.cache.moved_particles;

@@ -49,7 +49,8 @@ System::System(const Scene& scene) : config(config_of(scene)) {
   const EffectSet effects = config.effects;
   Particles& p = state.p;
   Bodies& bodies = state.bodies;
-  work.drift.assign(static_cast<std::size_t>(config.threads), StepWork::DriftReport{});
+  work.threads = config.threads;
+  work.drift.assign(static_cast<std::size_t>(work.threads), StepWork::DriftReport{});
 
   const std::size_t n = scene.particles.size();
   p.resize(n);
@@ -275,6 +276,15 @@ void System::rebuild_in_step(bool escaped) {
   }
 }
 
+void System::set_threads(int n) {
+  if (n < 1 || n > config.threads)
+    throw std::invalid_argument("set_threads(" + std::to_string(n) + "): from 1 to " + std::to_string(config.threads));
+  if (n == work.threads) return;
+  work.threads = n;
+  work.drift.assign(static_cast<std::size_t>(n), StepWork::DriftReport{});
+  split_work();
+}
+
 void System::split_work() {
   // Cost of grain i in units of one gathered contact: its pair rows are
   // evaluated (~2 units a slot), its own and reverse slots summed (1 unit
@@ -289,7 +299,7 @@ void System::split_work() {
   };
   double total = 0.0;
   for (std::size_t i = 0; i < n; ++i) total += cost(i);
-  const auto nt = static_cast<std::size_t>(config.threads);
+  const auto nt = static_cast<std::size_t>(work.threads);
   work.part.assign(nt + 1, n);
   work.part[0] = 0;
   double acc = 0.0;

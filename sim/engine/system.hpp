@@ -34,7 +34,7 @@ using ForceFn = void (*)(System&);
 struct SystemConfig {
   EffectSet effects = 0;
   double dt = 0.0;  // time step (s)
-  int threads = 1;
+  int threads = 1;  // the OpenMP team the run is set up for: the most its steps use (StepWork::threads)
   double gx = 0.0, gy = 0.0;  // gravity (m/s^2)
   ContactLaw law_pp, law_pw;  // grain-grain and grain-body laws
   LawCoefficients pp{}, pw{};  // their per-step coefficients
@@ -70,6 +70,8 @@ struct SystemCache {
 // What one step uses and no checkpoint keeps: the threads' shares of the
 // work and their scratch. The results never depend on it.
 struct StepWork {
+  // The threads the steps use now, 1 to SystemConfig::threads (System::set_threads).
+  int threads = 1;
   // What each thread's last drift found, one cache line per thread (written
   // by its thread every step, read by all after the next barrier).
   struct alignas(kCacheLine) DriftReport {
@@ -110,6 +112,9 @@ struct System {
 
   std::string failure;  // set by a kernel when the state became non-finite
 
+  // The steps from now on on n threads (1 <= n <= config.threads): splits the
+  // work anew; the lists and every result stay as they are.
+  void set_threads(int n);
   // Rebuild the neighbour lists now, reset the displacement bounds and split
   // the work among the threads. When it happens never changes the results,
   // only the cost.

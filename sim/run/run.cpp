@@ -22,6 +22,7 @@
 #include "run/stop_criteria.hpp"
 #include "run/thermo.hpp"
 #include "run/thread_choice.hpp"
+#include "run/thread_governor.hpp"
 
 namespace dem2d {
 
@@ -127,6 +128,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
   };
   auto last_checkpoint = Clock::now();
   std::int64_t chunk = 64;
+  ThreadGovernor governor(sys.config.threads);  // fewer threads while other work takes the cores
   while (report.stop_reason.empty()) {
     for (Controller* c : controllers)
       if (c->next_step() == sys.state.step && !(report.stop_reason = c->act(sys)).empty()) {
@@ -150,10 +152,13 @@ RunReport run_scene(const Scene& scene, const RunOptions& opt) {
     std::int64_t target = sys.state.step + chunk;
     for (const Controller* c : controllers) target = std::min(target, c->next_step());
     if (opt.interrupt_at_step > sys.state.step) target = std::min(target, opt.interrupt_at_step);
+    if (const std::int64_t cap = governor.step_cap(); cap < target - sys.state.step) target = sys.state.step + cap;
+    sys.set_threads(governor.threads());
     const auto t0 = Clock::now();
     const std::int64_t n = target - sys.state.step;
     sys.advance(n);
     const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
+    if (const std::string change = governor.record(n, secs); !change.empty()) progress.announce(change);
     // aim at ~0.1 s per call: responsive to signals and checkpoints, negligible overhead
     if (n == chunk && secs > 0)
       chunk = std::clamp<std::int64_t>(static_cast<std::int64_t>(static_cast<double>(n) / secs * 0.1), 1, 1 << 24);
