@@ -15,9 +15,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "runfile/h5.hpp"
 #include "run/checkpoint.hpp"
 #include "run/run.hpp"
+#include "runfile/h5.hpp"
 #include "scene_builder.hpp"
 #include "temp_dir.hpp"
 

@@ -19,10 +19,10 @@
 #include <vector>
 
 #include "core/version.hpp"
-#include "runfile/h5.hpp"
 #include "run/checkpoint.hpp"
 #include "run/output_dir.hpp"
 #include "run/run.hpp"
+#include "runfile/h5.hpp"
 #include "scene/initial_state.hpp"
 #include "scene_builder.hpp"
 #include "temp_dir.hpp"

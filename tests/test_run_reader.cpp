@@ -11,13 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "core/version.hpp"
-#include "runfile/h5.hpp"
-#include "writer/run_file.hpp"
-#include "runfile/run_parameters.hpp"
 #include "core/number_text.hpp"
-#include "runfile/run_reader.hpp"
+#include "core/version.hpp"
 #include "frame/drag_profile.hpp"
+#include "runfile/h5.hpp"
+#include "runfile/run_parameters.hpp"
+#include "runfile/run_reader.hpp"
+#include "writer/run_file.hpp"
 #include "scene_builder.hpp"
 #include "temp_dir.hpp"
 

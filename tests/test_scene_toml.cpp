@@ -14,9 +14,9 @@
 #include <string_view>
 
 #include "engine/kernel_sets.hpp"
-#include "toml/toml_reader.hpp"
 #include "scene/generators.hpp"
 #include "scene/scene_toml.hpp"
+#include "toml/toml_reader.hpp"
 #include "scene_builder.hpp"
 #include "temp_dir.hpp"
 

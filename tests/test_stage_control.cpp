@@ -8,10 +8,10 @@
 #include <filesystem>
 
 #include "engine/diagnostics.hpp"
-#include "runfile/h5.hpp"
 #include "run/progress.hpp"
 #include "run/run.hpp"
 #include "run/thread_choice.hpp"
+#include "runfile/h5.hpp"
 #include "scene/scene_toml.hpp"
 #include "scene_builder.hpp"
 #include "temp_dir.hpp"

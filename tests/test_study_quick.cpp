@@ -15,9 +15,9 @@
 #include <unistd.h>
 
 #include "bed/bed_metrics.hpp"
+#include "pulloff/drag_cycles.hpp"
 #include "runfile/h5.hpp"
 #include "runfile/run_reader.hpp"
-#include "pulloff/drag_cycles.hpp"
 #include "quick_study.hpp"
 #include "frame/drag_profile.hpp"
 #include "pulloff/pulloff_metrics.hpp"

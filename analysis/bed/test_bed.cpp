@@ -14,8 +14,8 @@
 #include <unistd.h>
 
 #include "bed/bed_metrics.hpp"
-#include "core/version.hpp"
 #include "common/output.hpp"
+#include "core/version.hpp"
 #include "runfile/run_reader.hpp"
 #include "writer/run_file.hpp"
 #include "scene_builder.hpp"

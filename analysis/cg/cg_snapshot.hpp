@@ -7,10 +7,10 @@
 #include <cstddef>
 #include <vector>
 
-#include "frame/cell.hpp"
 #include "cg/cg_config.hpp"
 #include "cg/cg_field.hpp"
 #include "cg/cg_measure.hpp"
+#include "frame/cell.hpp"
 
 namespace dem2d::analysis {
 

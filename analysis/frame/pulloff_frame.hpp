@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "frame/cell.hpp"
 #include "common/stage_error.hpp"
+#include "frame/cell.hpp"
 #include "runfile/run_reader.hpp"
 
 namespace dem2d::analysis {

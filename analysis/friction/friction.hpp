@@ -12,12 +12,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "frame/study.hpp"
+#include "common/stage_output.hpp"
 #include "contact/contact_law.hpp"
-#include "runfile/run_parameters.hpp"
 #include "frame/height_bins.hpp"
 #include "frame/pulloff_frame.hpp"
-#include "common/stage_output.hpp"
+#include "frame/study.hpp"
+#include "runfile/run_parameters.hpp"
 
 namespace dem2d::analysis {
 

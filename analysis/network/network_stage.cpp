@@ -11,8 +11,8 @@
 #include "common/snapshot_loop.hpp"
 #include "common/stage_config.hpp"
 #include "common/units.hpp"
-#include "runfile/run_reader.hpp"
 #include "network/percolation_loss.hpp"
+#include "runfile/run_reader.hpp"
 
 namespace dem2d::analysis {
 

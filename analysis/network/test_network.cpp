@@ -11,10 +11,10 @@
 
 #include <sys/stat.h>
 
-#include "runfile/h5.hpp"
+#include "common/stage_config.hpp"
 #include "network/network_stage.hpp"
 #include "network/percolation_loss.hpp"
-#include "common/stage_config.hpp"
+#include "runfile/h5.hpp"
 #include "quick_study.hpp"
 #include "temp_dir.hpp"
 

@@ -10,8 +10,8 @@
 #include <cstdint>
 #include <span>
 
-#include "runfile/run_reader.hpp"
 #include "piv/piv_image.hpp"
+#include "runfile/run_reader.hpp"
 
 namespace dem2d::analysis {
 

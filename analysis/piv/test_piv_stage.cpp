@@ -13,10 +13,10 @@
 #include <fstream>
 
 #include "cg/cg_config.hpp"
-#include "runfile/h5.hpp"
 #include "common/stage_error.hpp"
 #include "piv/piv_measure.hpp"
 #include "piv/piv_stage.hpp"
+#include "runfile/h5.hpp"
 #include "quick_study.hpp"
 #include "stage_command.hpp"
 #include "temp_dir.hpp"

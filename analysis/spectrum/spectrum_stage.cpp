@@ -6,15 +6,15 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "common/output.hpp"
-#include "common/stage_output.hpp"
 #include "common/events.hpp"
 #include "common/json_input.hpp"
+#include "common/output.hpp"
+#include "common/stage_output.hpp"
+#include "frame/drag_profile.hpp"
+#include "frame/intruder.hpp"
 #include "runfile/h5.hpp"
 #include "runfile/run_parameters.hpp"
 #include "runfile/run_reader.hpp"
-#include "frame/drag_profile.hpp"
-#include "frame/intruder.hpp"
 
 namespace dem2d::analysis {
 

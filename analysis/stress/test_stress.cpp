@@ -16,8 +16,8 @@
 #include <fstream>
 #include <random>
 
-#include "runfile/h5.hpp"
 #include "planted/stress_scenes.hpp"
+#include "runfile/h5.hpp"
 #include "quick_study.hpp"
 #include "stress/stress_balance.hpp"
 #include "stress/stress_field.hpp"

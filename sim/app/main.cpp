@@ -23,17 +23,17 @@
 
 #include "app/bench.hpp"
 #include "app/inspect.hpp"
+#include "core/effects.hpp"
 #include "core/share_dir.hpp"
 #include "core/thread_limit.hpp"
-#include "core/effects.hpp"
 #include "core/version.hpp"
-#include "run/output_dir.hpp"
 #include "engine/kernel_sets.hpp"
-#include "writer/run_file_describe.hpp"
-#include "toml/toml_reader.hpp"  // did_you_mean, show_key
+#include "run/output_dir.hpp"
 #include "run/run.hpp"
 #include "run/thread_choice.hpp"
 #include "scene/scene_toml.hpp"
+#include "toml/toml_reader.hpp"  // did_you_mean, show_key
+#include "writer/run_file_describe.hpp"
 
 namespace {
 

@@ -10,13 +10,13 @@
 #include <vector>
 
 #include "contact/contact_law.hpp"
-#include "shape/shape.hpp"
 #include "core/aligned_vector.hpp"
 #include "core/effects.hpp"
 #include "core/state.hpp"
 #include "engine/energy_ledger.hpp"
 #include "neighbour/contact_lists.hpp"
 #include "scene/scene.hpp"
+#include "shape/shape.hpp"
 
 namespace dem2d {
 

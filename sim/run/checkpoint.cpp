@@ -10,8 +10,8 @@
 #include "core/version.hpp"
 #include "runfile/h5.hpp"
 #include "runfile/h5_seal.hpp"
-#include "writer/run_file.hpp"
 #include "runfile/run_format.hpp"
+#include "writer/run_file.hpp"
 
 namespace dem2d {
 

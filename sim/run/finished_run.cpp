@@ -5,9 +5,9 @@
 #include <vector>
 
 #include "core/number_text.hpp"
+#include "run/output_dir.hpp"
 #include "runfile/h5.hpp"
 #include "runfile/run_format.hpp"
-#include "run/output_dir.hpp"
 
 namespace dem2d {
 

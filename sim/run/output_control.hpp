@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "writer/run_file.hpp"
 #include "run/controller.hpp"
+#include "writer/run_file.hpp"
 
 namespace dem2d {
 

@@ -11,18 +11,18 @@
 #include "core/version.hpp"
 #include "engine/kernel_sets.hpp"
 #include "engine/system.hpp"
-#include "writer/run_file.hpp"
 #include "run/body_removals.hpp"
 #include "run/checkpoint.hpp"
 #include "run/finished_run.hpp"
 #include "run/jam_control.hpp"
-#include "run/output_dir.hpp"
 #include "run/output_control.hpp"
+#include "run/output_dir.hpp"
 #include "run/progress.hpp"
 #include "run/stop_criteria.hpp"
 #include "run/thermo.hpp"
 #include "run/thread_choice.hpp"
 #include "run/thread_governor.hpp"
+#include "writer/run_file.hpp"
 
 namespace dem2d {
 

@@ -9,8 +9,8 @@
 #include <string>
 
 #include "core/motion.hpp"
-#include "runfile/run_file_schema.hpp"
 #include "core/scene_keys.hpp"
+#include "runfile/run_file_schema.hpp"
 
 namespace dem2d {
 

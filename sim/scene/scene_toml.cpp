@@ -15,15 +15,15 @@
 #include <utility>
 #include <vector>
 
-#include "core/scene_keys.hpp"
 #include "core/body_roles.hpp"
 #include "core/key_spec.hpp"
+#include "core/scene_keys.hpp"
 #include "core/step_count.hpp"
-#include "toml/toml_reader.hpp"
 #include "neighbour/cell_grid.hpp"
 #include "scene/generators.hpp"
-#include "shape/shape_kinds.hpp"
 #include "scene/initial_state.hpp"
+#include "shape/shape_kinds.hpp"
+#include "toml/toml_reader.hpp"
 
 namespace dem2d {
 namespace {

@@ -10,9 +10,9 @@
 
 #include "contact/stability.hpp"
 #include "engine/energy_ledger.hpp"
+#include "runfile/run_reader.hpp"
 #include "writer/run_file.hpp"
 #include "writer/run_file_describe.hpp"
-#include "runfile/run_reader.hpp"
 #include "scene_builder.hpp"
 #include "temp_dir.hpp"
 

@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <exception>
 
-#include "runfile/run_reader.hpp"
 #include "run/run.hpp"
+#include "runfile/run_reader.hpp"
 #include "scene/scene_toml.hpp"
 
 int main(int argc, char** argv) {

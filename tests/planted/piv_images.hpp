@@ -9,8 +9,8 @@
 #include <functional>
 #include <vector>
 
-#include "runfile/run_reader.hpp"
 #include "piv/piv_image.hpp"
+#include "runfile/run_reader.hpp"
 
 namespace dem2d::planted {
 
