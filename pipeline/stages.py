@@ -18,7 +18,15 @@ REPO = Path(__file__).resolve().parents[1]
 REGISTRY = REPO / "pipeline" / "stages.toml"
 SIMULATIONS = ("fill", "pulloff")  # the run files the Makefile's dem2d rules make
 BED = "fill/run.h5"                # the bed: $(FILL_RUN), which a sweep may take from elsewhere
-KEYS = {"name", "program", "run", "config", "inputs", "args", "outputs", "threads"}
+KEYS = {"name", "program", "run", "config", "inputs", "args", "outputs", "threads", "reads"}
+# What of its run file a stage reads (its `reads`): a value it reads there that is damaged (NaN, missing, the
+# wrong shape) must make it fail (tests/fuzz/fuzz.py holds every stage to what it declares).
+READS = {"series": "the drag series (series/time, body_force_mean, body_vertices)",
+         "snapshots": "every snapshot's positions and velocities",
+         "last snapshot": "the last snapshot's positions and velocities",
+         "sampled snapshots": "the snapshots its settings pick (a damaged one may be one it skips)",
+         "contacts": "every snapshot's contacts",
+         "last contacts": "the last snapshot's contacts"}
 # What a stage may not be named: its name becomes a make target and a results folder
 RESERVED = {"all", "default", "FORCE", "stages", "registries", "figures", "metrics", "ensemble", "members"}
 
@@ -70,6 +78,7 @@ class Stage:
     args: list = field(default_factory=list)
     outputs: list = field(default_factory=list)
     threads: bool = False
+    reads: tuple = ()
 
     @property
     def is_simulation_report(self) -> bool:
@@ -162,8 +171,11 @@ def load(path: Path = REGISTRY) -> list:
         threads = e.get("threads", False)
         if not isinstance(threads, bool):
             raise bad("threads", "must be true or false")
+        reads = e.get("reads", [])
+        if not isinstance(reads, list) or not all(r in READS for r in reads) or len(set(reads)) != len(reads):
+            raise bad("reads", "must be an array of distinct values among " + ", ".join(f'"{r}"' for r in READS))
         stages.append(Stage(e["name"], e["program"], e["run"], config, dict(inputs), list(args),
-                            list(outputs), threads))
+                            list(outputs), threads, tuple(reads)))
     if not stages:
         raise RegistryError(f"{path}: no [[stage]] entries")
     return stages

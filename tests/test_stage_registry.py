@@ -10,7 +10,6 @@ scripts read the registry make was given (STAGE_REGISTRY).
 """
 import os
 import re
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -86,6 +85,17 @@ class Registry(unittest.TestCase):
                      "not toml ["):
             with self.subTest(text=text[-60:]):
                 self.refused(text, str(self.dir / "stages.toml"))
+
+    def test_what_a_stage_reads_is_one_of_the_known_parts_of_a_run_file(self):
+        self.assertEqual(self.generate(extra().replace('run = "pulloff"\nconfig', 'run = "pulloff"\n'
+                                                         'reads = ["snapshots", "contacts"]\nconfig')).returncode, 0)
+        for reads in ('["snapshot"]', '"series"', '["series", "series"]', '[1]'):
+            with self.subTest(reads=reads):
+                text = extra().replace('run = "pulloff"\nconfig', f'run = "pulloff"\nreads = {reads}\nconfig')
+                self.refused(text, "reads = ", 'must be an array of distinct values among "series"')
+        by_name = {s.name: s.reads for s in stages.load()}
+        self.assertEqual(by_name["network"], ("snapshots", "contacts"))
+        self.assertEqual(by_name["pulloff"], ("series",))
 
     def test_huge_keys_names_and_paths_give_a_short_message(self):
         long = "x" * 100000

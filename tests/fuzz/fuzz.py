@@ -248,9 +248,15 @@ class Suite:
     # run-file reader, which checks the particles, bodies, times and every
     # dataset's shape and type on opening; a snapshot's values when it is read.
     OPENED = ("particles/", "bodies/", "snapshots/time", "snapshots/step", "series/time", "snapshots/contact_start")
-    READS_ALL_SNAPSHOTS = ("cg", "network", "friction", "stress")  # (piv: every c.every-th and their frames A)
-    READS_LAST_SNAPSHOT = ("bed_metrics", "dem2d_initial")
-    READS_CONTACTS = ("network", "friction", "stress", "bed_metrics", "dem2d_initial")
+    # What each consumer reads of it: a stage, what the registry says (its `reads`); dem2d --initial, the
+    # last snapshot with its contacts.
+    ENGINE_READS = ("last snapshot", "last contacts")
+
+    def reads(self, consumer, what, where):
+        """Whether `consumer` reads `what` ("series", "snapshots", "contacts") of a file damaged `where`."""
+        declared = REGISTERED[consumer].reads if consumer in REGISTERED else self.ENGINE_READS
+        last = {"snapshots": "last snapshot", "contacts": "last contacts"}.get(what)
+        return what in declared or (where == "last" and last in declared)
 
     # Records a run file may lack (files written before they existed; the schema's optional
     # datasets): their deletion is not damage a reader must see.
@@ -264,7 +270,7 @@ class Suite:
             return kind == "truncate_file"
         structural = kind in ("shorter", "empty", "delete", "int_type", "reverse_time", "repeat_time")
         if name.startswith("series/"):  # read by the drag's consumers only
-            return consumer in ("pulloff_metrics", "spectrum") and (structural or kind in ("nan", "inf")) and \
+            return self.reads(consumer, "series", where) and (structural or kind in ("nan", "inf")) and \
                 name in ("series/time", "series/body_force_mean", "series/body_vertices")
         if structural:
             if kind == "delete" and name.startswith(self.OPTIONAL):
@@ -275,10 +281,10 @@ class Suite:
         if name in ("snapshots/time", "series/time"):
             return kind in ("nan", "inf")
         if name in ("snapshots/position", "snapshots/velocity") and kind in ("nan", "inf"):
-            return consumer in self.READS_ALL_SNAPSHOTS or (where == "last" and consumer in self.READS_LAST_SNAPSHOT)
+            return self.reads(consumer, "snapshots", where)
         if name.startswith("contacts/") and kind in ("nan", "inf", "bad_contact"):
-            reads = consumer in ("network", "friction", "stress") or (where == "last" and consumer in self.READS_CONTACTS)
-            return reads and name not in ("contacts/mr", "contacts/mu_star", "contacts/line")  # (read by none)
+            unread = ("contacts/mr", "contacts/mu_star", "contacts/line")  # (read by none)
+            return self.reads(consumer, "contacts", where) and name not in unread
         return False
 
     def damaged_copy(self, path, wrong_counts=False):
