@@ -6,6 +6,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <set>
@@ -194,6 +195,37 @@ TEST(Determinism, ChangingTheThreadCountMidRunKeepsTheBits) {
   EXPECT_TRUE(bitwise_equal(state_of(a), state_of(b)));
   EXPECT_THROW(b.set_threads(4), std::invalid_argument);  // more than it was set up for
   EXPECT_THROW(b.set_threads(0), std::invalid_argument);
+}
+
+// Timing the passes of a step (dem2d bench --passes) changes no bit; the calling thread's passes add up to
+// the wall time of the steps (but entering and leaving the parallel region), the pair loop takes time on
+// every thread, the energy ledger none when it is off, and turning it off drops the totals.
+TEST(Determinism, TimingThePassesChangesNoBitAndAccountsForTheStep) {
+  Scene s = boxed_bed(kFull, 200, 0.03);
+  s.threads = 2;
+  System a(s), b(s);
+  b.time_passes(true);
+  ASSERT_EQ(b.work.pass_totals.size(), 2u);
+  const std::int64_t steps = static_cast<std::int64_t>(std::llround(0.05 / s.dt));
+  a.advance(steps);
+  const auto t0 = std::chrono::steady_clock::now();
+  b.advance(steps);
+  const double wall = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_TRUE(bitwise_equal(state_of(a), state_of(b)));
+  for (std::size_t k = 0; k < b.work.pass_totals.size(); ++k) {
+    const PassTotals& t = b.work.pass_totals[k];
+    double sum = 0.0;
+    for (const double ns : t.ns) {
+      EXPECT_GE(ns, 0.0);
+      sum += ns;
+    }
+    EXPECT_LE(sum, wall);
+    if (k == 0) EXPECT_GT(sum, 0.5 * wall);  // (the calling thread: the others may start late on a busy machine)
+    EXPECT_GT(t.ns[static_cast<std::size_t>(Pass::pairs)], 0.0);
+    EXPECT_EQ(t.ns[static_cast<std::size_t>(Pass::ledger)], 0.0);
+  }
+  b.time_passes(false);
+  EXPECT_TRUE(b.work.pass_totals.empty());
 }
 
 // Where OpenMP makes parallel regions inactive (OMP_MAX_ACTIVE_LEVELS=0, or a System made inside a parallel

@@ -135,19 +135,64 @@ System settle(const Scene& scene, const std::string& path) {
   return bed;
 }
 
-// Best wall time of `repeat` runs of `steps` steps (after a warm-up of a tenth), in ns per particle-step,
-// and the contacts per grain at the end.
-std::pair<double, double> time_steps(const Scene& s, int steps, int repeat) {
-  double best = 1e300, contacts = 0.0;
+struct Timing {
+  double ns = 0.0;        // per particle-step
+  double contacts = 0.0;  // per grain, at the end
+  std::vector<PassTotals> passes;  // each thread's ns per pass (timed only), of the fastest repeat
+};
+
+// Best wall time of `repeat` runs of `steps` steps (after a warm-up of a tenth), with `passes` each
+// thread's time per pass.
+Timing time_steps(const Scene& s, int steps, int repeat, bool passes = false) {
+  double best = 1e300;
+  Timing out;
   for (int r = 0; r < repeat; ++r) {
     System sys(s);
     sys.advance(std::max(1, steps / 10));  // warm up caches and the neighbour lists
+    sys.time_passes(passes);
     const auto t = Clock::now();
     sys.advance(steps);
-    best = std::min(best, seconds_since(t));
-    contacts = static_cast<double>(contact_count(sys)) / static_cast<double>(sys.size());
+    const double wall = seconds_since(t);
+    out.contacts = static_cast<double>(contact_count(sys)) / static_cast<double>(sys.size());
+    if (wall < best) out.passes = sys.work.pass_totals;
+    best = std::min(best, wall);
   }
-  return {best * 1e9 / (static_cast<double>(steps) * static_cast<double>(s.particles.size())), contacts};
+  const double particle_steps = static_cast<double>(steps) * static_cast<double>(s.particles.size());
+  out.ns = best * 1e9 / particle_steps;
+  for (PassTotals& t : out.passes)
+    for (double& ns : t.ns) ns /= particle_steps;
+  return out;
+}
+
+int run_passes(const BenchOptions& opt, const Scene& settled) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const int threads : opt.threads) {
+    Scene s = settled;
+    s.threads = threads;
+    const Timing t = time_steps(s, opt.steps, opt.repeat, true);
+    std::printf("\n  full contact law, %d thread%s: %.2f ns/particle-step (%.2f contacts/grain); "
+                "each thread's time per pass, ns/particle-step\n  %-28s", threads, threads > 1 ? "s" : "",
+                t.ns, t.contacts, "pass");
+    for (int k = 0; k < threads; ++k) std::printf(" %9s%d", "thread ", k);
+    std::printf("\n");
+    std::vector<double> sum(t.passes.size(), 0.0);
+    for (std::size_t p = 0; p < kPasses; ++p) {
+      std::printf("  %-28s", kPassNames[p]);
+      nlohmann::json row = {{"threads", threads}, {"pass", kPassNames[p]}, {"ns_per_particle_step", {}}};
+      for (std::size_t k = 0; k < t.passes.size(); ++k) {
+        std::printf(" %10.2f", t.passes[k].ns[p]);
+        sum[k] += t.passes[k].ns[p];
+        row["ns_per_particle_step"].push_back(t.passes[k].ns[p]);
+      }
+      std::printf("\n");
+      out.push_back(row);
+    }
+    std::printf("  %-28s", "sum (the step, timed)");
+    for (const double x : sum) std::printf(" %10.2f", x);
+    std::printf("\n");
+  }
+  if (!opt.json.empty()) std::ofstream(opt.json) << out.dump(2) << "\n";
+  return 0;
 }
 
 int run_scaling(const BenchOptions& opt, const Scene& settled) {
@@ -159,7 +204,8 @@ int run_scaling(const BenchOptions& opt, const Scene& settled) {
     const int steps = std::max(10, static_cast<int>(std::llround(opt.particle_steps / n)));
     for (const int threads : opt.threads) {
       s.threads = threads;
-      const auto [ns, contacts] = time_steps(s, steps, opt.repeat);
+      const Timing t = time_steps(s, steps, opt.repeat);
+      const double ns = t.ns, contacts = t.contacts;
       std::printf("  %10zu %8d %7d %17.2f %12.2f\n", s.particles.size(), steps, threads, ns, contacts);
       std::fflush(stdout);
       out.push_back({{"tiles", k}, {"particles", s.particles.size()}, {"steps", steps}, {"threads", threads},
@@ -179,6 +225,7 @@ int run_bench(const BenchOptions& opt) {
   // settle with the scene's own stop criterion
   const Scene settled = with_state_and_history(scene, settle(scene, opt.scene));
   if (!opt.tiles.empty()) return run_scaling(opt, settled);
+  if (opt.passes) return run_passes(opt, settled);
 
   nlohmann::json out = nlohmann::json::array();
   std::printf("\n  %-42s %7s %17s %12s\n", "case", "threads", "ns/particle-step", "contacts/N");
@@ -194,7 +241,8 @@ int run_bench(const BenchOptions& opt) {
       s.threads = threads;
       zero(s.particle_particle, c.zeroed);
       zero(s.particle_wall, c.zeroed);
-      const auto [ns, contacts] = time_steps(s, opt.steps, opt.repeat);
+      const Timing t = time_steps(s, opt.steps, opt.repeat);
+      const double ns = t.ns, contacts = t.contacts;
       std::printf("  %-42s %7d %17.2f %12.2f%s\n", c.name, threads, ns, contacts,
                   generic && !c.generic ? "  (generic kernel: set not declared)" : "");
       out.push_back({{"case", c.name}, {"effects", effect_names(s.effects)}, {"generic_kernel", generic},

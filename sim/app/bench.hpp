@@ -22,6 +22,9 @@ struct BenchOptions {
   // physics per grain, N = tiles x the bed's grains), with about
   // `particle_steps` particle-steps per measurement.
   std::vector<int> tiles;
+  // Passes mode: each thread's time per pass of the step (engine/pass_clock.hpp)
+  // on the full contact law, for each thread count, from the fastest repeat.
+  bool passes = false;
   double particle_steps = 2e8;
 };
 

@@ -2,7 +2,7 @@
 //   dem2d run SCENE.toml --out DIR [--overlay FILE]... [--initial RUN.h5|CHECKPOINT.h5] [--threads N] [--fresh] [--overwrite] [--progress S]
 //             [--generic-kernel]
 //   dem2d check SCENE.toml [--overlay FILE]... [--initial RUN.h5|CHECKPOINT.h5] [--json]
-//   dem2d bench [--scene FILE] [--steps N] [--threads 1,2]
+//   dem2d bench [--scene FILE] [--steps N] [--threads 1,2] [--passes]
 //   dem2d inspect RUN.h5 | --schema   (--schema: the run file's layout, JSON)
 //   dem2d --list-effects   the effects this build knows (JSON: key, bit, needs, what)
 // Exit codes: 0 done, 1 run failed, 2 bad input, 3 interrupted (checkpoint written).
@@ -189,6 +189,8 @@ int main(int argc, char** argv) {
   bench->add_option("--tiles", bench_opt.tiles,
                     "Scaling instead: time K copies of the settled bed side by side in one wider cell, for each K")
       ->check(CLI::PositiveNumber);
+  bench->add_flag("--passes", bench_opt.passes,
+                  "Where the time goes instead: each thread's time per pass of the step, full contact law");
   bench->add_option("--particle-steps", bench_opt.particle_steps,
                     "Scaling: particle-steps per measurement (steps = this / N)")
       ->capture_default_str()

@@ -34,6 +34,7 @@
 
 #include "contact/contact_model.hpp"
 #include "core/hot_loop.hpp"
+#include "engine/pass_clock.hpp"
 #include "engine/step_barrier.hpp"
 #include "engine/system.hpp"
 
@@ -389,9 +390,13 @@ void advance(System& s, std::int64_t steps) {
   {
     // every thread keeps the same displacement bound, from the same numbers
     double moved = s.cache.moved_particles;
+    const auto thread = static_cast<size_t>(omp_get_thread_num());
+    PassClock clock(s.work.pass_totals.empty() ? nullptr : &s.work.pass_totals[thread]);
     integrate<E, false, true>(s);
+    clock.end(Pass::integrate);
 #pragma omp master
     open_step_serial<E>(s);
+    clock.end(Pass::bodies);
     const bool ledger = s.state.energy.on;  // the same for every thread: the extra barriers below match
     for (std::int64_t k = 0; k < steps; ++k) {
       barrier.wait();
@@ -403,6 +408,7 @@ void advance(System& s, std::int64_t steps) {
         escaped |= r.escaped;
       }
       moved += std::sqrt(v2max) * s.config.dt;
+      clock.end(Pass::wait_drift);
       if (escaped || s.state.rebuild_pending || moved > 0.5 * s.state.lists.skin() || moved + s.cache.moved_bodies > s.state.lists.skin()) {
         // Every thread has taken this decision (and its open_step is done
         // with the old lists) before the rebuild resets what it was taken
@@ -418,23 +424,30 @@ void advance(System& s, std::int64_t steps) {
         }
         barrier.wait();
         moved = 0.0;
+        clock.end(Pass::rebuild);
         if (failed) break;
       }
       pair_forces<E>(s, ContactModel<E>{s.config.pp, scene});
+      clock.end(Pass::pairs);
       if constexpr (compiles<E>(effect::walls))
         if (walls) body_forces<E>(s, ContactModel<E>{s.config.pw, scene});
+      clock.end(Pass::walls);
       barrier.wait();
+      clock.end(Pass::wait_forces);
       if (ledger) {
         energy::close_step(s);
         barrier.wait();
+        clock.end(Pass::ledger);
       }  // no grain moves before every thread's close_step has read it
       claim_shared_grains(s);
       gather<E>(s);
+      clock.end(Pass::gather);
       const bool open = k + 1 < steps;
       if (open)
         integrate<E, true, true>(s);  // close this step, open the next
       else
         integrate<E, true, false>(s);
+      clock.end(Pass::integrate);
 #pragma omp master
       {
         // this step's body force sums (all wall slots were done before the
@@ -442,6 +455,7 @@ void advance(System& s, std::int64_t steps) {
         if (walls) body_sums(s);
         if (open) open_step_serial<E>(s);
       }
+      clock.end(Pass::bodies);
     }
 #pragma omp master
     s.cache.moved_particles = moved;

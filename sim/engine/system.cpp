@@ -285,6 +285,10 @@ void System::set_threads(int n) {
   split_work();
 }
 
+void System::time_passes(bool on) {
+  work.pass_totals.assign(on ? static_cast<std::size_t>(config.threads) : 0, PassTotals{});
+}
+
 void System::split_work() {
   // Cost of grain i in units of one gathered contact: its pair rows are
   // evaluated (~2 units a slot), its own and reverse slots summed (1 unit

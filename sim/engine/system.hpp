@@ -14,6 +14,7 @@
 #include "core/effects.hpp"
 #include "core/state.hpp"
 #include "engine/energy_ledger.hpp"
+#include "engine/pass_clock.hpp"
 #include "neighbour/contact_lists.hpp"
 #include "scene/scene.hpp"
 #include "shape/shape.hpp"
@@ -89,6 +90,10 @@ struct StepWork {
   // cache lines sit in another core when thread t integrates them. Set with
   // `part`.
   std::vector<std::size_t> shared_end;
+  // Each thread's wall time per pass (engine/pass_clock.hpp), one entry per
+  // thread of SystemConfig::threads while System::time_passes is on; empty
+  // (not timed) otherwise.
+  std::vector<PassTotals> pass_totals;
 };
 
 // A run's system: four parts, so that a reader can tell what a step changes
@@ -115,6 +120,9 @@ struct System {
   // The steps from now on on n threads (1 <= n <= config.threads): splits the
   // work anew; the lists and every result stay as they are.
   void set_threads(int n);
+  // Times every pass of the steps from now on (on: the totals start at zero;
+  // off: they are dropped). The results do not depend on it.
+  void time_passes(bool on);
   // Rebuild the neighbour lists now, reset the displacement bounds and split
   // the work among the threads. When it happens never changes the results,
   // only the cost.
