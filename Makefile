@@ -10,6 +10,7 @@
 #   make test       the tests of the optimised build (make test-pipeline's and make test-cluster's among
 #                   them), then those that exercise memory again under AddressSanitizer + UBSan
 #   make bench      ns per particle-step on the standard settled bed
+#   make bench-passes  where the step's time goes: each thread's time per pass, 1 and 2 threads
 #   make bench-scaling  ns per particle-step for N = 1.6e3 ... 1e6 disks (copies of that bed side by side)
 #   make bench-compare  dem2d against LAMMPS (installs lammps) on the same settled bed, 1 and 2 cores
 #                   (results/bench_compare/compare.md)
@@ -121,7 +122,7 @@ TEST_PACKAGES := python3-pytest python3-paraview xvfb
 # how packages are installed: directly as root, else through sudo when there is one (SUDO= : none)
 SUDO ?= $(shell [ "$$(id -u)" -eq 0 ] || command -v sudo)
 
-.PHONY: paraview deps needs needs-test build build-tests install test test-release test-sanitize test-pipeline test-cluster fuzz bench bench-scaling bench-compare reproduce check validate \
+.PHONY: paraview deps needs needs-test build build-tests install test test-release test-sanitize test-pipeline test-cluster fuzz bench bench-passes bench-scaling bench-compare reproduce check validate \
   pulloff-slice cyclic metrics figures report accuracy ensemble clean FORCE
 .DEFAULT_GOAL := build
 # a recipe that fails never leaves its target behind for a later make to take as done
@@ -240,6 +241,10 @@ install: $(BUILD)/CMakeCache.txt
 
 bench: build
 	$(DEM2D) bench
+
+# where the step's time goes: each thread's time per pass, 1 and 2 threads
+bench-passes: build
+	$(DEM2D) bench --passes --repeat 3 --json results/bench_passes.json
 
 # N = 1600 x (1, 6, 63, 625) disks: copies of the settled bed in cells side by side
 bench-scaling: build
