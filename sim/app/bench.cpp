@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <string>
 #include <nlohmann/json.hpp>
 
 #include "engine/diagnostics.hpp"
@@ -139,7 +140,25 @@ struct Timing {
   double ns = 0.0;        // per particle-step
   double contacts = 0.0;  // per grain, at the end
   std::vector<PassTotals> passes;  // each thread's ns per pass (timed only), of the fastest repeat
+  std::vector<std::string> shares;  // each thread's share of the work at the end (timed only)
 };
+
+// Thread t's share of the work: its grains, the ones lower threads' rows read, its pair rows' slots, the
+// reverse slots it sums, its wall slots.
+std::vector<std::string> work_shares(const System& sys) {
+  const PairList& L = sys.state.lists.pairs;
+  const WallList& W = sys.state.lists.walls;
+  std::vector<std::string> out;
+  for (std::size_t t = 0; t + 1 < sys.work.part.size(); ++t) {
+    const std::size_t a = sys.work.part[t], b = sys.work.part[t + 1];
+    char line[200];
+    std::snprintf(line, sizeof line, "grains [%zu, %zu) (read by lower threads: %zu), pair slots %d, reverse %d, walls %d",
+                  a, b, sys.work.shared_end[t] - a, L.start[b] - L.start[a], L.rev_start[b] - L.rev_start[a],
+                  W.start[b] - W.start[a]);
+    out.emplace_back(line);
+  }
+  return out;
+}
 
 // Best wall time of `repeat` runs of `steps` steps (after a warm-up of a tenth), with `passes` each
 // thread's time per pass.
@@ -154,7 +173,10 @@ Timing time_steps(const Scene& s, int steps, int repeat, bool passes = false) {
     sys.advance(steps);
     const double wall = seconds_since(t);
     out.contacts = static_cast<double>(contact_count(sys)) / static_cast<double>(sys.size());
-    if (wall < best) out.passes = sys.work.pass_totals;
+    if (wall < best) {
+      out.passes = sys.work.pass_totals;
+      if (passes) out.shares = work_shares(sys);
+    }
     best = std::min(best, wall);
   }
   const double particle_steps = static_cast<double>(steps) * static_cast<double>(s.particles.size());
@@ -190,6 +212,7 @@ int run_passes(const BenchOptions& opt, const Scene& settled) {
     std::printf("  %-28s", "sum (the step, timed)");
     for (const double x : sum) std::printf(" %10.2f", x);
     std::printf("\n");
+    for (std::size_t k = 0; k < t.shares.size(); ++k) std::printf("  thread %zu: %s\n", k, t.shares[k].c_str());
   }
   if (!opt.json.empty()) std::ofstream(opt.json) << out.dump(2) << "\n";
   return 0;
