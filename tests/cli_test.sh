@@ -80,6 +80,12 @@ expect 0 "1 thread, of 2 asked: OpenMP runs parallel regions with fewer" -- \
   env OMP_MAX_ACTIVE_LEVELS=0 timeout 120 "$DEM2D" run "$TESTS/scenes/valid_minimal.toml" --out "$WORK/levels" --threads 2
 expect 2 "unknown command 'rnu' (commands: run, check, bench, inspect); did you mean 'run'?" -- "$DEM2D" rnu "$TESTS/scenes/valid_minimal.toml"
 "$DEM2D" run --help | grep -q -- "--interrupt-at-step" && fail "the test-only --interrupt-at-step shows in run --help"
+# every case of make bench runs on a kernel compiled for its effects (kernel_sets.inc), but the one that
+# measures the generic kernel: a set missing there doubled the frictionless rows unnoticed
+"$DEM2D" bench --list >"$WORK/bench_list.txt" || fail "dem2d bench --list failed"
+[ "$(grep -c "specialised" "$WORK/bench_list.txt")" -ge 9 ] || fail "dem2d bench --list: $(cat "$WORK/bench_list.txt")"
+grep "generic" "$WORK/bench_list.txt" | grep -v "^full contact law, generic kernel " &&
+  fail "a bench case runs on the generic kernel: declare its set in sim/engine/kernel_sets.inc"
 
 MIN_SCENE=$TESTS/scenes/valid_minimal.toml
 # a complete run: run file and XDMF, valid layout, no work directory left

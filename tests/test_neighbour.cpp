@@ -220,7 +220,9 @@ TEST(Determinism, TimingThePassesChangesNoBitAndAccountsForTheStep) {
       sum += ns;
     }
     EXPECT_LE(sum, wall);
-    if (k == 0) EXPECT_GT(sum, 0.5 * wall);  // (the calling thread: the others may start late on a busy machine)
+    if (k == 0) {  // the calling thread (the others may start late on a busy machine)
+      EXPECT_GT(sum, 0.5 * wall);
+    }
     EXPECT_GT(t.ns[static_cast<std::size_t>(Pass::pairs)], 0.0);
     EXPECT_EQ(t.ns[static_cast<std::size_t>(Pass::ledger)], 0.0);
   }

@@ -244,6 +244,14 @@ int run_scaling(const BenchOptions& opt, const Scene& settled) {
 int run_bench(const BenchOptions& opt) {
   Scene scene = load_scene(opt.scene);
   scene.threads = *std::max_element(opt.threads.begin(), opt.threads.end());
+  if (opt.list) {  // the cases and the kernel each runs on, without settling
+    for (const Case& c : kCases) {
+      const EffectSet effects = (scene.effects & ~c.removed) | c.added;
+      std::printf("%-42s  %-9s {%s}\n", c.name,
+                  c.generic || !kernels_specialised(effects) ? "generic" : "specialised", effect_names(effects).c_str());
+    }
+    return 0;
+  }
 
   // settle with the scene's own stop criterion
   const Scene settled = with_state_and_history(scene, settle(scene, opt.scene));

@@ -25,6 +25,7 @@ struct BenchOptions {
   // Passes mode: each thread's time per pass of the step (engine/pass_clock.hpp)
   // on the full contact law, for each thread count, from the fastest repeat.
   bool passes = false;
+  bool list = false;  // list the cases and the kernel each runs on, and stop
   double particle_steps = 2e8;
 };
 

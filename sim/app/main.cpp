@@ -189,6 +189,8 @@ int main(int argc, char** argv) {
   bench->add_option("--tiles", bench_opt.tiles,
                     "Scaling instead: time K copies of the settled bed side by side in one wider cell, for each K")
       ->check(CLI::PositiveNumber);
+  bench->add_flag("--list", bench_opt.list,
+                  "List the cases and the kernel each runs on (specialised or generic), without running them");
   bench->add_flag("--passes", bench_opt.passes,
                   "Where the time goes instead: each thread's time per pass of the step, full contact law");
   bench->add_option("--particle-steps", bench_opt.particle_steps,
