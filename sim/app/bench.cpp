@@ -50,6 +50,11 @@ constexpr Case kCases[] = {
     {"frictionless, undamped (compiled out)", kRolling | kFriction | kDamping, 0},
 };
 
+// A case's effect set on a scene's, and whether it runs on the generic kernel (asked to, or because
+// engine/kernel_sets.inc does not declare the set).
+EffectSet effects_of(const Case& c, EffectSet scene) { return (scene & ~c.removed) | c.added; }
+bool on_generic(const Case& c, EffectSet scene) { return c.generic || !kernels_specialised(effects_of(c, scene)); }
+
 void zero(ContactLaw& law, EffectSet zeroed) {
   if (has(zeroed, kRolling)) law.rolling_friction = law.rolling_stiffness = 0.0;
   if (has(zeroed, kFriction)) law.friction = law.kt = 0.0;
@@ -228,11 +233,10 @@ int run_scaling(const BenchOptions& opt, const Scene& settled) {
     for (const int threads : opt.threads) {
       s.threads = threads;
       const Timing t = time_steps(s, steps, opt.repeat);
-      const double ns = t.ns, contacts = t.contacts;
-      std::printf("  %10zu %8d %7d %17.2f %12.2f\n", s.particles.size(), steps, threads, ns, contacts);
+      std::printf("  %10zu %8d %7d %17.2f %12.2f\n", s.particles.size(), steps, threads, t.ns, t.contacts);
       std::fflush(stdout);
       out.push_back({{"tiles", k}, {"particles", s.particles.size()}, {"steps", steps}, {"threads", threads},
-                     {"ns_per_particle_step", ns}, {"contacts_per_particle", contacts}});
+                     {"ns_per_particle_step", t.ns}, {"contacts_per_particle", t.contacts}});
     }
   }
   if (!opt.json.empty()) std::ofstream(opt.json) << out.dump(2) << "\n";
@@ -245,11 +249,9 @@ int run_bench(const BenchOptions& opt) {
   Scene scene = load_scene(opt.scene);
   scene.threads = *std::max_element(opt.threads.begin(), opt.threads.end());
   if (opt.list) {  // the cases and the kernel each runs on, without settling
-    for (const Case& c : kCases) {
-      const EffectSet effects = (scene.effects & ~c.removed) | c.added;
-      std::printf("%-42s  %-9s {%s}\n", c.name,
-                  c.generic || !kernels_specialised(effects) ? "generic" : "specialised", effect_names(effects).c_str());
-    }
+    for (const Case& c : kCases)
+      std::printf("%-42s  %-9s {%s}\n", c.name, on_generic(c, scene.effects) ? "generic" : "specialised",
+                  effect_names(effects_of(c, scene.effects)).c_str());
     return 0;
   }
 
@@ -261,9 +263,8 @@ int run_bench(const BenchOptions& opt) {
   nlohmann::json out = nlohmann::json::array();
   std::printf("\n  %-42s %7s %17s %12s\n", "case", "threads", "ns/particle-step", "contacts/N");
   for (const Case& c : kCases) {
-    const EffectSet effects = (settled.effects & ~c.removed) | c.added;
-    // (a set engine/kernel_sets.inc does not declare runs on the generic kernel)
-    const bool generic = c.generic || !kernels_specialised(effects);
+    const EffectSet effects = effects_of(c, settled.effects);
+    const bool generic = on_generic(c, settled.effects);
     for (const int threads : opt.threads) {
       Scene s = settled;
       s.effects = effects;
@@ -273,12 +274,11 @@ int run_bench(const BenchOptions& opt) {
       zero(s.particle_particle, c.zeroed);
       zero(s.particle_wall, c.zeroed);
       const Timing t = time_steps(s, opt.steps, opt.repeat);
-      const double ns = t.ns, contacts = t.contacts;
-      std::printf("  %-42s %7d %17.2f %12.2f%s\n", c.name, threads, ns, contacts,
+      std::printf("  %-42s %7d %17.2f %12.2f%s\n", c.name, threads, t.ns, t.contacts,
                   generic && !c.generic ? "  (generic kernel: set not declared)" : "");
       out.push_back({{"case", c.name}, {"effects", effect_names(s.effects)}, {"generic_kernel", generic},
                      {"threads", threads},
-                     {"ns_per_particle_step", ns}, {"contacts_per_particle", contacts},
+                     {"ns_per_particle_step", t.ns}, {"contacts_per_particle", t.contacts},
                      {"particles", s.particles.size()}, {"steps", opt.steps}});
     }
   }

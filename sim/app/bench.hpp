@@ -22,11 +22,11 @@ struct BenchOptions {
   // physics per grain, N = tiles x the bed's grains), with about
   // `particle_steps` particle-steps per measurement.
   std::vector<int> tiles;
+  double particle_steps = 2e8;
   // Passes mode: each thread's time per pass of the step (engine/pass_clock.hpp)
   // on the full contact law, for each thread count, from the fastest repeat.
   bool passes = false;
   bool list = false;  // list the cases and the kernel each runs on, and stop
-  double particle_steps = 2e8;
 };
 
 int run_bench(const BenchOptions& options);

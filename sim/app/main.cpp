@@ -2,7 +2,7 @@
 //   dem2d run SCENE.toml --out DIR [--overlay FILE]... [--initial RUN.h5|CHECKPOINT.h5] [--threads N] [--fresh] [--overwrite] [--progress S]
 //             [--generic-kernel]
 //   dem2d check SCENE.toml [--overlay FILE]... [--initial RUN.h5|CHECKPOINT.h5] [--json]
-//   dem2d bench [--scene FILE] [--steps N] [--threads 1,2] [--passes]
+//   dem2d bench [--scene FILE] [--steps N] [--threads 1,2] [--passes | --tiles K... | --list]
 //   dem2d inspect RUN.h5 | --schema   (--schema: the run file's layout, JSON)
 //   dem2d --list-effects   the effects this build knows (JSON: key, bit, needs, what)
 // Exit codes: 0 done, 1 run failed, 2 bad input, 3 interrupted (checkpoint written).
