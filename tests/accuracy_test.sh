@@ -61,6 +61,22 @@ PYEOF
 # the k_n overlay: k_t and k_r keep the preset's ratios
 grep -q "^kt = 9600000.0" "$WORK/acc/points/kn_1.92e7/overlay.toml" || fail "kn_1.92e7: k_t is not k_n/2"
 grep -q "^rolling_stiffness = 0.01728" "$WORK/acc/points/kn_1.92e7/overlay.toml" || fail "kn_1.92e7: k_r"
+# a replica is the point it names with only dt / dt_c changed: the same contact law, the same bed
+$PY - data/accuracy.toml "$WORK/acc" <<'PYEOF' || fail "replica overlays"
+import sys, tomllib
+cfg = tomllib.load(open(sys.argv[1], "rb"))
+def overlay(name):
+    return tomllib.load(open(f"{sys.argv[2]}/points/{name}/overlay.toml", "rb"))
+replicas = [p for p in cfg["point"] if p["knob"] == "replica"]
+assert replicas, "no replica in data/accuracy.toml"
+for p in replicas:
+    o, r = overlay(p["replica_of"]), overlay(p["name"])
+    assert r.pop("time") == {"dt_over_critical": p["dt_over_critical"]}, p["name"]
+    o.get("time", {}).pop("dt_over_critical", None)
+    assert r == {k: v for k, v in o.items() if v}, (p["name"], r, o)
+PYEOF
+grep -q "points/kn_1.92e8_replica/metrics.json: $WORK/acc/beds/kn_1.92e8/run.h5 " "$WORK/acc/plan.mk" ||
+  fail "kn_1.92e8_replica does not start from kn_1.92e8's bed"
 # rewriting an unchanged plan keeps the files' times (make reruns nothing)
 before=$(stat -c %Y.%N "$WORK/acc/points/V_29/overlay.toml")
 sleep 1
@@ -81,6 +97,13 @@ sed 's/^kn = 1.92e5$/kn = -1.92e5/' data/accuracy.toml >"$WORK/bad_kn.toml"
 bad "bad_kn.toml: point\[[0-9]*\] (kn_1.92e5): kn = -192000.0: must be a number > 0" $PY -m pipeline.accuracy.plan "$WORK/bad_kn.toml" "$WORK/b2"
 sed 's/^V_mm_s = 2.4$/V_mm_s = -2.4/' data/accuracy.toml >"$WORK/bad_v.toml"
 bad "bad_v.toml: point\[[0-9]*\] (V_2.4): V_mm_s = -2.4: must be a number > 0" $PY -m pipeline.accuracy.plan "$WORK/bad_v.toml" "$WORK/b3"
+
+sed 's/^replica_of = "default"$/replica_of = "nowhere"/' data/accuracy.toml >"$WORK/bad_replica.toml"
+bad "bad_replica.toml: point\[[0-9]*\] (replica): replica_of = 'nowhere': must name another point" \
+  $PY -m pipeline.accuracy.plan "$WORK/bad_replica.toml" "$WORK/b4"
+sed '/^replica_of = "default"$/d' data/accuracy.toml >"$WORK/no_replica_of.toml"
+bad "no_replica_of.toml: point\[[0-9]*\] (replica): replica_of is given for knob = \"replica\"" \
+  $PY -m pipeline.accuracy.plan "$WORK/no_replica_of.toml" "$WORK/b5"
 
 $PY tests/test_accuracy_table.py || fail "tests/test_accuracy_table.py"
 

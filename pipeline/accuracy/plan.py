@@ -7,6 +7,8 @@ that run them (RESULTS/plan.mk, included by the Makefile for `make accuracy`).
 A point changes one knob of the base preset: the contact stiffness k_n (k_t
 and k_r scale with it, the time step follows dt_c), dt / dt_c, or the pull
 speed V (every time of the pull-off scene given in travel scales with 1/V).
+A replica (knob "replica") is the point it names (`replica_of`) with a time
+step slightly changed: the same setting, another trajectory.
 A point with another k_n starts from the default fill re-settled under that
 k_n, at most a factor of 10 at a time (pipeline/accuracy/resettle.toml).
 
@@ -26,7 +28,7 @@ PULLOFF_SCENE = Path("pipeline/pulloff.toml")
 RESETTLE_SCENE = Path("pipeline/accuracy/resettle.toml")
 KNOBS = {"reference": [], "default": [], "replica": ["dt_over_critical"], "kn": ["kn"], "dt": ["dt_over_critical"],
          "V": ["V_mm_s"]}
-POINT_KEYS = {"name", "knob", "preset", "extent", "full_reference", "kn", "dt_over_critical", "V_mm_s"}
+POINT_KEYS = {"name", "knob", "preset", "extent", "full_reference", "kn", "dt_over_critical", "V_mm_s", "replica_of"}
 CG_KEYS = {"name", "spacing_mm", "w_over_d", "reference"}
 
 
@@ -54,16 +56,33 @@ def check_point(p: dict, where: str) -> None:
     for key in KNOBS[p["knob"]]:
         if not isinstance(p.get(key), (int, float)) or p[key] <= 0:
             fail(f"{where} ({p['name']}): {key} = {p.get(key)!r}: must be a number > 0")
+    if (p["knob"] == "replica") != ("replica_of" in p):
+        fail(f"{where} ({p['name']}): replica_of is given for knob = \"replica\" (the name of the point it replicates), "
+             f"and only for it")
+    extra = set(p) & {"kn", "dt_over_critical", "V_mm_s"} - set(KNOBS[p["knob"]])
+    if extra:
+        fail(f"{where} ({p['name']}): {sorted(extra)} not used by knob = {p['knob']!r} (it uses {KNOBS[p['knob']]})")
+
+
+def replicated(p: dict, points: list, where: str) -> dict:
+    """A replica: the point it names (not itself a replica, with the same extent), its time step changed."""
+    original = next((q for q in points if q["name"] == p["replica_of"]), None)
+    if original is None or original["knob"] == "replica" or original["extent"] != p["extent"]:
+        fail(f"{where} ({p['name']}): replica_of = {p['replica_of']!r}: must name another point of the same extent "
+             f"that is not a replica; points: {[q['name'] for q in points]}")
+    return {**original, "name": p["name"], "knob": "replica", "dt_over_critical": p["dt_over_critical"],
+            "full_reference": False}
 
 
 def point_overlay(p: dict, preset: dict, pulloff: dict, slice_mm: float) -> dict:
+    """p: a point, a replica already merged with the point it replicates (its kn, V, preset)."""
     tables: dict = {}
     speed = intruder_speed(pulloff)
-    if p["knob"] == "kn":
+    if "kn" in p:
         tables["contact"] = stiffness(p["kn"], preset)
-    if p["knob"] in ("dt", "replica"):
+    if "dt_over_critical" in p:
         tables["time"] = {"dt_over_critical": p["dt_over_critical"]}
-    if p["knob"] == "V":
+    if "V_mm_s" in p:
         speed = p["V_mm_s"] * 1e-3
         tables.update(speed_overlay(pulloff, speed))
     if p["extent"] == "slice":
@@ -128,6 +147,8 @@ def main() -> None:
         if p["name"] in names:
             fail(f"{config_path}: point[{i}]: name {p['name']!r} is used twice")
         names.add(p["name"])
+        if p["knob"] == "replica":
+            p = replicated(p, points, f"{config_path}: point[{i}]")
         name_preset = p.get("preset", base)
         pre = preset(name_preset)
         kn = p.get("kn", pre["contact"]["kn"])

@@ -154,12 +154,22 @@ def check_name(c: dict) -> str:
 
 
 def noise_floor(slice_noise: list, target_noise: list) -> dict:
-    """What two equivalent runs (the default and its replica) differ by, per check (None: a metric missing
+    """What two equivalent runs (a point and its replica) differ by, per check (None: a metric missing
     in one of them). The overlap checks bound the run itself, they compare nothing: no noise."""
     floor = {c["check"]: 0.0 if "overlap" in c["check"] else c["value"] for c in slice_noise}
     for c in target_noise:
         floor[c["metric"]] = None if c["deviation"] is None else abs(c["deviation"])
     return floor
+
+
+def combined_floor(floors: list) -> dict:
+    """One noise floor from several pairs of equivalent runs: per check the largest of their differences (each
+    pair is one sample of it; None where any pair lacks the metric)."""
+    out = {}
+    for f in floors:
+        for k, v in f.items():
+            out[k] = None if v is None or (k in out and out[k] is None) else max(v, out.get(k, 0.0))
+    return out
 
 
 def judge(row: dict, floor: dict) -> None:
@@ -171,7 +181,7 @@ def judge(row: dict, floor: dict) -> None:
         noise = floor.get(check_name(c), 0.0)
         if c["ok"]:
             c["significant"] = False
-        elif noise is None:  # the noise of a metric missing in the default or its replica is unknown
+        elif noise is None:  # the noise of a metric missing in a point or its replica is unknown
             c["significant"] = False
         elif "margins" in c:  # a bound: both sides clearly on their side of it
             c["significant"] = c["margins"] is None or min(c["margins"]) > 2.0 * noise
@@ -202,7 +212,7 @@ def setting(p: dict) -> str:
     return {"reference": "paper law, dt = 1e-7 s", "default": "the base (preset fast)",
             "kn": f"k_n = {p.get('kn', 0):.3g} N/m", "dt": f"dt = dt_c x {p.get('dt_over_critical', 0):.3g}",
             "V": f"V = {p.get('V_mm_s', 0):g} mm/s",
-            "replica": f"the base, dt = dt_c x {p.get('dt_over_critical', 0):.3g}"}[p["knob"]]
+            "replica": f"{p.get('replica_of')}, dt = dt_c x {p.get('dt_over_critical', 0):.3g}"}[p["knob"]]
 
 
 def main() -> None:
@@ -247,16 +257,15 @@ def main() -> None:
                                                             window_mm, sweep["profile_step_mm"])
         rows.append(row)
 
-    floor = {}
-    default = next((p for p in points if p["knob"] == "default"), None)
-    replica = next((p for p in points if p["knob"] == "replica"), None)
-    if default and replica:
-        a, b = runs[replica["name"]], runs[default["name"]]
+    floors = {}
+    for replica in (p for p in points if p["knob"] == "replica"):
+        a, b = runs[replica["name"]], runs[replica["replica_of"]]
         slice_noise = slice_checks(a.slice_metrics(top_mm), b.slice_metrics(top_mm),
                                    profile_deviation(a, b, top_mm, window_mm, sweep["profile_step_mm"]), tol)
-        target_noise = (compare_targets(targets, full[replica["name"]], full[default["name"]])
-                        if replica["name"] in full and default["name"] in full else [])
-        floor = noise_floor(slice_noise, target_noise)
+        target_noise = (compare_targets(targets, full[replica["name"]], full[replica["replica_of"]])
+                        if replica["extent"] == "full" else [])
+        floors[replica["replica_of"]] = noise_floor(slice_noise, target_noise)
+    floor = combined_floor(list(floors.values()))
     for row in rows:
         judge(row, floor)
 
@@ -264,7 +273,7 @@ def main() -> None:
     eligible = [r for r in rows if r["within_tolerance"] and r["extent"] == "full"]
     cheapest = min(eligible, key=lambda r: r["full_wall_seconds"]) if eligible else None
     result = {"slice_mm": top_mm, "smoothing_mm": window_mm, "d_mean_mm": d_mm, "slice_reference": ref_slice["name"],
-              "full_reference": ref_full["name"], "points": rows, "cg": cg_rows, "noise_floor": floor,
+              "full_reference": ref_full["name"], "points": rows, "cg": cg_rows, "noise_floor": floor, "noise_floors": floors,
               "overlap_tolerance": tol["max_overlap_over_d"],
               "cheapest_within_tolerance": cheapest["name"] if cheapest else None}
     write_atomic(out / "table.json", json.dumps(result, indent=2) + "\n")
@@ -310,7 +319,7 @@ def markdown(result: dict, targets: list) -> str:
     def noise(name: str) -> str:
         return fmt(floor[name]) if name in floor else "—"
 
-    lines = [f"# Accuracy and cost (make accuracy)", "",
+    lines = ["# Accuracy and cost (make accuracy)", "",
              f"Slice: the first {result['slice_mm']:g} mm of travel, compared with point "
              f"`{result['slice_reference']}` (drag smoothed over {result['smoothing_mm']:.2f} mm). Whole runs: "
              f"every paper target's metric compared with point `{result['full_reference']}`, within the target's "
@@ -328,14 +337,15 @@ def markdown(result: dict, targets: list) -> str:
                      f"| {fmt(r.get('run_max_overlap_over_d'), 3)} | {fmt(r['within_tolerance'])} "
                      f"| {', '.join(r['misses']) or '—'} | {', '.join(r['unresolved_misses']) or '—'} |")
     if floor:
-        lines += ["", "Noise floor of the slice comparison (`default` against `replica`): " +
+        pairs = ", ".join(f"`{r['name']}` against `{r['setting'].split(',')[0]}`" for r in rows if r["knob"] == "replica")
+        lines += ["", f"Noise floor of the slice comparison (the larger of {pairs}): " +
                   ", ".join(f"{k} {noise(k)}" for k in ["profile_rel_rms", "peak_drag_rel", "peak_height_mm",
                                                          "mean_drag_rel"]) + "."]
     full_rows = [r for r in rows if "targets" in r]
     if full_rows:
         lines += ["", "Whole-run metrics (value; deviation from the reference in brackets when it exceeds the "
                   "target's tolerance, or the verdict when a bound's verdict flips):", "",
-                  "| metric | tolerance | noise (default vs replica) | " + " | ".join(r["name"] for r in full_rows) + " |",
+                  "| metric | tolerance | noise (replicas) | " + " | ".join(r["name"] for r in full_rows) + " |",
                   "|---|---|---|" + "---|" * len(full_rows)]
         for i, t in enumerate(targets):
             cells = []
@@ -425,7 +435,7 @@ def pareto(result: dict, path: Path) -> None:
             ax.scatter(x, max(y, 1e-3), **style)
             ax.annotate(r["name"], (x, max(y, 1e-3)), xytext=(4, 3), textcoords="offset points", fontsize=7)
     # the sweep's knobs; "default" is the sweep's base point (preset fast), not preset default
-    names = {"reference": "reference (paper law)", "default": "base (preset fast)", "replica": "base, replica",
+    names = {"reference": "reference (paper law)", "default": "base (preset fast)", "replica": "replica",
              "kn": "k_n varied", "dt": "dt varied", "V": "V varied"}
     for knob, c in colours.items():
         left.scatter([], [], c=c, label=names[knob])
