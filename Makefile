@@ -393,6 +393,13 @@ $(ACCURACY)/table.md: $(ACCURACY_TARGETS) data/accuracy.toml data/paper_targets.
 
 accuracy: $(ACCURACY)/table.md
 
+# an ensemble (by default the default preset's: make ensemble PRESET=default first) against the whole-run
+# reference's members (pipeline/accuracy/ensemble_vs_reference.py)
+ACCURACY_ENSEMBLE ?= results/default/ensemble
+$(ACCURACY)/ensemble_vs_reference.md: $(ACCURACY_REFERENCE_TARGETS) $(wildcard $(ACCURACY_ENSEMBLE)/stats.json) data/accuracy.toml \
+    data/paper_targets.toml pipeline/accuracy/ensemble_vs_reference.py
+	$(PYTHON) -m pipeline.accuracy.ensemble_vs_reference data/accuracy.toml $(ACCURACY) $(ACCURACY_ENSEMBLE)
+
 # --- make validate: cases with analytic or established references ---------
 # (pipeline/validate/README.md): results/validate/table.md and figures; fails on any miss
 validate: build

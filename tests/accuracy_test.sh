@@ -3,7 +3,8 @@
 # writes is a valid scene with the intended knob (checked by dem2d itself),
 # times given in travel scale with 1/V, slices last slice_mm of travel, and bad
 # sweep files are refused with a message naming the file and the key. Then the
-# table's comparison functions (tests/test_accuracy_table.py).
+# table's comparison functions (tests/test_accuracy_table.py) and an ensemble's
+# against the reference (tests/test_ensemble_vs_reference.py).
 # Usage: accuracy_test.sh DEM2D REPO_DIR
 set -uo pipefail
 DEM2D=$1
@@ -106,6 +107,9 @@ bad "no_replica_of.toml: point\[[0-9]*\] (replica): replica_of is given for knob
   $PY -m pipeline.accuracy.plan "$WORK/no_replica_of.toml" "$WORK/b5"
 
 $PY tests/test_accuracy_table.py || fail "tests/test_accuracy_table.py"
+$PY tests/test_ensemble_vs_reference.py || fail "tests/test_ensemble_vs_reference.py"
+grep -q "^ACCURACY_REFERENCE_TARGETS := $WORK/acc/points/kn_1.92e8/metrics.json $WORK/acc/points/kn_1.92e8_replica/metrics.json\$" \
+  "$WORK/acc/plan.mk" || fail "plan.mk: the whole-run reference's targets"
 
 [ $failures -eq 0 ] && echo "accuracy_test: all checks passed"
 exit $((failures > 0))

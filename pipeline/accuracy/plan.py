@@ -71,7 +71,7 @@ def replicated(p: dict, points: list, where: str) -> dict:
         fail(f"{where} ({p['name']}): replica_of = {p['replica_of']!r}: must name another point of the same extent "
              f"that is not a replica; points: {[q['name'] for q in points]}")
     return {**original, "name": p["name"], "knob": "replica", "dt_over_critical": p["dt_over_critical"],
-            "full_reference": False}
+            "full_reference": False, "replica_of": p["replica_of"]}
 
 
 def point_overlay(p: dict, preset: dict, pulloff: dict, slice_mm: float) -> dict:
@@ -116,7 +116,7 @@ def main() -> None:
     base_bed = f"results/{base}/fill/run.h5"
     slice_mm = sweep.get("slice_mm", 10.0)
     threads = sweep.get("threads", 1)
-    rules, beds, targets = [], {}, []
+    rules, beds, targets, reference_targets = [], {}, [], []
     # the base preset's fill, by its own rules when make runs for another preset
     rules.append(f"ifneq ($(PRESET),{base})\n{base_bed}: FORCE\n"
                  f"\t+@$(MAKE) --no-print-directory {base_bed} PRESET={base}\nendif\n")
@@ -162,6 +162,9 @@ def main() -> None:
                      f"\t+@$(MAKE) --no-print-directory {goal} PRESET={name_preset} RESULTS={d} POINT_OVERLAY={overlay} "
                      f"FILL_RUN={fill_run} THREADS={threads}\n")
         targets.append(str(target))
+        if p.get("full_reference") or (p["knob"] == "replica" and any(
+                q.get("full_reference") and q["name"] == p["replica_of"] for q in points)):
+            reference_targets.append(str(target))
 
     default_point = next((p for p in points if p["knob"] == "default" and p["extent"] == "full"), None)
     # the cg stage's command line as the registry gives it (its inputs from the point's own outputs)
@@ -185,7 +188,9 @@ def main() -> None:
         targets.append(f"{d}/metrics.json")
 
     text = ("# Written by pipeline/accuracy/plan.py from data/accuracy.toml: the accuracy sweep's rules.\n"
-            f"ACCURACY_TARGETS := {' '.join(targets)}\n\n" + "\n".join(rules))
+            f"ACCURACY_TARGETS := {' '.join(targets)}\n"
+            f"# the whole-run reference and its replicas\n"
+            f"ACCURACY_REFERENCE_TARGETS := {' '.join(reference_targets)}\n\n" + "\n".join(rules))
     write_if_changed(out / "plan.mk", text)
 
 

@@ -1,0 +1,142 @@
+"""An ensemble (make ensemble) against the accuracy sweep's whole-run reference.
+
+    python3 -m pipeline.accuracy.ensemble_vs_reference data/accuracy.toml RESULTS_DIR ENSEMBLE_DIR
+
+The reference's members are the sweep's point with full_reference = true (the
+paper's stiffness over the whole pull-off) and every replica naming it
+(RESULTS_DIR/points/<name>/metrics.json); the ensemble's are summed up in
+ENSEMBLE_DIR/stats.json. For every target of data/paper_targets.toml:
+
+- a target with a tolerance: the ensemble's mean against the reference
+  members' mean. It **agrees** when they differ by at most the tolerance; it
+  **differs** when they differ by more than both the tolerance and twice the
+  reference's noise (its members' spread) and the ensemble's 95 % interval
+  lies wholly outside the reference mean +- the tolerance; else it is
+  **undetermined**. Noise never turns a difference into agreement.
+- a bound or a shape: the verdicts (holds or fails) of the ensemble's mean
+  and of each reference member. It agrees when all are the same; it differs
+  when the reference members agree with each other, the ensemble's verdict is
+  the other one and its 95 % interval lies wholly on that side of the bound;
+  else undetermined (a verdict missing, the members split, the interval
+  across the bound).
+
+Writes RESULTS_DIR/ensemble_vs_reference.json and .md.
+"""
+import json
+import sys
+from pathlib import Path
+
+from pipeline.accuracy.table import bound, dotted, fmt, verdict
+from pipeline.files import fail, read_json, read_toml, write_atomic
+
+TARGETS = Path("data/paper_targets.toml")
+
+
+def nested(flat: dict) -> dict:
+    """{"a.b": v} -> {"a": {"b": v}}: stats.json's means in the layout of a run's metrics.json."""
+    out: dict = {}
+    for path, v in flat.items():
+        d = out
+        *head, last = path.split(".")
+        for key in head:
+            d = d.setdefault(key, {})
+            if not isinstance(d, dict):
+                break
+        else:
+            d[last] = v
+    return out
+
+
+def reference_members(points: list) -> list:
+    """The full reference's name, then its replicas' names."""
+    ref = next((p for p in points if p.get("full_reference")), None)
+    if ref is None:
+        fail("data/accuracy.toml: no point with full_reference = true")
+    return [ref["name"]] + [p["name"] for p in points if p.get("replica_of") == ref["name"]]
+
+
+def compare(target: dict, refs: list, ensemble: dict, stats: dict) -> dict:
+    """One target: refs are the reference members' metrics, ensemble the ensemble means (nested), stats its
+    entry of stats.json's metrics (values, n, mean, sd, ci95) or None."""
+    name = target["metric"]
+    values = [dotted(m, name) for m in refs]
+    known = [v for v in values if v is not None]
+    row = {"metric": name, "result": target["result"], "reference_values": values,
+           "reference_mean": sum(known) / len(known) if known else None,
+           "reference_noise": max(known) - min(known) if len(known) == len(values) and len(known) > 1 else None,
+           "ensemble_mean": dotted(ensemble, name), "ensemble_n": stats.get("n") if stats else None,
+           "ensemble_ci95": stats.get("ci95") if stats else None}
+    ci = row["ensemble_ci95"]
+    ci = None if ci is None or None in ci else ci
+    if "tolerance" in target:
+        tol, r, e, noise = target["tolerance"], row["reference_mean"], row["ensemble_mean"], row["reference_noise"]
+        row["tolerance"] = tol
+        row["deviation"] = None if r is None or e is None else e - r
+        if row["deviation"] is None:
+            row["verdict"] = "undetermined"
+        elif abs(row["deviation"]) <= tol:
+            row["verdict"] = "agrees"
+        elif (noise is not None and abs(row["deviation"]) > 2.0 * noise and ci is not None
+              and (ci[0] > r + tol or ci[1] < r - tol)):
+            row["verdict"] = "differs"
+        else:
+            row["verdict"] = "undetermined"
+        return row
+    mine = verdict(target, ensemble)
+    theirs = [verdict(target, m) for m in refs]
+    row["ensemble_verdict"], row["reference_verdicts"] = mine, theirs
+    b = bound(target, ensemble)
+    if mine is not None and all(t == mine for t in theirs):
+        row["verdict"] = "agrees"
+    elif (mine is not None and None not in theirs and len(set(theirs)) == 1 and ci is not None and b is not None
+          and "above_metric" not in target and (ci[0] > b or ci[1] < b)):
+        row["verdict"] = "differs"
+    else:
+        row["verdict"] = "undetermined"
+    return row
+
+
+def held(v) -> str:
+    return "—" if v is None else "holds" if v else "fails"
+
+
+def markdown(rows: list, names: list, ensemble_dir: Path) -> str:
+    counts = {v: sum(r["verdict"] == v for r in rows) for v in ("agrees", "differs", "undetermined")}
+    lines = [f"# {ensemble_dir} against the whole-run reference", "",
+             f"Reference: {', '.join(f'`{n}`' for n in names)} (mean; noise = their spread). "
+             f"{counts['agrees']} agree, {counts['differs']} differ, {counts['undetermined']} undetermined "
+             "(pipeline/accuracy/ensemble_vs_reference.py says how each is decided).", "",
+             "| metric (result) | reference members | ensemble mean [95 %] | deviation | tolerance | verdict |",
+             "|---|---|---|---|---|---|"]
+    for r in rows:
+        refs = ", ".join(fmt(v) for v in r["reference_values"])
+        ci = r["ensemble_ci95"]
+        ens = fmt(r["ensemble_mean"]) + (f" [{fmt(ci[0])}, {fmt(ci[1])}]" if ci and None not in ci else "")
+        if "tolerance" in r:
+            dev, tol = fmt(r["deviation"]), f"±{r['tolerance']:g}"
+        else:
+            dev = f"{held(r['ensemble_verdict'])} vs {', '.join(held(v) for v in r['reference_verdicts'])}"
+            tol = "verdict"
+        lines.append(f"| {r['metric']} ({r['result']}) | {refs} | {ens} | {dev} | {tol} | {r['verdict']} |")
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    if len(sys.argv) != 4:
+        fail("usage: python3 -m pipeline.accuracy.ensemble_vs_reference data/accuracy.toml RESULTS_DIR ENSEMBLE_DIR")
+    config_path, out, ensemble_dir = Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3])
+    names = reference_members(read_toml(config_path).get("point", []))
+    refs = [read_json(out / "points" / n / "metrics.json", f"make {out}/points/{n}/metrics.json") for n in names]
+    # results/<preset>/ensemble: made by make ensemble PRESET=<preset>
+    stats = read_json(ensemble_dir / "stats.json", f"make ensemble PRESET={ensemble_dir.parent.name}")["metrics"]
+    ensemble = nested({k: v.get("mean") for k, v in stats.items()})
+    rows = [compare(t, refs, ensemble, stats.get(t["metric"])) for t in read_toml(TARGETS)["target"]]
+    result = {"reference": names, "ensemble": str(ensemble_dir), "targets": rows}
+    write_atomic(out / "ensemble_vs_reference.json", json.dumps(result, indent=2) + "\n")
+    write_atomic(out / "ensemble_vs_reference.md", markdown(rows, names, ensemble_dir))
+    print(f"ensemble_vs_reference: {ensemble_dir} against {', '.join(names)} -> {out / 'ensemble_vs_reference.md'}",
+          file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
