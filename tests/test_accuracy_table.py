@@ -99,12 +99,12 @@ class NoiseTests(unittest.TestCase):
         table.judge(row, {"f.slip": 0.001})
         self.assertEqual(row["misses"], ["f.slip"])
 
-
     def test_several_replicas_give_the_larger_noise_and_unknown_stays_unknown(self):
         floor = table.combined_floor([{"cg.beta": 7.0, "f.slip": 0.01, "h": None},
                                       {"cg.beta": 3.0, "f.slip": 0.02, "h": 1.0, "g": 2.0}])
         self.assertEqual(floor, {"cg.beta": 7.0, "f.slip": 0.02, "h": None, "g": 2.0})
         self.assertEqual(table.combined_floor([]), {})
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -61,11 +61,11 @@ class BoundTests(unittest.TestCase):
 
 
 class HelperTests(unittest.TestCase):
-    def test_nested_and_members(self):
-        self.assertEqual(evr.nested({"a.b": 1, "a.c": 2, "d": 3}), {"a": {"b": 1, "c": 2}, "d": 3})
+    def test_the_reference_members(self):
         points = [{"name": "x"}, {"name": "r", "full_reference": True}, {"name": "r2", "replica_of": "r"},
                   {"name": "y", "replica_of": "x"}]
         self.assertEqual(evr.reference_members(points), ["r", "r2"])
+        self.assertEqual(evr.reference_members(points[:1]), [])
 
 
 class CommandTests(unittest.TestCase):
@@ -89,6 +89,7 @@ class CommandTests(unittest.TestCase):
             self.assertEqual(r.returncode, 2, r.stderr)
             self.assertIn("run `make ensemble PRESET=default`", r.stderr)
             ensemble.mkdir(parents=True)
+            (ensemble / "metrics.json").write_text(json.dumps({"cg": {"cone_angle_deg": 70.5}}))
             (ensemble / "stats.json").write_text(json.dumps({"metrics": {"cg.cone_angle_deg": {
                 "values": [70.0, 71.0], "n": 2, "mean": 70.5, "sd": 0.7, "ci95": [70.0, 71.0]}}}))
             r = self.run_it(out, ensemble)

@@ -5,7 +5,8 @@
 The reference's members are the sweep's point with full_reference = true (the
 paper's stiffness over the whole pull-off) and every replica naming it
 (RESULTS_DIR/points/<name>/metrics.json); the ensemble's are summed up in
-ENSEMBLE_DIR/stats.json. For every target of data/paper_targets.toml:
+ENSEMBLE_DIR/metrics.json (the members' means) and stats.json (their 95 %
+intervals). For every target of data/paper_targets.toml:
 
 - a target with a tolerance: the ensemble's mean against the reference
   members' mean. It **agrees** when they differ by at most the tolerance; it
@@ -26,38 +27,15 @@ import json
 import sys
 from pathlib import Path
 
-from pipeline.accuracy.table import bound, dotted, fmt, verdict
+from pipeline.accuracy.table import bound, dotted, fmt, reference_members, verdict
 from pipeline.files import fail, read_json, read_toml, write_atomic
 
 TARGETS = Path("data/paper_targets.toml")
 
 
-def nested(flat: dict) -> dict:
-    """{"a.b": v} -> {"a": {"b": v}}: stats.json's means in the layout of a run's metrics.json."""
-    out: dict = {}
-    for path, v in flat.items():
-        d = out
-        *head, last = path.split(".")
-        for key in head:
-            d = d.setdefault(key, {})
-            if not isinstance(d, dict):
-                break
-        else:
-            d[last] = v
-    return out
-
-
-def reference_members(points: list) -> list:
-    """The full reference's name, then its replicas' names."""
-    ref = next((p for p in points if p.get("full_reference")), None)
-    if ref is None:
-        fail("data/accuracy.toml: no point with full_reference = true")
-    return [ref["name"]] + [p["name"] for p in points if p.get("replica_of") == ref["name"]]
-
-
 def compare(target: dict, refs: list, ensemble: dict, stats: dict) -> dict:
-    """One target: refs are the reference members' metrics, ensemble the ensemble means (nested), stats its
-    entry of stats.json's metrics (values, n, mean, sd, ci95) or None."""
+    """One target: refs are the reference members' metrics, ensemble the ensemble's metrics.json (the means),
+    stats its entry of stats.json's metrics (values, n, mean, sd, ci95) or None."""
     name = target["metric"]
     values = [dotted(m, name) for m in refs]
     known = [v for v in values if v is not None]
@@ -126,10 +104,12 @@ def main() -> None:
         fail("usage: python3 -m pipeline.accuracy.ensemble_vs_reference data/accuracy.toml RESULTS_DIR ENSEMBLE_DIR")
     config_path, out, ensemble_dir = Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3])
     names = reference_members(read_toml(config_path).get("point", []))
+    if not names:
+        fail(f"{config_path}: no point with full_reference = true")
     refs = [read_json(out / "points" / n / "metrics.json", f"make {out}/points/{n}/metrics.json") for n in names]
     # results/<preset>/ensemble: made by make ensemble PRESET=<preset>
-    stats = read_json(ensemble_dir / "stats.json", f"make ensemble PRESET={ensemble_dir.parent.name}")["metrics"]
-    ensemble = nested({k: v.get("mean") for k, v in stats.items()})
+    make = f"make ensemble PRESET={ensemble_dir.parent.name}"
+    ensemble, stats = read_json(ensemble_dir / "metrics.json", make), read_json(ensemble_dir / "stats.json", make)["metrics"]
     rows = [compare(t, refs, ensemble, stats.get(t["metric"])) for t in read_toml(TARGETS)["target"]]
     result = {"reference": names, "ensemble": str(ensemble_dir), "targets": rows}
     write_atomic(out / "ensemble_vs_reference.json", json.dumps(result, indent=2) + "\n")

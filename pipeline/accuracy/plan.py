@@ -21,6 +21,7 @@ from pathlib import Path
 
 from pipeline import stages
 from pipeline import tomlwrite
+from pipeline.accuracy.table import reference_members
 from pipeline.pull_speed import intruder_speed, speed_overlay
 from pipeline.files import fail, read_toml, write_if_changed
 
@@ -141,6 +142,7 @@ def main() -> None:
         return path
 
     points = config.get("point", [])
+    reference = reference_members(points)  # the whole-run reference and its replicas
     names = set()
     for i, p in enumerate(points):
         check_point(p, f"{config_path}: point[{i}]")
@@ -162,8 +164,7 @@ def main() -> None:
                      f"\t+@$(MAKE) --no-print-directory {goal} PRESET={name_preset} RESULTS={d} POINT_OVERLAY={overlay} "
                      f"FILL_RUN={fill_run} THREADS={threads}\n")
         targets.append(str(target))
-        if p.get("full_reference") or (p["knob"] == "replica" and any(
-                q.get("full_reference") and q["name"] == p["replica_of"] for q in points)):
+        if p["name"] in reference:
             reference_targets.append(str(target))
 
     default_point = next((p for p in points if p["knob"] == "default" and p["extent"] == "full"), None)

@@ -95,6 +95,12 @@ def profile_deviation(run: Run, ref: Run, top_mm: float, window_mm: float, step_
     return float(np.sqrt(np.mean((a - b) ** 2)) / np.sqrt(np.mean(b ** 2)))
 
 
+def reference_members(points: list) -> list:
+    """The whole-run reference's point name (full_reference = true), then its replicas' ([] without one)."""
+    ref = next((p.get("name") for p in points if p.get("full_reference")), None)
+    return [] if ref is None else [ref] + [p.get("name") for p in points if p.get("replica_of") == ref]
+
+
 def verdict(target: dict, metrics: dict):
     """A bound target's own verdict on metrics (None: a metric missing)."""
     v, b = dotted(metrics, target["metric"]), bound(target, metrics)
