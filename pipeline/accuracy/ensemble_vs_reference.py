@@ -9,17 +9,20 @@ ENSEMBLE_DIR/metrics.json (the members' means) and stats.json (their 95 %
 intervals). For every target of data/paper_targets.toml:
 
 - a target with a tolerance: the ensemble's mean against the reference
-  members' mean. It **agrees** when they differ by at most the tolerance; it
-  **differs** when they differ by more than both the tolerance and twice the
-  reference's noise (its members' spread) and the ensemble's 95 % interval
-  lies wholly outside the reference mean +- the tolerance; else it is
-  **undetermined**. Noise never turns a difference into agreement.
-- a bound or a shape: the verdicts (holds or fails) of the ensemble's mean
-  and of each reference member. It agrees when all are the same; it differs
-  when the reference members agree with each other, the ensemble's verdict is
-  the other one and its 95 % interval lies wholly on that side of the bound;
-  else undetermined (a verdict missing, the members split, the interval
-  across the bound).
+  members' mean r, whose noise is their spread s. It **agrees** when the
+  ensemble's 95 % interval lies wholly within r +- (tolerance - s/2): the
+  band narrows by the reference's own uncertainty, so a wider interval or
+  a noisier reference can only make agreement harder. It **differs** when
+  the means differ by more than both the tolerance and 2 s and the
+  ensemble's 95 % interval lies wholly outside r +- the tolerance; else it
+  is **undetermined**. Noise never turns a difference into agreement.
+- a bound or a shape: the ensemble's own three-valued verdict
+  (ENSEMBLE_DIR/check.json: holds, fails or undetermined on its members'
+  95 % interval) against each reference member's verdict. It agrees when
+  the ensemble's verdict is decided and every member's is the same; it
+  differs when the members agree with each other and the ensemble decided
+  the other way; else undetermined (a verdict missing, the members split,
+  the ensemble undecided).
 
 Writes RESULTS_DIR/ensemble_vs_reference.json and .md.
 """
@@ -27,15 +30,16 @@ import json
 import sys
 from pathlib import Path
 
-from pipeline.accuracy.table import bound, dotted, fmt, reference_members, verdict
-from pipeline.files import fail, read_json, read_toml, write_atomic
+from pipeline.accuracy.table import dotted, fmt, reference_members, verdict
+from pipeline.files import check_rows, fail, read_json, read_toml, write_atomic
 
 TARGETS = Path("data/paper_targets.toml")
 
 
-def compare(target: dict, refs: list, ensemble: dict, stats: dict) -> dict:
+def compare(target: dict, refs: list, ensemble: dict, stats: dict, ensemble_verdict=None) -> dict:
     """One target: refs are the reference members' metrics, ensemble the ensemble's metrics.json (the means),
-    stats its entry of stats.json's metrics (values, n, mean, sd, ci95) or None."""
+    stats its entry of stats.json's metrics (values, n, mean, sd, ci95) or None, ensemble_verdict its verdict
+    in check.json ("holds", "fails", "undetermined"; None: not judged)."""
     name = target["metric"]
     values = [dotted(m, name) for m in refs]
     known = [v for v in values if v is not None]
@@ -50,25 +54,20 @@ def compare(target: dict, refs: list, ensemble: dict, stats: dict) -> dict:
         tol, r, e, noise = target["tolerance"], row["reference_mean"], row["ensemble_mean"], row["reference_noise"]
         row["tolerance"] = tol
         row["deviation"] = None if r is None or e is None else e - r
-        if row["deviation"] is None:
+        if row["deviation"] is None or noise is None or ci is None:
             row["verdict"] = "undetermined"
-        elif abs(row["deviation"]) <= tol:
+        elif r - (tol - noise / 2) <= ci[0] and ci[1] <= r + (tol - noise / 2):
             row["verdict"] = "agrees"
-        elif (noise is not None and abs(row["deviation"]) > 2.0 * noise and ci is not None
-              and (ci[0] > r + tol or ci[1] < r - tol)):
+        elif abs(row["deviation"]) > max(tol, 2.0 * noise) and (ci[0] > r + tol or ci[1] < r - tol):
             row["verdict"] = "differs"
         else:
             row["verdict"] = "undetermined"
         return row
-    mine = verdict(target, ensemble)
     theirs = [verdict(target, m) for m in refs]
-    row["ensemble_verdict"], row["reference_verdicts"] = mine, theirs
-    b = bound(target, ensemble)
-    if mine is not None and all(t == mine for t in theirs):
-        row["verdict"] = "agrees"
-    elif (mine is not None and None not in theirs and len(set(theirs)) == 1 and ci is not None and b is not None
-          and "above_metric" not in target and (ci[0] > b or ci[1] < b)):
-        row["verdict"] = "differs"
+    mine = {"holds": True, "fails": False}.get(ensemble_verdict)
+    row["ensemble_verdict"], row["reference_verdicts"] = ensemble_verdict, theirs
+    if mine is not None and None not in theirs and len(set(theirs)) == 1:
+        row["verdict"] = "agrees" if theirs[0] == mine else "differs"
     else:
         row["verdict"] = "undetermined"
     return row
@@ -93,7 +92,7 @@ def markdown(rows: list, names: list, ensemble_dir: Path) -> str:
         if "tolerance" in r:
             dev, tol = fmt(r["deviation"]), f"±{r['tolerance']:g}"
         else:
-            dev = f"{held(r['ensemble_verdict'])} vs {', '.join(held(v) for v in r['reference_verdicts'])}"
+            dev = f"{r['ensemble_verdict'] or '—'} vs {', '.join(held(v) for v in r['reference_verdicts'])}"
             tol = "verdict"
         lines.append(f"| {r['metric']} ({r['result']}) | {refs} | {ens} | {dev} | {tol} | {r['verdict']} |")
     return "\n".join(lines) + "\n"
@@ -110,7 +109,9 @@ def main() -> None:
     # results/<preset>/ensemble: made by make ensemble PRESET=<preset>
     make = f"make ensemble PRESET={ensemble_dir.parent.name}"
     ensemble, stats = read_json(ensemble_dir / "metrics.json", make), read_json(ensemble_dir / "stats.json", make)["metrics"]
-    rows = [compare(t, refs, ensemble, stats.get(t["metric"])) for t in read_toml(TARGETS)["target"]]
+    judged = {t.get("metric"): t.get("verdict") for t in check_rows(read_json(ensemble_dir / "check.json", make))}
+    rows = [compare(t, refs, ensemble, stats.get(t["metric"]), judged.get(t["metric"]))
+            for t in read_toml(TARGETS)["target"]]
     result = {"reference": names, "ensemble": str(ensemble_dir), "targets": rows}
     write_atomic(out / "ensemble_vs_reference.json", json.dumps(result, indent=2) + "\n")
     write_atomic(out / "ensemble_vs_reference.md", markdown(rows, names, ensemble_dir))
