@@ -181,7 +181,9 @@ def combined_floor(floors: list) -> dict:
 def judge(row: dict, floor: dict) -> None:
     """A miss counts only when it stands out of the noise: a deviation beyond max(tolerance, 2 x noise);
     a flipped verdict only when both values are more than 2 x noise from the bound. Sets each check's
-    "significant" and the row's within_tolerance, misses (counted) and unresolved_misses (within the noise)."""
+    "significant" and the row's misses (counted), unresolved_misses (within the noise) and within_tolerance:
+    True when every check is within its tolerance, False with a miss that counts, None (undetermined) when
+    the only misses are within the noise: noise can leave a point undecided, never pass it."""
     checks = row["slice_checks"] + row.get("targets", [])
     for c in checks:
         noise = floor.get(check_name(c), 0.0)
@@ -198,7 +200,7 @@ def judge(row: dict, floor: dict) -> None:
             c["normalised"] *= c["tolerance"] / max(c["tolerance"], 2.0 * noise)
     row["misses"] = [check_name(c) for c in checks if c["significant"]]
     row["unresolved_misses"] = [check_name(c) for c in checks if not c["ok"] and not c["significant"]]
-    row["within_tolerance"] = not row["misses"]
+    row["within_tolerance"] = False if row["misses"] else None if row["unresolved_misses"] else True
     # the worst comparison, over what it is allowed (the overlap, a bound, is shown on its own)
     normalised = [c["normalised"] for c in checks if c.get("normalised") is not None and "overlap" not in check_name(c)]
     row["worst_normalised_deviation"] = max(normalised) if normalised else None
@@ -212,6 +214,11 @@ def fmt(v, digits=3) -> str:
     if isinstance(v, int):
         return str(v)
     return f"{v:.{digits}g}"
+
+
+def within(v) -> str:
+    """A point's three-valued verdict: within every tolerance, not, or undetermined (misses within the noise)."""
+    return "undetermined" if v is None else fmt(v)
 
 
 def setting(p: dict) -> str:
@@ -276,7 +283,7 @@ def main() -> None:
         judge(row, floor)
 
     cg_rows = cg_table(config, out, targets)
-    eligible = [r for r in rows if r["within_tolerance"] and r["extent"] == "full"]
+    eligible = [r for r in rows if r["within_tolerance"] is True and r["extent"] == "full"]
     cheapest = min(eligible, key=lambda r: r["full_wall_seconds"]) if eligible else None
     result = {"slice_mm": top_mm, "smoothing_mm": window_mm, "d_mean_mm": d_mm, "slice_reference": ref_slice["name"],
               "full_reference": ref_full["name"], "points": rows, "cg": cg_rows, "noise_floor": floor, "noise_floors": floors,
@@ -340,7 +347,7 @@ def markdown(result: dict, targets: list) -> str:
         lines.append(f"| {r['name']} | {r['setting']} | {r['time_step_s']:.3g} | {r['wall_seconds']:.0f} | {whole} "
                      f"| {s['max_overlap_over_d']:.4f} | {s['peak_drag_N_per_m']:.0f} | {s['peak_height_mm']:.2f} "
                      f"| {s['mean_drag_N_per_m']:.1f} | {r['profile_rel_rms']:.3f} | {fmt(r.get('profile_rel_rms_full'))} "
-                     f"| {fmt(r.get('run_max_overlap_over_d'), 3)} | {fmt(r['within_tolerance'])} "
+                     f"| {fmt(r.get('run_max_overlap_over_d'), 3)} | {within(r['within_tolerance'])} "
                      f"| {', '.join(r['misses']) or '—'} | {', '.join(r['unresolved_misses']) or '—'} |")
     if floor:
         pairs = ", ".join(f"`{r['name']}` against `{r['setting'].split(',')[0]}`" for r in rows if r["knob"] == "replica")
@@ -432,7 +439,7 @@ def pareto(result: dict, path: Path) -> None:
     for r in result["points"]:
         x = r["full_wall_seconds"]
         overlap = max(c["value"] for c in r["slice_checks"] if "overlap" in c["check"])
-        style = dict(c=colours[r["knob"]] if r["within_tolerance"] else "none", edgecolors=colours[r["knob"]],
+        style = dict(c=colours[r["knob"]] if r["within_tolerance"] is True else "none", edgecolors=colours[r["knob"]],
                      marker="o" if r["extent"] == "full" else "^", s=45, zorder=3)
         worst = r["worst_normalised_deviation"] if r["knob"] != "reference" else None
         for ax, y in ((left, worst), (right, 100 * overlap)):
