@@ -396,7 +396,7 @@ accuracy: $(ACCURACY)/table.md
 # an ensemble (by default the default preset's: make ensemble PRESET=default first) against the whole-run
 # reference's members (pipeline/accuracy/ensemble_vs_reference.py)
 ACCURACY_ENSEMBLE ?= results/default/ensemble
-$(ACCURACY)/ensemble_vs_reference.md: $(ACCURACY_REFERENCE_TARGETS) $(wildcard $(ACCURACY_ENSEMBLE)/stats.json $(ACCURACY_ENSEMBLE)/check.json) \
+$(ACCURACY)/ensemble_vs_reference.md: $(ACCURACY_REFERENCE_TARGETS) $(wildcard $(ACCURACY_ENSEMBLE)/metrics.json $(ACCURACY_ENSEMBLE)/check.json) \
     data/accuracy.toml data/paper_targets.toml pipeline/accuracy/ensemble_vs_reference.py
 	$(PYTHON) -m pipeline.accuracy.ensemble_vs_reference data/accuracy.toml $(ACCURACY) $(ACCURACY_ENSEMBLE)
 

@@ -18,21 +18,27 @@ def refs(*betas, slip=0.05):
     return [{"cg": {"beta": b}, "f": {"slip": slip}} for b in betas]
 
 
-def stats(mean, ci, n=4):
-    return {"mean": mean, "n": n, "ci95": ci}
+def judged(ci=None, verdict=None, n=4):
+    """A row of the ensemble's check.json: its verdict and the 95 % t-interval of the members' mean."""
+    row = {"members": str(n)}
+    if ci is not None:
+        row["interval"] = f"{ci[0]}, {ci[1]}"
+    if verdict is not None:
+        row["verdict"] = verdict
+    return row
 
 
 class ToleranceTests(unittest.TestCase):
     def test_agrees_only_with_the_interval_inside_the_band_the_reference_noise_leaves(self):
         # reference 60 and 61 (mean 60.5, spread 1): the band is 60.5 +- 9.5
-        r = evr.compare(TOL, refs(60.0, 61.0), {"cg": {"beta": 65.0}}, stats(65.0, [62.0, 68.0]))
+        r = evr.compare(TOL, refs(60.0, 61.0), {"cg": {"beta": 65.0}}, judged([62.0, 68.0]))
         self.assertEqual(r["verdict"], "agrees")
         self.assertAlmostEqual(r["deviation"], 4.5)
         # the same mean, the interval reaching past 70.0
-        r = evr.compare(TOL, refs(60.0, 61.0), {"cg": {"beta": 65.0}}, stats(65.0, [59.0, 71.0]))
+        r = evr.compare(TOL, refs(60.0, 61.0), {"cg": {"beta": 65.0}}, judged([59.0, 71.0]))
         self.assertEqual(r["verdict"], "undetermined")
         # the same interval, the reference's members 10 apart: the band is 65 +- 5
-        r = evr.compare(TOL, refs(60.0, 70.0), {"cg": {"beta": 65.0}}, stats(65.0, [59.0, 71.0]))
+        r = evr.compare(TOL, refs(60.0, 70.0), {"cg": {"beta": 65.0}}, judged([59.0, 71.0]))
         self.assertEqual(r["verdict"], "undetermined")
 
     def test_more_noise_never_makes_agreement_easier(self):
@@ -41,7 +47,7 @@ class ToleranceTests(unittest.TestCase):
         spreads, halves = (0.0, 1.0, 4.0, 10.0, 25.0), (0.5, 2.0, 5.0, 15.0)
         for dev in (0.0, 4.0, 8.0, 9.9, 12.0, 30.0):
             agrees = {(s, h): evr.compare(TOL, refs(60.0 - s / 2, 60.0 + s / 2), {"cg": {"beta": 60.0 + dev}},
-                                          stats(60.0 + dev, [60.0 + dev - h, 60.0 + dev + h]))["verdict"] == "agrees"
+                                          judged([60.0 + dev - h, 60.0 + dev + h]))["verdict"] == "agrees"
                       for s in spreads for h in halves}
             for (s, h), ok in agrees.items():
                 if dev > 10.0:
@@ -53,21 +59,21 @@ class ToleranceTests(unittest.TestCase):
 
     def test_beyond_the_tolerance_differs_only_clear_of_the_noise_and_the_interval(self):
         ens = {"cg": {"beta": 75.0}}
-        self.assertEqual(evr.compare(TOL, refs(60.0, 61.0), ens, stats(75.0, [72.0, 78.0]))["verdict"], "differs")
+        self.assertEqual(evr.compare(TOL, refs(60.0, 61.0), ens, judged([72.0, 78.0]))["verdict"], "differs")
         # the reference's members 8 apart: 15 is within twice their spread
-        self.assertEqual(evr.compare(TOL, refs(56.0, 64.0), ens, stats(75.0, [72.0, 78.0]))["verdict"], "undetermined")
+        self.assertEqual(evr.compare(TOL, refs(56.0, 64.0), ens, judged([72.0, 78.0]))["verdict"], "undetermined")
         # the ensemble's interval reaches into the tolerance band
-        self.assertEqual(evr.compare(TOL, refs(60.0, 61.0), ens, stats(75.0, [68.0, 82.0]))["verdict"], "undetermined")
+        self.assertEqual(evr.compare(TOL, refs(60.0, 61.0), ens, judged([68.0, 82.0]))["verdict"], "undetermined")
         # one reference member only: no noise known, nothing claimed either way
-        self.assertEqual(evr.compare(TOL, refs(60.0), ens, stats(75.0, [72.0, 78.0]))["verdict"], "undetermined")
-        self.assertEqual(evr.compare(TOL, refs(60.0), {"cg": {"beta": 61.0}}, stats(61.0, [60.5, 61.5]))["verdict"],
+        self.assertEqual(evr.compare(TOL, refs(60.0), ens, judged([72.0, 78.0]))["verdict"], "undetermined")
+        self.assertEqual(evr.compare(TOL, refs(60.0), {"cg": {"beta": 61.0}}, judged([60.5, 61.5]))["verdict"],
                          "undetermined")
 
     def test_a_missing_value_or_interval_is_undetermined(self):
         r = evr.compare(TOL, refs(60.0, 61.0), {"cg": {}}, None)
         self.assertEqual(r["verdict"], "undetermined")
         self.assertIsNone(r["deviation"])
-        r = evr.compare(TOL, refs(60.0, 61.0), {"cg": {"beta": 60.5}}, stats(60.5, [None, None], n=1))
+        r = evr.compare(TOL, refs(60.0, 61.0), {"cg": {"beta": 60.5}}, judged(n=1))
         self.assertEqual(r["verdict"], "undetermined")
 
 
@@ -75,23 +81,23 @@ class BoundTests(unittest.TestCase):
     """A bound's verdicts: the ensemble's own (three-valued, from its check.json) against each member's."""
 
     def test_the_same_decided_verdict_agrees(self):
-        r = evr.compare(BOUND, refs(60.0, 60.0), {"f": {"slip": 0.1}}, stats(0.1, [0.08, 0.12]), "holds")
+        r = evr.compare(BOUND, refs(60.0, 60.0), {"f": {"slip": 0.1}}, judged([0.08, 0.12], "holds"))
         self.assertEqual(r["verdict"], "agrees")
 
     def test_an_undecided_ensemble_agrees_with_nothing(self):
         # the mean holds, but the ensemble's interval straddles the bound: its verdict is undetermined
-        r = evr.compare(BOUND, refs(60.0, 60.0), {"f": {"slip": 0.1}}, stats(0.1, [0.0, 0.25]), "undetermined")
+        r = evr.compare(BOUND, refs(60.0, 60.0), {"f": {"slip": 0.1}}, judged([0.0, 0.25], "undetermined"))
         self.assertEqual(r["verdict"], "undetermined")
-        r = evr.compare(BOUND, refs(60.0, 60.0), {"f": {"slip": 0.1}}, stats(0.1, [0.08, 0.12]), None)
+        r = evr.compare(BOUND, refs(60.0, 60.0), {"f": {"slip": 0.1}}, judged([0.08, 0.12]))
         self.assertEqual(r["verdict"], "undetermined")
 
     def test_a_flip_differs_only_when_the_members_agree(self):
         ens = {"f": {"slip": 0.3}}
-        self.assertEqual(evr.compare(BOUND, refs(60.0, 60.0), ens, stats(0.3, [0.25, 0.35]), "fails")["verdict"],
+        self.assertEqual(evr.compare(BOUND, refs(60.0, 60.0), ens, judged([0.25, 0.35], "fails"))["verdict"],
                          "differs")
         split = refs(60.0, 60.0)
         split[1]["f"]["slip"] = 0.25
-        self.assertEqual(evr.compare(BOUND, split, ens, stats(0.3, [0.25, 0.35]), "fails")["verdict"],
+        self.assertEqual(evr.compare(BOUND, split, ens, judged([0.25, 0.35], "fails"))["verdict"],
                          "undetermined")
 
 
@@ -125,13 +131,12 @@ class CommandTests(unittest.TestCase):
             self.assertIn("run `make ensemble PRESET=default`", r.stderr)
             ensemble.mkdir(parents=True)
             (ensemble / "metrics.json").write_text(json.dumps({"cg": {"cone_angle_deg": 70.5}}))
-            (ensemble / "stats.json").write_text(json.dumps({"metrics": {"cg.cone_angle_deg": {
-                "values": [70.0, 71.0], "n": 2, "mean": 70.5, "sd": 0.7, "ci95": [70.0, 71.0]}}}))
             r = self.run_it(out, ensemble)
             self.assertEqual(r.returncode, 2, r.stderr)
             self.assertIn("check.json: no such file", r.stderr)
             (ensemble / "check.json").write_text(json.dumps({"testsuites": [{"testsuite": [
-                {"metric": "friction.slip_fraction", "verdict": "holds"}]}]}))
+                {"metric": "cg.cone_angle_deg", "verdict": "fails", "interval": "70, 71", "members": "4"},
+                {"metric": "friction.slip_fraction", "verdict": "holds", "interval": "0.05, 0.06", "members": "4"}]}]}))
             r = self.run_it(out, ensemble)
             self.assertEqual(r.returncode, 0, r.stderr)
             rows = {t["metric"]: t for t in json.loads((out / "ensemble_vs_reference.json").read_text())["targets"]}

@@ -5,8 +5,12 @@
 The reference's members are the sweep's point with full_reference = true (the
 paper's stiffness over the whole pull-off) and every replica naming it
 (RESULTS_DIR/points/<name>/metrics.json); the ensemble's are summed up in
-ENSEMBLE_DIR/metrics.json (the members' means) and stats.json (their 95 %
-intervals). For every target of data/paper_targets.toml:
+ENSEMBLE_DIR/metrics.json (the members' means) and judged in check.json
+(check_paper_targets --ensemble: each target's verdict and the 95 %
+t-interval of the members' mean, the interval the ensemble's own verdicts
+use; stats.json's bootstrap interval only describes the members and is as
+narrow as their range for a few of them). For every target of
+data/paper_targets.toml:
 
 - a target with a tolerance: the ensemble's mean against the reference
   members' mean r, whose noise is their spread s. It **agrees** when the
@@ -17,8 +21,7 @@ intervals). For every target of data/paper_targets.toml:
   ensemble's 95 % interval lies wholly outside r +- the tolerance; else it
   is **undetermined**. Noise never turns a difference into agreement.
 - a bound or a shape: the ensemble's own three-valued verdict
-  (ENSEMBLE_DIR/check.json: holds, fails or undetermined on its members'
-  95 % interval) against each reference member's verdict. It agrees when
+  (holds, fails or undetermined) against each reference member's verdict. It agrees when
   the ensemble's verdict is decided and every member's is the same; it
   differs when the members agree with each other and the ensemble decided
   the other way; else undetermined (a verdict missing, the members split,
@@ -36,20 +39,27 @@ from pipeline.files import check_rows, fail, read_json, read_toml, write_atomic
 TARGETS = Path("data/paper_targets.toml")
 
 
-def compare(target: dict, refs: list, ensemble: dict, stats: dict, ensemble_verdict=None) -> dict:
+def interval(judged):
+    """The 95 % t-interval of a check.json row ("lo, hi"), or None."""
+    try:
+        lo, hi = (float(x) for x in (judged or {}).get("interval", "").split(","))
+    except ValueError:
+        return None
+    return [lo, hi] if lo <= hi else None
+
+
+def compare(target: dict, refs: list, ensemble: dict, judged) -> dict:
     """One target: refs are the reference members' metrics, ensemble the ensemble's metrics.json (the means),
-    stats its entry of stats.json's metrics (values, n, mean, sd, ci95) or None, ensemble_verdict its verdict
-    in check.json ("holds", "fails", "undetermined"; None: not judged)."""
+    judged its row of check.json (verdict, interval, members) or None (not judged)."""
     name = target["metric"]
     values = [dotted(m, name) for m in refs]
     known = [v for v in values if v is not None]
     row = {"metric": name, "result": target["result"], "reference_values": values,
            "reference_mean": sum(known) / len(known) if known else None,
            "reference_noise": max(known) - min(known) if len(known) == len(values) and len(known) > 1 else None,
-           "ensemble_mean": dotted(ensemble, name), "ensemble_n": stats.get("n") if stats else None,
-           "ensemble_ci95": stats.get("ci95") if stats else None}
+           "ensemble_mean": dotted(ensemble, name), "ensemble_n": int((judged or {}).get("members") or 0) or None,
+           "ensemble_ci95": interval(judged)}
     ci = row["ensemble_ci95"]
-    ci = None if ci is None or None in ci else ci
     if "tolerance" in target:
         tol, r, e, noise = target["tolerance"], row["reference_mean"], row["ensemble_mean"], row["reference_noise"]
         row["tolerance"] = tol
@@ -64,8 +74,8 @@ def compare(target: dict, refs: list, ensemble: dict, stats: dict, ensemble_verd
             row["verdict"] = "undetermined"
         return row
     theirs = [verdict(target, m) for m in refs]
-    mine = {"holds": True, "fails": False}.get(ensemble_verdict)
-    row["ensemble_verdict"], row["reference_verdicts"] = ensemble_verdict, theirs
+    mine = {"holds": True, "fails": False}.get((judged or {}).get("verdict"))
+    row["ensemble_verdict"], row["reference_verdicts"] = (judged or {}).get("verdict"), theirs
     if mine is not None and None not in theirs and len(set(theirs)) == 1:
         row["verdict"] = "agrees" if theirs[0] == mine else "differs"
     else:
@@ -108,10 +118,9 @@ def main() -> None:
     refs = [read_json(out / "points" / n / "metrics.json", f"make {out}/points/{n}/metrics.json") for n in names]
     # results/<preset>/ensemble: made by make ensemble PRESET=<preset>
     make = f"make ensemble PRESET={ensemble_dir.parent.name}"
-    ensemble, stats = read_json(ensemble_dir / "metrics.json", make), read_json(ensemble_dir / "stats.json", make)["metrics"]
-    judged = {t.get("metric"): t.get("verdict") for t in check_rows(read_json(ensemble_dir / "check.json", make))}
-    rows = [compare(t, refs, ensemble, stats.get(t["metric"]), judged.get(t["metric"]))
-            for t in read_toml(TARGETS)["target"]]
+    ensemble = read_json(ensemble_dir / "metrics.json", make)
+    judged = {t.get("metric"): t for t in check_rows(read_json(ensemble_dir / "check.json", make))}
+    rows = [compare(t, refs, ensemble, judged.get(t["metric"])) for t in read_toml(TARGETS)["target"]]
     result = {"reference": names, "ensemble": str(ensemble_dir), "targets": rows}
     write_atomic(out / "ensemble_vs_reference.json", json.dumps(result, indent=2) + "\n")
     write_atomic(out / "ensemble_vs_reference.md", markdown(rows, names, ensemble_dir))
