@@ -91,6 +91,15 @@ class BoundTests(unittest.TestCase):
         r = evr.compare(BOUND, refs(60.0, 60.0), {"f": {"slip": 0.1}}, judged([0.08, 0.12]))
         self.assertEqual(r["verdict"], "undetermined")
 
+    def test_a_shape_shows_the_interval_of_its_differences(self):
+        shape = {"metric": "f.lower", "result": "R8", "above_metric": "f.upper"}
+        members = [{"f": {"lower": 0.4, "upper": 0.3}}, {"f": {"lower": 0.42, "upper": 0.31}}]
+        r = evr.compare(shape, members, {"f": {"lower": 0.41, "upper": 0.3}}, judged([0.07, 0.13], "holds"))
+        self.assertEqual(r["verdict"], "agrees")
+        self.assertEqual(r["ensemble_ci95_minus"], "f.upper")
+        self.assertIn("| 0.41 [minus `f.upper`: 0.07, 0.13] | holds vs holds, holds |",
+                      evr.markdown([r], ["a", "b"], Path("e")))
+
     def test_a_flip_differs_only_when_the_members_agree(self):
         ens = {"f": {"slip": 0.3}}
         self.assertEqual(evr.compare(BOUND, refs(60.0, 60.0), ens, judged([0.25, 0.35], "fails"))["verdict"],

@@ -59,6 +59,8 @@ def compare(target: dict, refs: list, ensemble: dict, judged) -> dict:
            "reference_noise": max(known) - min(known) if len(known) == len(values) and len(known) > 1 else None,
            "ensemble_mean": dotted(ensemble, name), "ensemble_n": int((judged or {}).get("members") or 0) or None,
            "ensemble_ci95": interval(judged)}
+    if "above_metric" in target:  # the ensemble judges a shape on the members' differences: its interval is theirs
+        row["ensemble_ci95_minus"] = target["above_metric"]
     ci = row["ensemble_ci95"]
     if "tolerance" in target:
         tol, r, e, noise = target["tolerance"], row["reference_mean"], row["ensemble_mean"], row["reference_noise"]
@@ -98,7 +100,8 @@ def markdown(rows: list, names: list, ensemble_dir: Path) -> str:
     for r in rows:
         refs = ", ".join(fmt(v) for v in r["reference_values"])
         ci = r["ensemble_ci95"]
-        ens = fmt(r["ensemble_mean"]) + (f" [{fmt(ci[0])}, {fmt(ci[1])}]" if ci and None not in ci else "")
+        of = f"minus `{r['ensemble_ci95_minus']}`: " if "ensemble_ci95_minus" in r else ""
+        ens = fmt(r["ensemble_mean"]) + (f" [{of}{fmt(ci[0])}, {fmt(ci[1])}]" if ci else "")
         if "tolerance" in r:
             dev, tol = fmt(r["deviation"]), f"±{r['tolerance']:g}"
         else:
