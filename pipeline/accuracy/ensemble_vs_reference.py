@@ -40,9 +40,9 @@ TARGETS = Path("data/paper_targets.toml")
 
 
 def interval(judged):
-    """The 95 % t-interval of a check.json row ("lo, hi"), or None."""
+    """The 95 % t-interval of a check.json row ("lo, hi"; {}: none), or None."""
     try:
-        lo, hi = (float(x) for x in (judged or {}).get("interval", "").split(","))
+        lo, hi = (float(x) for x in judged.get("interval", "").split(","))
     except ValueError:
         return None
     return [lo, hi] if lo <= hi else None
@@ -51,13 +51,13 @@ def interval(judged):
 def compare(target: dict, refs: list, ensemble: dict, judged) -> dict:
     """One target: refs are the reference members' metrics, ensemble the ensemble's metrics.json (the means),
     judged its row of check.json (verdict, interval, members) or None (not judged)."""
-    name = target["metric"]
+    name, judged = target["metric"], judged or {}
     values = [dotted(m, name) for m in refs]
     known = [v for v in values if v is not None]
     row = {"metric": name, "result": target["result"], "reference_values": values,
            "reference_mean": sum(known) / len(known) if known else None,
            "reference_noise": max(known) - min(known) if len(known) == len(values) and len(known) > 1 else None,
-           "ensemble_mean": dotted(ensemble, name), "ensemble_n": int((judged or {}).get("members") or 0) or None,
+           "ensemble_mean": dotted(ensemble, name), "ensemble_n": int(judged.get("members") or 0) or None,
            "ensemble_ci95": interval(judged)}
     if "above_metric" in target:  # the ensemble judges a shape on the members' differences: its interval is theirs
         row["ensemble_ci95_minus"] = target["above_metric"]
@@ -76,8 +76,8 @@ def compare(target: dict, refs: list, ensemble: dict, judged) -> dict:
             row["verdict"] = "undetermined"
         return row
     theirs = [verdict(target, m) for m in refs]
-    mine = {"holds": True, "fails": False}.get((judged or {}).get("verdict"))
-    row["ensemble_verdict"], row["reference_verdicts"] = (judged or {}).get("verdict"), theirs
+    row["ensemble_verdict"], row["reference_verdicts"] = judged.get("verdict"), theirs
+    mine = {"holds": True, "fails": False}.get(row["ensemble_verdict"])
     if mine is not None and None not in theirs and len(set(theirs)) == 1:
         row["verdict"] = "agrees" if theirs[0] == mine else "differs"
     else:

@@ -175,7 +175,7 @@ void size_cases(const Settings& set, const Runner& run, std::vector<Row>& rows) 
 // Blocks of 1 d above a top layer this deep (mm) in the search range, which
 // ends 2 d below the surface; fewer than kFewQuietBlocks leave the level
 // without events poorly fixed (the shallow limits below).
-double quiet_blocks(double depth_mm) { return depth_mm / 3.0 - 2.0; }
+double quiet_blocks(double depth_mm) { return depth_mm / (1e3 * DragScenario{}.d) - 2.0; }
 constexpr double kFewQuietBlocks = 7.0;
 
 void top_layer_cases(const Settings& set, const Runner& run, std::vector<Row>& rows) {
