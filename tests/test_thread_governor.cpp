@@ -68,6 +68,39 @@ TEST(ThreadGovernor, FallsBackToOneThreadBesideOtherWorkAndReturnsWhenTheCoresAr
   EXPECT_EQ(g.threads(), 2);
 }
 
+// Like the run loop (sim/run/run.cpp): `steps` steps in calls of ~0.1 s at the last full call's pace (64 steps
+// first), each capped by the governor; returns the wall seconds.
+double run_loop(ThreadGovernor& g, std::int64_t steps, const std::function<double(int)>& seconds_per_step) {
+  double wall = 0.0;
+  std::int64_t chunk = 64;
+  while (steps > 0) {
+    const std::int64_t n = std::min({chunk, steps, g.step_cap()});
+    const double secs = static_cast<double>(n) * seconds_per_step(g.threads());
+    g.record(n, secs);
+    wall += secs, steps -= n;
+    if (n == chunk) chunk = std::max<std::int64_t>(1, static_cast<std::int64_t>(static_cast<double>(n) / secs * 0.1));
+  }
+  return wall;
+}
+
+TEST(ThreadGovernor, AShortRunOnTwoThreadsBesideABusyProcessCostsLittleMoreThanOnOne) {
+  // The box example (200 grains) beside a process holding a core: one thread 4.0e5 steps/s, two 4.2e4
+  // (docs/performance.md). 0.4 s of one thread's work asked on two threads: within 1.2x of one thread's time
+  // (the governor's start, its switch and its probes of two threads included).
+  ThreadGovernor g(2);
+  const double one = 2.5e-6, two = 2.4e-5;
+  const std::int64_t steps = 160000;
+  const double wall = run_loop(g, steps, [&](int threads) { return threads == 1 ? one : two; });
+  EXPECT_LT(wall, 1.2 * static_cast<double>(steps) * one);  // 1.88x before the probes could end early
+  EXPECT_EQ(g.threads(), 1);
+  // and where two threads are faster (the cores free), a short run keeps them: its probes of one thread end
+  // after their first short call
+  ThreadGovernor idle(2);
+  const double wall_idle = run_loop(idle, steps, [](int threads) { return threads == 1 ? 2.5e-6 : 1.5e-6; });
+  EXPECT_EQ(idle.threads(), 2);
+  EXPECT_LT(wall_idle, 1.03 * static_cast<double>(steps) * 1.5e-6);
+}
+
 TEST(ThreadGovernor, OneThreadIsLeftAlone) {
   ThreadGovernor g(1);
   for (int k = 0; k < 1000; ++k) {

@@ -21,8 +21,16 @@ std::string pace_text(double per_step) {
 ThreadGovernor::ThreadGovernor(int threads) : max_(std::max(1, threads)), kept_(max_), current_(max_) {}
 
 std::int64_t ThreadGovernor::step_cap() const {
-  if (current_ == kept_ || probe_.steps > 0.0) return std::numeric_limits<std::int64_t>::max();
-  return std::max<std::int64_t>(1, static_cast<std::int64_t>(kFirstCall / window_.per_step()));
+  constexpr auto none = std::numeric_limits<std::int64_t>::max();
+  if (max_ <= 1 || window_.steps <= 0.0) return none;  // nothing timed yet (the run loop's first call is short)
+  double seconds;                                      // how long the call may last at the kept pace
+  if (current_ == kept_)
+    seconds = period_ - since_probe_;  // until the next probe is due
+  else if (probe_.steps <= 0.0)
+    seconds = kFirstCall;  // a probe's first call
+  else
+    return none;
+  return std::max<std::int64_t>(1, static_cast<std::int64_t>(std::min(seconds / window_.per_step(), 1e18)));
 }
 
 std::string ThreadGovernor::record(std::int64_t steps, double seconds) {
@@ -30,23 +38,24 @@ std::string ThreadGovernor::record(std::int64_t steps, double seconds) {
   const auto n = static_cast<double>(steps);
   if (current_ == kept_) {
     window_.steps += n, window_.seconds += seconds;
-    if (window_.seconds > kWindowSeconds) {  // an exponentially weighted pace over about the last second
+    if (window_.seconds > kWindowSeconds) {  // an exponentially weighted pace over about the last kWindowSeconds
       const double keep = kWindowSeconds / window_.seconds;
       window_.steps *= keep, window_.seconds *= keep;
     }
     since_probe_ += seconds;
-    if (since_probe_ >= period_ && window_.seconds >= 0.5 * kWindowSeconds) {
+    if (since_probe_ >= period_) {
       current_ = kept_ == max_ ? 1 : max_;
       probe_ = {};
     }
     return "";
   }
   probe_.steps += n, probe_.seconds += seconds;
-  if (probe_.seconds < kProbeSeconds) return "";
+  const bool losing = probe_.per_step() > (1.0 + kMargin) * window_.per_step();
+  if (probe_.seconds < kProbeSeconds && !losing) return "";
   since_probe_ = 0.0;
   const int probed = current_;
   current_ = kept_;
-  if (!(probe_.per_step() < (1.0 - kMargin) * window_.per_step())) {
+  if (losing || !(probe_.per_step() < (1.0 - kMargin) * window_.per_step())) {
     period_ = std::min(2.0 * period_, kLongestPeriod);
     return "";
   }

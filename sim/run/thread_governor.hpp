@@ -8,10 +8,14 @@
 // log. The results never depend on it (the same bits on any thread count,
 // System::set_threads).
 //
-// The cost where nothing competes: a probe of kProbeSeconds at one thread's
-// pace every probe period, which doubles from kFirstPeriod to kLongestPeriod
-// while the probes lose (under 1 % of a long run on two threads; the first
-// probes come early, so that a short run is rescued too).
+// A probe starts with a short call (kFirstCall at the kept pace) and ends
+// there when it is already slower by more than the margin: a probe of two
+// threads on a taken core costs that call (~10x kFirstCall), not a whole
+// probe at the collapsed pace; one that is faster runs kProbeSeconds to
+// confirm. The cost where nothing competes: that first call at one
+// thread's pace every probe period, which doubles from kFirstPeriod to
+// kLongestPeriod while the probes lose (the first probe comes after
+// kStartPeriod, so that a short run is rescued too).
 #pragma once
 
 #include <cstdint>
@@ -21,19 +25,22 @@ namespace dem2d {
 
 class ThreadGovernor {
  public:
-  static constexpr double kFirstPeriod = 0.1;     // wall seconds on a count before the first probe
+  static constexpr double kStartPeriod = 0.02;    // wall seconds from the start to the first probe
+  static constexpr double kFirstPeriod = 0.1;     // ... and on a new count before its first probe
   static constexpr double kLongestPeriod = 64.0;  // ... and at most, while probes lose
   static constexpr double kProbeSeconds = 0.1;    // a probe's length (wall s; one or a few calls of advance)
   static constexpr double kWindowSeconds = 0.25;  // the pace of the kept count: its last calls over this
-  static constexpr double kFirstCall = 0.02;      // a probe's first call: the steps the kept count does in this
-  static constexpr double kMargin = 0.1;          // a probe wins when faster by more than this fraction
+  static constexpr double kFirstCall = 0.002;     // a probe's first call: the steps the kept count does in this
+  static constexpr double kMargin = 0.1;          // a probe wins when faster by more than this fraction, and
+                                                  // loses at once when slower by more than it
 
   // threads: the most the run may use (SystemConfig::threads); 1 turns it off.
   explicit ThreadGovernor(int threads);
 
   // The thread count for the next call of advance, and the most steps it
   // should take: a probe starts with a short call, so that a probe of a count
-  // that collapses costs little.
+  // that collapses costs little, and a call on the kept count ends when the
+  // next probe is due.
   int threads() const { return current_; }
   std::int64_t step_cap() const;
   // After a call of advance of `steps` steps in `seconds` (wall) on threads():
@@ -47,7 +54,7 @@ class ThreadGovernor {
   };
   int max_;
   int kept_, current_;        // the count kept; the count of the next call (kept_ or the probe's)
-  double period_ = kFirstPeriod;
+  double period_ = kStartPeriod;
   double since_probe_ = 0.0;  // wall seconds on kept_ since the last probe
   Pace window_, probe_;
 };
