@@ -105,6 +105,39 @@ class NoiseTests(unittest.TestCase):
         table.judge(row, {"f.slip": 0.001})
         self.assertEqual(row["misses"], ["f.slip"])
 
+    def test_a_none_counts_as_make_check_reads_it(self):
+        # H_c with a power metric: no value with power >= 0.8 is an evidenced none, with less undetermined
+        hc = [{"result": "R6", "metric": "cg.hc", "paper": 78.0, "tolerance": 10.0, "power": "cg.hc_power"}]
+        none, weak, found = {"cg": {"hc": None, "hc_power": 1.0}}, {"cg": {"hc": None, "hc_power": 0.5}}, {"cg": {"hc": 100.0}}
+
+        def judged(metrics, ref, noise=5.0):
+            row = {"slice_checks": [], "targets": table.compare_targets(hc, metrics, ref)}
+            table.judge(row, {"cg.hc": noise})
+            return row
+
+        self.assertIs(judged(none, none)["within_tolerance"], True)  # the reference agrees with itself
+        self.assertEqual(judged(none, found)["misses"], ["cg.hc"])  # an evidenced none against a number
+        self.assertEqual(judged(found, none)["misses"], ["cg.hc"])
+        self.assertIsNone(judged(weak, found)["within_tolerance"])  # a weak none decides nothing
+        self.assertIsNone(judged(weak, weak)["within_tolerance"])
+        self.assertIsNone(judged(none, found, noise=None)["within_tolerance"])  # noise unknown: undetermined
+        # a bound that needs what was not found (the top layer's depth fit): two evidenced nones, one verdict
+        fit = [{"result": "R4", "metric": "cg.fit", "above": 0.8, "power": "cg.hc_power"}]
+        self.assertEqual([c["ok"] for c in table.compare_targets(fit, none, none)], [True])
+        self.assertEqual([c["ok"] for c in table.compare_targets(fit, weak, weak)], [False])
+        self.assertEqual([c["ok"] for c in table.compare_targets(fit, none, {"cg": {"fit": 0.9}})], [False])
+        # without power or `undecided`, a missing value is a miss of its own, as in make check
+        row = {"slice_checks": [], "targets": table.compare_targets(self.targets, {"f": {"slip": 0.05, "lower": 0.4,
+                                                                                         "upper": 0.3}},
+                                                                    {"cg": {"beta": 60.0}, "f": {"slip": 0.05, "lower": 0.4,
+                                                                                                 "upper": 0.3}})}
+        table.judge(row, {"cg.beta": 1.0})
+        self.assertEqual(row["misses"], ["cg.beta"])
+        beta = [dict(self.targets[0], undecided="cg.beta_outcome")]
+        row = {"slice_checks": [], "targets": table.compare_targets(beta, {}, {"cg": {"beta": 60.0}})}
+        table.judge(row, {"cg.beta": 1.0})
+        self.assertIsNone(row["within_tolerance"])  # an undecided detector: undetermined
+
     def test_several_replicas_give_the_larger_noise_and_unknown_stays_unknown(self):
         floor = table.combined_floor([{"cg.beta": 7.0, "f.slip": 0.01, "h": None},
                                       {"cg.beta": 3.0, "f.slip": 0.02, "h": 1.0, "g": 2.0}])

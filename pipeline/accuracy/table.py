@@ -116,20 +116,42 @@ def bound(target: dict, metrics: dict):
     return target.get("below", target.get("above"))
 
 
+MIN_POWER = 0.8  # data/paper_targets.toml's default min_power (a target may name its own), as `make check` reads it
+
+
+def answer(target: dict, metrics: dict):
+    """What a run says to a target, read as `make check` reads it: its number; without one, "none" where
+    the target's power metric reaches min_power (the detector would have found the claim: evidence of
+    absence), None (undetermined) where the power is lower or the target names `undecided`, else
+    "missing" (a failure of its own)."""
+    v = dotted(metrics, target["metric"])
+    if v is not None:
+        return v
+    if "power" in target:
+        power = dotted(metrics, target["power"])
+        return "none" if power is not None and power >= target.get("min_power", MIN_POWER) else None
+    return None if "undecided" in target else "missing"
+
+
 def compare_targets(targets: list, metrics: dict, ref: dict) -> list:
-    """Every target's metric against the reference's: deviation, its tolerance, ok."""
+    """Every target's metric against the reference's: deviation, its tolerance, ok, and whether both
+    answers are decided (not undetermined: only then can a difference count as a miss)."""
     rows = []
     for t in targets:
         v, r = dotted(metrics, t["metric"]), dotted(ref, t["metric"])
+        a, b = answer(t, metrics), answer(t, ref)
         row = {"metric": t["metric"], "result": t["result"], "value": v, "reference": r,
-               "deviation": None if v is None or r is None else v - r}
+               "deviation": None if v is None or r is None else v - r, "answer": a}
         if "tolerance" in t:
-            row["tolerance"] = t["tolerance"]
-            row["ok"] = row["deviation"] is not None and abs(row["deviation"]) <= t["tolerance"]
+            row["tolerance"], row["decided"] = t["tolerance"], a is not None and b is not None
+            if "none" in (a, b):  # two evidenced nones agree; a none against a number does not
+                row["ok"] = a == b
+            else:
+                row["ok"] = row["deviation"] is not None and abs(row["deviation"]) <= t["tolerance"]
             row["normalised"] = None if row["deviation"] is None else abs(row["deviation"]) / t["tolerance"]
-        else:  # a bound or a shape: the verdict must not change
+        else:  # a bound or a shape: the verdict must not change (two evidenced nones: the same verdict)
             mine, theirs = verdict(t, metrics), verdict(t, ref)
-            row["ok"] = mine is not None and mine == theirs
+            row["ok"] = a == b == "none" or (mine is not None and mine == theirs)
             row["verdict"], row["reference_verdict"] = mine, theirs
             bounds = (bound(t, metrics), bound(t, ref))
             row["margins"] = (None if None in (v, r) or None in bounds
@@ -195,7 +217,10 @@ def judge(row: dict, floor: dict) -> None:
             c["significant"] = c["margins"] is None or min(c["margins"]) > 2.0 * noise
         else:
             deviation = c["value"] if "check" in c else c["deviation"]
-            c["significant"] = deviation is None or abs(deviation) > max(c["tolerance"], 2.0 * noise)
+            if deviation is None:  # a none against a number counts; an undetermined answer never does
+                c["significant"] = c.get("decided", False)
+            else:
+                c["significant"] = abs(deviation) > max(c["tolerance"], 2.0 * noise)
         if c.get("normalised") is not None and noise is not None:
             c["normalised"] *= c["tolerance"] / max(c["tolerance"], 2.0 * noise)
     row["misses"] = [check_name(c) for c in checks if c["significant"]]
@@ -364,7 +389,7 @@ def markdown(result: dict, targets: list) -> str:
             cells = []
             for r in full_rows:
                 c = r["targets"][i]
-                cell = fmt(c["value"])
+                cell = "none" if c.get("answer") == "none" else fmt(c["value"])
                 if not c["ok"]:
                     what = fmt(c["deviation"]) if "tolerance" in c else "verdict flips"
                     cell += f" **({what})**" if c["significant"] else f" ({what}, within the noise)"
