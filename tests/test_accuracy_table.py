@@ -138,6 +138,17 @@ class NoiseTests(unittest.TestCase):
         table.judge(row, {"cg.beta": 1.0})
         self.assertIsNone(row["within_tolerance"])  # an undecided detector: undetermined
 
+    def test_the_cheapest_point_within_tolerance_and_the_cheaper_undetermined(self):
+        rows = [{"name": n, "extent": e, "full_wall_seconds": w, "within_tolerance": v}
+                for n, e, w, v in [("ref", "full", 9000.0, True), ("mid", "full", 3000.0, None),
+                                   ("soft", "full", 900.0, False), ("vsoft", "full", 100.0, None),
+                                   ("slice", "slice", 50.0, True), ("dear", "full", 20000.0, None)]]
+        self.assertEqual(table.cheapest_points(rows), ("ref", ["vsoft", "mid"]))
+        rows[1]["within_tolerance"] = True
+        self.assertEqual(table.cheapest_points(rows), ("mid", ["vsoft"]))
+        self.assertEqual(table.cheapest_points([dict(r, within_tolerance=None) for r in rows]),
+                         (None, ["vsoft", "soft", "mid", "ref", "dear"]))  # none within: every whole run, by cost
+
     def test_several_replicas_give_the_larger_noise_and_unknown_stays_unknown(self):
         floor = table.combined_floor([{"cg.beta": 7.0, "f.slip": 0.01, "h": None},
                                       {"cg.beta": 3.0, "f.slip": 0.02, "h": 1.0, "g": 2.0}])
