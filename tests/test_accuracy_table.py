@@ -149,6 +149,19 @@ class NoiseTests(unittest.TestCase):
         self.assertEqual(table.cheapest_points([dict(r, within_tolerance=None) for r in rows]),
                          (None, ["vsoft", "soft", "mid", "ref", "dear"]))  # none within: every whole run, by cost
 
+    def test_a_cg_setting_agrees_undetermined_or_not(self):
+        hc = {"result": "R6", "metric": "cg.hc", "paper": 78.0, "tolerance": 10.0, "power": "cg.hc_power"}
+        phi = {"result": "R11", "metric": "cg.phi", "below": 0.0}
+        none, weak = {"cg": {"hc": None, "hc_power": 1.0}}, {"cg": {"hc": None, "hc_power": 0.3}}
+        self.assertIs(table.cg_ok(hc, none, none), True)
+        self.assertIsNone(table.cg_ok(hc, weak, weak))  # the reference grid itself undetermined: so is every grid
+        self.assertIsNone(table.cg_ok(hc, {"cg": {"hc": 120.0}}, weak))
+        self.assertIs(table.cg_ok(hc, {"cg": {"hc": 125}}, {"cg": {"hc": 120.0}}), True)
+        self.assertIs(table.cg_ok(hc, {"cg": {"hc": 135.0}}, {"cg": {"hc": 120.0}}), False)
+        self.assertIs(table.cg_ok(hc, none, {"cg": {"hc": 120.0}}), False)
+        self.assertIs(table.cg_ok(phi, {"cg": {"phi": 0.001}}, {"cg": {"phi": -0.01}}), False)
+        self.assertIs(table.cg_ok(phi, {"cg": {"phi": -0.002}}, {"cg": {"phi": -0.01}}), True)
+
     def test_several_replicas_give_the_larger_noise_and_unknown_stays_unknown(self):
         floor = table.combined_floor([{"cg.beta": 7.0, "f.slip": 0.01, "h": None},
                                       {"cg.beta": 3.0, "f.slip": 0.02, "h": 1.0, "g": 2.0}])

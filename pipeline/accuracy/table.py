@@ -321,6 +321,18 @@ def main() -> None:
           f"{result['cheapest_within_tolerance']} -> {out / 'table.md'}", file=sys.stderr)
 
 
+def cg_ok(target: dict, metrics: dict, ref: dict):
+    """A cg setting's metric against the reference grid's: True, False, or None where either run's answer is
+    undetermined (answer(): an evidenced none agrees only with a none). A value within the target's
+    tolerance; a bound (dilatancy below 0): the same sign."""
+    a, b = answer(target, metrics), answer(target, ref)
+    if a is None or b is None:
+        return None
+    if isinstance(a, str) or isinstance(b, str):  # "none" or "missing"
+        return a == b == "none"
+    return abs(a - b) <= target["tolerance"] if "tolerance" in target else (a < 0) == (b < 0)
+
+
 def cheapest_points(rows: list):
     """The cheapest whole-run point within every tolerance (its name, or None), and the cheaper whole-run
     points that no miss rules out (undetermined, cheapest first): more replicas or members would decide them."""
@@ -348,13 +360,12 @@ def cg_table(config: dict, out: Path, targets: list) -> list:
             v, rv = dotted(m, key), dotted(r, key)
             t = by_metric.get(key, {})
             entry = {"value": v, "reference": rv, "deviation": None if v is None or rv is None else v - rv}
+            entry["ok"] = cg_ok(t, m, r) if t else None
             if "tolerance" in t:
                 entry["tolerance"] = t["tolerance"]
-                entry["ok"] = entry["deviation"] is not None and abs(entry["deviation"]) <= t["tolerance"]
-            else:  # a sign (dilatancy: below 0): it must not flip
-                entry["ok"] = v is not None and rv is not None and (v < 0) == (rv < 0)
             row["metrics"][key] = entry
-        row["within_tolerance"] = all(e["ok"] for e in row["metrics"].values())
+        oks = [e["ok"] for e in row["metrics"].values()]
+        row["within_tolerance"] = False if False in oks else None if None in oks else True
         rows.append(row)
     return rows
 
@@ -414,7 +425,7 @@ def markdown(result: dict, targets: list) -> str:
             cells = [f"{fmt(e['value'])} ({fmt(e['deviation'], 2)})" for e in c["metrics"].values()]
             lines.append(f"| {c['name']} | {c['spacing_mm']:g} | {c['w_over_d']:g} | "
                          f"{c['w_over_d'] * result['d_mean_mm'] / c['spacing_mm']:.1f} | {c['wall_seconds']:.0f} | "
-                         + " | ".join(cells) + f" | {fmt(c['within_tolerance'])} |")
+                         + " | ".join(cells) + f" | {within(c['within_tolerance'])} |")
     lines += ["", f"Cheapest whole-run point within every tolerance: **{result['cheapest_within_tolerance']}**."]
     if result["cheaper_undetermined"]:
         lines += ["Cheaper, undetermined (every miss within the noise): " +
