@@ -322,15 +322,11 @@ def main() -> None:
 
 
 def cg_ok(target: dict, metrics: dict, ref: dict):
-    """A cg setting's metric against the reference grid's: True, False, or None where either run's answer is
-    undetermined (answer(): an evidenced none agrees only with a none). A value within the target's
-    tolerance; a bound (dilatancy below 0): the same sign."""
-    a, b = answer(target, metrics), answer(target, ref)
-    if a is None or b is None:
+    """A cg setting's metric against the reference grid's, as compare_targets judges it, or None where
+    either run's answer is undetermined."""
+    if answer(target, metrics) is None or answer(target, ref) is None:
         return None
-    if isinstance(a, str) or isinstance(b, str):  # "none" or "missing"
-        return a == b == "none"
-    return abs(a - b) <= target["tolerance"] if "tolerance" in target else (a < 0) == (b < 0)
+    return compare_targets([target], metrics, ref)[0]["ok"]
 
 
 def cheapest_points(rows: list):
